@@ -1,0 +1,233 @@
+"""One place for input checks and image conversion.
+
+Every public function of texsynth converts its array inputs here, once, at the
+boundary; internal code can then rely on finite floating-point data in [0, 1]
+with a known layout. Error messages name the parameter, what was received and
+what would work.
+
+Conventions (see ``docs/conventions.md``):
+
+- images are ``(H, W)`` grey or ``(H, W, C)`` channels-last with ``C`` in 1..4;
+  volumes are ``(D, H, W[, C])``, videos ``(T, H, W[, C])``;
+- uint8, uint16 and bool are scaled to [0, 1]; float32 stays float32, every
+  other accepted dtype becomes float64 (as scikit-image does);
+- an alpha channel (``C == 4`` or ``C == 2``) is treated as one more channel:
+  algorithms synthesise it like colour. Drop it with ``image[..., :3]`` first
+  if it is not wanted.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+__all__ = [
+    "as_image",
+    "as_float_array",
+    "with_channels",
+    "restore_channels",
+    "as_rng",
+    "as_size",
+    "check_positive_int",
+    "check_positive_float",
+    "check_in_range",
+]
+
+_FLOAT_TOLERANCE = 1e-6
+
+
+def as_float_array(array, name="image"):
+    """Convert an array of any accepted dtype to float in [0, 1].
+
+    Parameters
+    ----------
+    array : array_like
+        uint8, uint16, bool or floating-point data. Floating-point data must
+        already lie in [0, 1] (a tolerance of 1e-6 is clipped away).
+    name : str
+        Parameter name used in error messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 if the input was float32, float64 otherwise.
+
+    Raises
+    ------
+    TypeError
+        For an unsupported dtype (signed integers, complex, object).
+    ValueError
+        For an empty array, NaN or infinite values, or floats outside [0, 1].
+
+    Examples
+    --------
+    >>> as_float_array(np.array([[0, 255]], dtype=np.uint8))
+    array([[0., 1.]])
+    """
+    arr = np.asarray(array)
+    if arr.size == 0:
+        raise ValueError(f"{name} is empty (shape {arr.shape}); pass an image with at least one pixel")
+    kind = arr.dtype
+    if kind == np.bool_:
+        return arr.astype(np.float64)
+    if kind == np.uint8:
+        return arr.astype(np.float64) / 255.0
+    if kind == np.uint16:
+        return arr.astype(np.float64) / 65535.0
+    if np.issubdtype(kind, np.floating):
+        out = arr.astype(np.float32 if kind == np.float32 else np.float64, copy=True)
+        if not np.all(np.isfinite(out)):
+            raise ValueError(f"{name} contains NaN or infinite values; replace them (e.g. np.nan_to_num) before calling")
+        lo, hi = float(out.min()), float(out.max())
+        if lo < -_FLOAT_TOLERANCE or hi > 1 + _FLOAT_TOLERANCE:
+            hint = " (it looks like 0-255 data: divide by 255 or pass uint8)" if hi > 1.5 else ""
+            raise ValueError(
+                f"{name} is floating point with values in [{lo:.4g}, {hi:.4g}]; "
+                f"float images must lie in [0, 1]{hint}"
+            )
+        np.clip(out, 0.0, 1.0, out=out)
+        return out
+    raise TypeError(
+        f"{name} has dtype {kind}; pass uint8 (0-255), uint16 (0-65535), bool, "
+        f"or float in [0, 1], e.g. {name}.astype(np.uint8) for 8-bit data"
+    )
+
+
+def as_image(image, name="image", *, spatial_dims=2, min_size=1):
+    """Validate an image (or volume / video) and convert it to float in [0, 1].
+
+    Parameters
+    ----------
+    image : array_like
+        ``spatial_dims`` spatial axes, optionally followed by a channel axis of
+        length 1 to 4.
+    name : str
+        Parameter name used in error messages.
+    spatial_dims : int
+        2 for images, 3 for volumes and videos.
+    min_size : int
+        Smallest allowed extent of each spatial axis.
+
+    Returns
+    -------
+    numpy.ndarray
+        The converted array, same shape as the input.
+
+    Examples
+    --------
+    >>> as_image(np.zeros((4, 5, 3), dtype=np.uint8)).shape
+    (4, 5, 3)
+    >>> as_image(np.zeros(5))
+    Traceback (most recent call last):
+    ...
+    ValueError: image must have shape (H, W) or (H, W, C) with C in 1..4, got shape (5,)
+    """
+    arr = np.asarray(image)
+    axes = "(H, W)" if spatial_dims == 2 else "(D, H, W)"
+    full = axes[:-1] + ", C)"
+    ok = arr.ndim == spatial_dims or (arr.ndim == spatial_dims + 1 and 1 <= arr.shape[-1] <= 4)
+    if not ok:
+        raise ValueError(
+            f"{name} must have shape {axes} or {full} with C in 1..4, got shape {arr.shape}"
+        )
+    spatial = arr.shape[:spatial_dims]
+    if min(spatial) < min_size:
+        raise ValueError(
+            f"{name} has spatial shape {spatial}; every axis must be at least {min_size} pixels"
+        )
+    return as_float_array(arr, name)
+
+
+def with_channels(image, spatial_dims=2):
+    """Return ``(array with a channel axis, was_grey)``.
+
+    >>> a, grey = with_channels(np.zeros((3, 4)))
+    >>> a.shape, grey
+    ((3, 4, 1), True)
+    """
+    if image.ndim == spatial_dims:
+        return image[..., None], True
+    return image, False
+
+
+def restore_channels(image, was_grey):
+    """Undo :func:`with_channels`: drop the channel axis of a grey result."""
+    return image[..., 0] if was_grey else image
+
+
+def as_rng(rng, name="rng"):
+    """``np.random.default_rng`` with a clear error for wrong types.
+
+    >>> as_rng(0).integers(10) == as_rng(0).integers(10)
+    True
+    """
+    if rng is None or isinstance(rng, (numbers.Integral, np.random.Generator, np.random.SeedSequence)):
+        if isinstance(rng, numbers.Integral) and not isinstance(rng, bool) and rng < 0:
+            raise ValueError(f"{name} must be a non-negative int seed, got {rng}")
+        if isinstance(rng, bool):
+            raise TypeError(f"{name} must be None, an int seed or a numpy.random.Generator, got bool")
+        return np.random.default_rng(rng)
+    raise TypeError(
+        f"{name} must be None, an int seed or a numpy.random.Generator, got {type(rng).__name__}"
+    )
+
+
+def as_size(size, name="size", ndim=2):
+    """Normalise an output size: an int means square (cube), a tuple is taken as is.
+
+    >>> as_size(8)
+    (8, 8)
+    >>> as_size((4, 6))
+    (4, 6)
+    >>> as_size((0, 6))
+    Traceback (most recent call last):
+    ...
+    ValueError: size must be positive integers (height, width), got (0, 6)
+    """
+    labels = {2: "(height, width)", 3: "(depth, height, width)"}.get(ndim, f"{ndim} integers")
+    if isinstance(size, numbers.Integral) and not isinstance(size, bool):
+        size = (int(size),) * ndim
+    try:
+        out = tuple(size)
+    except TypeError:
+        raise TypeError(f"{name} must be an int or a tuple {labels}, got {size!r}") from None
+    if len(out) != ndim or not all(isinstance(s, numbers.Integral) and not isinstance(s, bool) for s in out):
+        raise ValueError(f"{name} must be an int or {ndim} integers {labels}, got {size!r}")
+    if min(out) < 1:
+        raise ValueError(f"{name} must be positive integers {labels}, got {tuple(int(s) for s in out)}")
+    return tuple(int(s) for s in out)
+
+
+def check_positive_int(value, name, minimum=1):
+    """Return ``value`` as int, raising if it is not an integer >= ``minimum``."""
+    if not isinstance(value, numbers.Integral) or isinstance(value, bool):
+        raise TypeError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value}")
+    return int(value)
+
+
+def check_positive_float(value, name, *, allow_zero=False):
+    """Return ``value`` as float, raising unless it is finite and > 0 (>= 0)."""
+    if not isinstance(value, numbers.Real) or isinstance(value, bool):
+        raise TypeError(f"{name} must be a real number, got {value!r}")
+    value = float(value)
+    bad = not np.isfinite(value) or value < 0 or (value == 0 and not allow_zero)
+    if bad:
+        bound = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{name} must be a finite number {bound}, got {value}")
+    return value
+
+
+def check_in_range(value, name, low, high, *, low_open=False, high_open=False):
+    """Return ``value`` as float, raising unless it lies in the given interval."""
+    if not isinstance(value, numbers.Real) or isinstance(value, bool):
+        raise TypeError(f"{name} must be a real number, got {value!r}")
+    value = float(value)
+    below = value <= low if low_open else value < low
+    above = value >= high if high_open else value > high
+    if not np.isfinite(value) or below or above:
+        interval = f"{'(' if low_open else '['}{low}, {high}{')' if high_open else ']'}"
+        raise ValueError(f"{name} must lie in {interval}, got {value}")
+    return value
