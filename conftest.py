@@ -1,0 +1,9 @@
+"""Doctest namespace: every docstring example may use ``np``."""
+
+import numpy as np
+import pytest
+
+
+@pytest.fixture(autouse=True)
+def _doctest_numpy(doctest_namespace):
+    doctest_namespace["np"] = np
