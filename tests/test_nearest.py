@@ -1,0 +1,238 @@
+"""Tests of the shared nearest-neighbour layer (texsynth.nearest)."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from numpy.lib.stride_tricks import sliding_window_view
+
+from texsynth.io import load_image
+from texsynth.nearest import METHODS, PatchIndex, exact_chunk_rows, nearest
+
+TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
+
+
+# --------------------------------------------------------------------------- #
+# helpers
+# --------------------------------------------------------------------------- #
+def patches(path, size, crop, step=1):
+    """All size x size patches of a crop of a real texture, flattened (N, size*size*C)."""
+    img = load_image(TEXTURES / path)
+    if img.ndim == 2:
+        img = img[..., None]
+    img = img[..., :3]  # drop alpha
+    (r0, r1), (c0, c1) = crop
+    img = img[r0:r1, c0:c1]
+    view = sliding_window_view(img, (size, size), axis=(0, 1))[::step, ::step]
+    return np.ascontiguousarray(view.reshape(-1, size * size * img.shape[-1]))
+
+
+def naive(vectors, queries, k, weights=None):
+    """Reference brute force: full difference tensor, stable sort (ties: lowest index)."""
+    v = np.asarray(vectors, dtype=np.float64)
+    q = np.asarray(queries, dtype=np.float64)
+    w = np.ones(v.shape[1]) if weights is None else np.asarray(weights, dtype=np.float64)
+    d2 = (((q[:, None, :] - v[None, :, :]) ** 2) * w).sum(axis=-1)
+    order = np.argsort(d2, axis=1, kind="stable")[:, :k]
+    return order, np.take_along_axis(d2, order, axis=1)
+
+
+def assert_same_as_naive(vectors, queries, idx, d2, k, weights=None, rtol=1e-12):
+    """Same neighbours as the naive search, up to float rounding of tied distances.
+
+    Two different patches can be exactly as far from a query (permuted pixel
+    differences); summed in another order the two float results may differ in
+    the last bit, so an index may differ from the reference only where the
+    reference distance of both indices agrees to ``rtol``.
+    """
+    v = np.asarray(vectors, dtype=np.float64)
+    q = np.asarray(queries, dtype=np.float64)
+    w = np.ones(v.shape[1]) if weights is None else np.asarray(weights, dtype=np.float64)
+    full = (((q[:, None, :] - v[None, :, :]) ** 2) * w).sum(axis=-1)
+    ref_i, ref_d = naive(v, q, k, weights)
+    np.testing.assert_allclose(d2, ref_d, rtol=rtol, atol=rtol)
+    rows, cols = np.nonzero(idx != ref_i)
+    got = full[rows, idx[rows, cols]]
+    want = full[rows, ref_i[rows, cols]]
+    np.testing.assert_allclose(got, want, rtol=rtol, atol=rtol)
+    assert all(len(set(r)) == k for r in idx.tolist())
+    return len(rows)
+
+
+@pytest.fixture(scope="module")
+def gravel():
+    """Index: 7x7 patches of one gravel crop; queries: patches of a disjoint crop."""
+    vectors = patches("rohitrango/t4.png", 7, ((0, 64), (0, 96)))  # 58*90 = 5220 x 147
+    queries = patches("rohitrango/t4.png", 7, ((70, 128), (0, 128)), step=3)  # 18*41 = 738
+    return vectors, queries
+
+
+# --------------------------------------------------------------------------- #
+# exact backend
+# --------------------------------------------------------------------------- #
+def test_exact_matches_naive_on_random_data():
+    rng = np.random.default_rng(1)
+    v = rng.normal(size=(300, 17))
+    q = rng.normal(size=(50, 17))
+    idx, d2 = PatchIndex(v, method="exact").query(q, k=5)
+    ref_i, ref_d = naive(v, q, 5)
+    np.testing.assert_array_equal(idx, ref_i)
+    np.testing.assert_allclose(d2, ref_d, rtol=1e-12, atol=1e-12)
+    assert idx.dtype == np.int64 and idx.shape == (50, 5)
+
+
+def test_exact_matches_naive_on_real_patches():
+    v = patches("lcv/text.pgm", 5, ((0, 40), (0, 40)))  # text: many identical white patches
+    q = patches("lcv/text.pgm", 5, ((100, 130), (100, 130)), step=2)
+    idx, d2 = PatchIndex(v, method="exact").query(q, k=3)
+    assert_same_as_naive(v, q, idx, d2, 3)
+
+
+def test_exact_float32_matches_naive_ranking():
+    v = patches("jcjohnson/bumpy.png", 5, ((0, 40), (0, 40))).astype(np.float32)
+    q = patches("jcjohnson/bumpy.png", 5, ((40, 70), (40, 70)), step=3).astype(np.float32)
+    idx, d2 = PatchIndex(v, method="exact").query(q, k=2)
+    assert d2.dtype == np.float32
+    # the naive reference sums in float64 from the same float32 values; the returned
+    # distances are float32 sums of 75 terms: relative error a few 1e-7, so rtol 1e-5
+    assert_same_as_naive(v, q, idx, d2, 2, rtol=1e-5)
+
+
+def test_weights_are_honoured():
+    rng = np.random.default_rng(2)
+    v = rng.random((200, 9))
+    q = rng.random((30, 9))
+    w = np.array([0.0, 1.0, 2.0, 0.5, 0.0, 3.0, 1.0, 0.1, 4.0])
+    for method in ("exact", "kdtree"):
+        idx, d2 = PatchIndex(v, weights=w, method=method, rng=0).query(q, k=4)
+        explicit = (((q[:, None, :] - v[idx]) ** 2) * w).sum(axis=-1)
+        np.testing.assert_allclose(d2, explicit, rtol=1e-12)
+    ref_i, ref_d = naive(v, q, 4, weights=w)
+    idx, d2 = PatchIndex(v, weights=w, method="exact").query(q, k=4)
+    np.testing.assert_array_equal(idx, ref_i)
+    # unweighted answers differ: the weights really changed the ranking
+    assert not np.array_equal(idx, PatchIndex(v, method="exact").query(q, k=4)[0])
+
+
+def test_k_sorted_and_ties_lowest_index_first():
+    # 4 copies of the same vector at indices 3, 5, 8, 9 and a far one
+    v = np.zeros((10, 3)) + 5.0
+    v[[3, 5, 8, 9]] = [1.0, 2.0, 3.0]
+    for method in ("exact", "kdtree"):
+        idx, d2 = PatchIndex(v, method=method, rng=0).query([[1.0, 2.0, 3.1]], k=5)
+        assert idx[0, :4].tolist() == [3, 5, 8, 9]
+        assert np.all(np.diff(d2[0]) >= 0)
+        assert d2[0, 0] == d2[0, 3]
+
+
+def test_exact_self_query_finds_itself():
+    v = patches("jcjohnson/bread.png", 5, ((0, 30), (0, 30)))
+    idx, d2 = PatchIndex(v, method="exact").query(v, k=1)
+    # duplicates may exist: then the lowest index of the duplicate group
+    assert np.all(d2[:, 0] == 0)
+    assert np.all(idx[:, 0] <= np.arange(len(v)))
+    assert np.all(np.all(v[idx[:, 0]] == v, axis=1))
+
+
+def test_chunk_rows_respect_memory_budget():
+    for n, itemsize, budget in [(1000, 8, 2**20), (50_000, 4, 256 * 2**20), (7, 8, 10_000)]:
+        rows = exact_chunk_rows(n, itemsize, budget)
+        assert rows * n * (2 * itemsize + 1) <= budget < (rows + 1) * n * (2 * itemsize + 1)
+    with pytest.raises(ValueError, match="memory_budget"):
+        exact_chunk_rows(1000, 8, 1000)
+
+
+def test_small_memory_budget_gives_same_answer():
+    rng = np.random.default_rng(3)
+    v = rng.random((500, 6))
+    q = rng.random((97, 6))
+    big = PatchIndex(v, method="exact").query(q, k=3)
+    small_index = PatchIndex(v, method="exact", memory_budget=500 * 17 * 4)
+    assert small_index._backend.rows == 4  # 97 queries in 25 blocks of <= 4 rows
+    small = small_index.query(q, k=3)
+    np.testing.assert_array_equal(big[0], small[0])
+    np.testing.assert_array_equal(big[1], small[1])
+    with pytest.raises(ValueError, match="memory_budget"):
+        PatchIndex(v, method="exact", memory_budget=100)
+
+
+def test_nearest_one_shot():
+    rng = np.random.default_rng(4)
+    v = rng.random((50, 4))
+    q = rng.random((5, 4))
+    i1, d1 = nearest(v, q, k=2)
+    i2, d2 = PatchIndex(v).query(q, k=2)
+    np.testing.assert_array_equal(i1, i2)
+    np.testing.assert_array_equal(d1, d2)
+
+
+# --------------------------------------------------------------------------- #
+# bad input
+# --------------------------------------------------------------------------- #
+@pytest.mark.parametrize(
+    "vectors, kwargs, exc, match",
+    [
+        (np.zeros(5), {}, ValueError, "vectors must be a 2-D"),
+        (np.zeros((0, 3)), {}, ValueError, "vectors is empty"),
+        (np.array([[0.0, np.nan]]), {}, ValueError, "NaN"),
+        (np.array([[0.0, np.inf]]), {}, ValueError, "NaN or infinite"),
+        (np.array([["a", "b"]]), {}, TypeError, "vectors has dtype"),
+        (np.zeros((4, 3)), {"weights": [1.0, 1.0]}, ValueError, "weights must be a 1-D array of length 3"),
+        (np.zeros((4, 3)), {"weights": [1.0, -1.0, 1.0]}, ValueError, "non-negative"),
+        (np.zeros((4, 3)), {"weights": [0.0, 0.0, 0.0]}, ValueError, "all zero"),
+        (np.zeros((4, 3)), {"method": "ball"}, ValueError, "'auto', 'exact', 'kdtree'"),
+        (np.zeros((4, 3)), {"memory_budget": 0}, ValueError, "memory_budget"),
+        (np.zeros((4, 3)), {"leaf_size": 0}, ValueError, "leaf_size"),
+        (np.zeros((4, 3)), {"rng": "seed"}, TypeError, "rng"),
+        (np.zeros((4, 3)), {"method": "kdtree", "n_components": 5}, ValueError, "n_components=5"),
+    ],
+)
+def test_bad_index_input(vectors, kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        PatchIndex(vectors, **kwargs)
+
+
+def test_bad_query_input():
+    index = PatchIndex(np.zeros((5, 3)))
+    with pytest.raises(ValueError, match=r"queries have dimension 4 .* shape \(M, 3\)"):
+        index.query(np.zeros((2, 4)))
+    with pytest.raises(ValueError, match=r"reshape\(1, -1\)"):
+        index.query(np.zeros(3))
+    with pytest.raises(ValueError, match="k must be >= 1"):
+        index.query(np.zeros((2, 3)), k=0)
+    with pytest.raises(TypeError, match="k must be an integer"):
+        index.query(np.zeros((2, 3)), k=1.5)
+    with pytest.raises(ValueError, match=r"k=10 but the index holds 5 vectors; pass k <= 5"):
+        index.query(np.zeros((2, 3)), k=10)
+    with pytest.raises(ValueError, match="queries contains NaN"):
+        index.query(np.full((2, 3), np.nan))
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    n=st.integers(1, 40),
+    m=st.integers(1, 10),
+    dim=st.integers(1, 6),
+    k=st.integers(1, 5),
+    method=st.sampled_from([x for x in METHODS]),
+    seed=st.integers(0, 2**16),
+)
+def test_shapes_and_exactness_property(n, m, dim, k, method, seed):
+    k = min(k, n)
+    rng = np.random.default_rng(seed)
+    v = rng.integers(0, 3, size=(n, dim)).astype(float)  # small ints: many exact ties
+    q = rng.integers(0, 3, size=(m, dim)).astype(float)
+    index = PatchIndex(v, method=method, rng=seed)
+    idx, d2 = index.query(q, k=k)
+    assert idx.shape == d2.shape == (m, k)
+    assert index.n == n and index.dim == dim and index.method in METHODS[1:]
+    # returned distances are the true distances of the returned indices, ascending
+    np.testing.assert_allclose(d2, ((q[:, None, :] - v[idx]) ** 2).sum(-1))
+    assert np.all(np.diff(d2, axis=1) >= 0)
+    assert np.all(np.diff(idx, axis=1)[np.diff(d2, axis=1) == 0] > 0)  # ties: ascending index
+    assert len(set(idx[0])) == k
+    if index.method == "exact":
+        ref_i, ref_d = naive(v, q, k)
+        np.testing.assert_array_equal(idx, ref_i)
