@@ -1,0 +1,102 @@
+"""The gallery that ``texsynth demo`` writes: every method on bundled sample textures.
+
+Each :class:`Entry` names a method, the bundled sample it starts from and a
+small call that makes one image. :func:`run_demo` writes one PNG per entry
+(and the exemplar next to it) and an ``index.html`` that shows them side by
+side. Sizes are small so the whole gallery takes about a minute on 2 cores.
+"""
+
+from __future__ import annotations
+
+import html
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from . import data
+from .io import save_image
+
+__all__ = ["Entry", "ENTRIES", "run_demo"]
+
+_MARKER = ".texsynth-demo"
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One gallery image.
+
+    ``make(exemplar, seed)`` returns the result image; ``sample`` is the
+    bundled texture it starts from (None for procedural entries).
+    """
+
+    slug: str
+    title: str
+    paper: str
+    sample: str | None
+    make: Callable
+
+
+def _entries():
+    """The gallery, in display order (modules imported lazily)."""
+    return []
+
+
+ENTRIES = _entries()
+
+
+def _prepare_folder(out):
+    out = Path(out)
+    if out.exists():
+        if not out.is_dir():
+            raise FileExistsError(f"--out {str(out)!r} is a file; choose a folder name")
+        if any(out.iterdir()) and not (out / _MARKER).exists():
+            raise FileExistsError(
+                f"--out {str(out)!r} exists and holds files that texsynth demo did not write; "
+                "choose another folder"
+            )
+    out.mkdir(parents=True, exist_ok=True)
+    (out / _MARKER).write_text("written by texsynth demo; the demo may overwrite files here\n")
+    return out
+
+
+def run_demo(out="texsynth-demo", *, seed=0, entries=None, log=None):
+    """Write the gallery into ``out`` and return the path of its ``index.html``.
+
+    The folder is created if needed. It is refused if it already holds files
+    that an earlier demo did not write, so nothing of the user's is replaced.
+    """
+    out = _prepare_folder(out)
+    rows = []
+    for entry in ENTRIES if entries is None else entries:
+        exemplar = data.load(entry.sample) if entry.sample else None
+        start = time.perf_counter()
+        result = entry.make(exemplar, seed)
+        seconds = time.perf_counter() - start
+        if entry.sample:
+            save_image(out / f"exemplar_{entry.sample}.png", exemplar, overwrite=True)
+        save_image(out / f"{entry.slug}.png", result, overwrite=True)
+        rows.append((entry, seconds))
+        if log:
+            log(f"{entry.slug:<32} {seconds:6.1f} s")
+    index = out / "index.html"
+    index.write_text(_html(rows))
+    return index
+
+
+def _html(rows):
+    cells = []
+    for entry, seconds in rows:
+        ex = (f'<img src="exemplar_{entry.sample}.png"><br>exemplar: {html.escape(entry.sample)}'
+              if entry.sample else "procedural (no exemplar)")
+        cells.append(
+            f"<tr><td>{ex}</td><td><img src=\"{entry.slug}.png\"></td>"
+            f"<td><b>{html.escape(entry.title)}</b><br>{html.escape(entry.paper)}<br>{seconds:.1f} s</td></tr>"
+        )
+    return (
+        "<!doctype html><html><head><meta charset='utf-8'><title>texsynth demo</title>"
+        "<style>body{font-family:sans-serif}td{vertical-align:top;padding:8px}"
+        "img{image-rendering:pixelated;max-width:384px}</style></head><body>"
+        "<h1>texsynth demo</h1><p>Exemplar (bundled sample) and result, side by side.</p>"
+        "<table>" + "".join(cells) + "</table></body></html>\n"
+    )

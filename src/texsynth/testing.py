@@ -1,0 +1,122 @@
+"""Assertion helpers for reference comparisons in your own pytest suites.
+
+"Does this output still look like that exemplar, with no pasted copy, at this
+quality?" :func:`assert_texture_like` answers with the metrics of
+:mod:`texsynth.metrics`, each bounded *relative to baselines computed from the
+exemplar itself* (histogram-matched noise, a random-block mosaic and the tiled
+exemplar), so the same thresholds make sense for any texture.
+
+Scores
+------
+For coherence (texture energy) and completeness the score places the output
+on the scale from the tiled exemplar (score 0, the best any synthesis can do)
+to histogram-matched noise (score 1, no structure at all)::
+
+    score = (metric(output) - metric(tiled)) / (metric(noise) - metric(tiled))
+
+The spectrum score is ``spectrum_distance(output) / spectrum_distance(noise)``
+(white noise has a flat spectrum, so it is the natural "knows nothing" case).
+Copying is bounded directly: the largest single-offset copied region as a
+fraction of the exemplar's area.
+
+The default bounds come from the calibration table in ``docs/metrics.md``
+(11 real textures): noise scores 1 by construction; random-block mosaics,
+coherent inside their blocks but with seams between them, score 0.11-0.29 on
+energy, 0.04-0.25 on completeness and 0.15-0.42 on the spectrum, and copy
+0.06-0.10 of the exemplar. The defaults (0.5, 0.5, 0.6 and a copy of at most
+half the exemplar) therefore pass anything at least about as good as a
+mosaic and fail noise, blur and pasted copies of the whole exemplar.
+"""
+
+from __future__ import annotations
+
+from .metrics import texture_report
+
+__all__ = ["TextureAssertionError", "assert_texture_like", "relative_scores"]
+
+
+class TextureAssertionError(AssertionError):
+    """Raised by :func:`assert_texture_like`; the message lists every metric and bound."""
+
+    def __init__(self, message, report=None):
+        super().__init__(message)
+        self.report = report
+
+
+def _scale(value, best, worst):
+    span = worst - best
+    return (value - best) / span if span > 0 else float("inf") if value > best else 0.0
+
+
+def relative_scores(report):
+    """Baseline-relative scores of a :class:`~texsynth.metrics.TextureReport`.
+
+    Returns
+    -------
+    dict
+        ``energy``, ``completeness`` and ``spectrum`` scores (0 = as good as the
+        tiled exemplar, 1 = as bad as noise) and the raw ``verbatim_copy``.
+    """
+    ref = report.reference
+    return {
+        "energy": _scale(report.values["energy"], ref["tiled"]["energy"], ref["noise"]["energy"]),
+        "completeness": _scale(report.values["completeness"], ref["tiled"]["completeness"],
+                               ref["noise"]["completeness"]),
+        "spectrum": _scale(report.values["spectrum"], 0.0, ref["noise"]["spectrum"]),
+        "verbatim_copy": report.values["verbatim_copy"],
+    }
+
+
+def assert_texture_like(output, exemplar, *, patch_size=8, max_energy=0.5, max_completeness=0.5,
+                        max_spectrum=0.6, max_copy=0.5, rng=0):
+    """Assert that ``output`` is a plausible synthesis of ``exemplar``.
+
+    Parameters
+    ----------
+    output, exemplar : array_like
+        Images with the same number of channels.
+    patch_size : int
+        Neighbourhood size of the metrics; about the size of the texture's
+        elements.
+    max_energy, max_completeness, max_spectrum : float
+        Upper bounds on the baseline-relative scores (see the module notes):
+        0 is the tiled exemplar, 1 is histogram-matched noise.
+    max_copy : float
+        Upper bound on the largest verbatim-copied region, as a fraction of
+        the exemplar's area.
+    rng : int
+        Seed of the baselines (fixed, so the assertion is deterministic).
+
+    Returns
+    -------
+    texsynth.metrics.TextureReport
+        The full report, for logging.
+
+    Raises
+    ------
+    TextureAssertionError
+        Listing every metric with its score and bound, failing ones marked.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ex = np.random.default_rng(0).random((24, 24))
+    >>> assert_texture_like(np.rot90(ex), ex, patch_size=4)
+    Traceback (most recent call last):
+    ...
+    texsynth.testing.TextureAssertionError: output does not look like the exemplar ...
+    """
+    report = texture_report(output, exemplar, patch_size=patch_size, rng=rng)
+    scores = relative_scores(report)
+    bounds = {"energy": max_energy, "completeness": max_completeness, "spectrum": max_spectrum,
+              "verbatim_copy": max_copy}
+    failed = [name for name in bounds if not scores[name] <= bounds[name]]
+    if failed:
+        lines = [f"output does not look like the exemplar ({', '.join(failed)} out of bounds):"]
+        for name, bound in bounds.items():
+            mark = "FAIL" if name in failed else "ok"
+            lines.append(f"  {mark:>4}  {name:<14} score {scores[name]:8.4f}  bound {bound:8.4f}  "
+                         f"(raw {report.values[name]:.5f})")
+        lines.append("baselines:\n" + report.table())
+        raise TextureAssertionError("\n".join(lines), report)
+    return report

@@ -1,0 +1,136 @@
+"""The shared neighbourhood layer: extraction, scatter-average, grids, masks."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from texsynth.neighborhood import (
+    accumulate, all_patches, causal_mask, extract, gaussian_falloff, grid_centers, multilevel_vectors,
+)
+
+
+@pytest.fixture
+def brick(texture):
+    return texture("jcjohnson/brick.png", (40, 48))
+
+
+def _all_centers(shape):
+    return np.argwhere(np.ones(shape, bool))
+
+
+@pytest.mark.parametrize("mode", ["wrap", "reflect"])
+@pytest.mark.parametrize("size", [1, 3, 4, (5, 2)])
+def test_scatter_average_of_every_patch_reproduces_the_image_exactly(brick, mode, size):
+    centers = _all_centers(brick.shape[:2])
+    patches = extract(brick, centers, size, mode=mode)
+    out, weight = accumulate(patches, centers, brick.shape[:2], mode=mode)
+    assert np.abs(out - brick).max() < 1e-12
+    h, w = (size, size) if np.isscalar(size) else size
+    if mode == "wrap":
+        assert np.all(weight == h * w)  # on a torus every pixel lies in exactly h*w patches
+    else:  # reflect folds outside pixels onto their mirror images: no weight is lost
+        assert weight.sum() == len(centers) * h * w and weight.min() >= 1
+
+
+def test_scatter_average_on_a_sparse_valid_grid_reproduces_the_image(brick):
+    centers = grid_centers(brick.shape[:2], 8, 2, mode="valid")
+    patches = extract(brick, centers, 8, mode="valid")
+    out, weight = accumulate(patches, centers, brick.shape[:2], pixel_weights=gaussian_falloff(8),
+                             patch_weights=np.linspace(0.5, 2, len(centers)), mode="valid")
+    assert weight.min() > 0  # the grid covers the border too
+    assert np.abs(out - brick).max() < 1e-12
+
+
+def test_accumulate_is_a_weighted_average():
+    patches = np.stack([np.zeros((1, 1, 1)), np.ones((1, 1, 1))])
+    out, weight = accumulate(patches, [[0, 0], [0, 0]], (1, 2), patch_weights=[1.0, 3.0], mode="valid")
+    assert out[0, 0, 0] == pytest.approx(0.75) and weight[0, 0] == 4.0
+    assert out[0, 1, 0] == 0.0 and weight[0, 1] == 0.0  # uncovered pixels are 0 with zero weight
+
+
+def test_all_patches_agrees_with_extract(brick):
+    for mode in ("valid", "wrap", "reflect"):
+        view = all_patches(brick, (5, 3), mode=mode)
+        if mode == "valid":
+            corners = np.array([[7, 11], [0, 0], [view.shape[0] - 1, view.shape[1] - 1]])
+            centers = corners + [5 // 2, 3 // 2]
+        else:
+            corners = centers = np.array([[0, 0], [7, 11], [39, 47]])
+        got = extract(brick, centers, (5, 3), mode=mode)
+        assert np.array_equal(view[corners[:, 0], corners[:, 1]], got)
+    assert not view.flags.writeable or view.base is not None  # a view, no copy per patch
+
+
+def test_wrap_and_reflect_boundaries():
+    img = np.arange(5.0).reshape(1, 5, 1).repeat(3, axis=0)
+    wrap = extract(img, [[1, 0]], (1, 3), mode="wrap")[0, 0, :, 0]
+    refl = extract(img, [[1, 0]], (1, 3), mode="reflect")[0, 0, :, 0]
+    assert wrap.tolist() == [4, 0, 1] and refl.tolist() == [1, 0, 1]
+    with pytest.raises(ValueError, match="mode='valid'"):
+        extract(img, [[1, 0]], (1, 3), mode="valid")
+
+
+def test_grids_cover_and_respect_spacing():
+    for mode in ("wrap", "reflect", "valid"):
+        centers = grid_centers((37, 29), 8, 2, mode=mode)
+        patches = np.ones((len(centers), 8, 8, 1))
+        _, weight = accumulate(patches, centers, (37, 29), mode=mode)
+        assert weight.min() > 0
+    assert len(grid_centers((32, 32), 8, 2, mode="wrap")) == 16 * 16
+    with pytest.raises(ValueError, match="gaps"):
+        grid_centers((32, 32), 4, 5)
+
+
+def test_causal_mask_is_what_scanline_order_has_already_visited():
+    for size in (3, 5, (5, 7)):
+        mask = causal_mask(size)
+        h, w = mask.shape
+        order = np.arange(h * w).reshape(h, w)
+        assert np.array_equal(mask, order < order[h // 2, w // 2])
+
+
+def test_gaussian_falloff_shape():
+    g = gaussian_falloff((5, 7), sigma=1.5)
+    assert g.shape == (5, 7) and g.max() == 1.0 == g[2, 3]
+    assert np.allclose(g, g[::-1, ::-1])
+    with pytest.raises(ValueError, match="sigma"):
+        gaussian_falloff(5, sigma=0)
+
+
+def test_multilevel_vectors_take_the_parent_under_the_pixel():
+    fine = np.zeros((8, 8, 1))
+    parent = np.arange(16.0).reshape(4, 4, 1)
+    v = multilevel_vectors(fine, parent, [[5, 6]], 3, 1)
+    assert v.shape == (1, 10) and v[0, -1] == parent[2, 3, 0]
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda img: extract(img, [[0, 0]], 50), "larger than the image"),
+    (lambda img: extract(img[..., 0], [[0, 0]], 3), r"channels-last"),
+    (lambda img: extract(img, [[0.5, 0]], 3), "integer array"),
+    (lambda img: extract(img, [[0, 0]], 3, mode="mirror"), "mode must be one of"),
+    (lambda img: extract(img, [[0, 0]], 0), "size must be positive"),
+    (lambda img: accumulate(np.ones((2, 3, 3, 1)), [[0, 0]], (8, 8)), "one centre per patch"),
+    (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (8, 8), patch_weights=[-1.0]), "non-negative"),
+    (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (8, 8), pixel_weights=np.ones((2, 2))),
+     "pixel_weights"),
+])
+def test_bad_input(call, match):
+    with pytest.raises((ValueError, TypeError), match=match):
+        call(np.zeros((8, 8, 1)))
+
+
+@settings(max_examples=25, deadline=None)
+@given(h=st.integers(1, 12), w=st.integers(1, 12), c=st.integers(1, 4),
+       ph=st.integers(1, 6), pw=st.integers(1, 6), mode=st.sampled_from(["wrap", "reflect"]),
+       seed=st.integers(0, 2**16))
+def test_extract_then_accumulate_is_identity_property(h, w, c, ph, pw, mode, seed):
+    img = np.random.default_rng(seed).random((h, w, c))
+    if ph > h or pw > w:
+        with pytest.raises(ValueError, match="larger than the image"):
+            extract(img, [[0, 0]], (ph, pw), mode=mode)
+        return
+    centers = _all_centers((h, w))
+    out, _ = accumulate(extract(img, centers, (ph, pw), mode=mode), centers, (h, w), mode=mode)
+    assert np.allclose(out, img, atol=1e-12)
