@@ -182,7 +182,7 @@ def test_nearest_one_shot():
         (np.zeros((4, 3)), {"weights": [1.0, 1.0]}, ValueError, "weights must be a 1-D array of length 3"),
         (np.zeros((4, 3)), {"weights": [1.0, -1.0, 1.0]}, ValueError, "non-negative"),
         (np.zeros((4, 3)), {"weights": [0.0, 0.0, 0.0]}, ValueError, "all zero"),
-        (np.zeros((4, 3)), {"method": "ball"}, ValueError, "'auto', 'exact', 'kdtree'"),
+        (np.zeros((4, 3)), {"method": "ball"}, ValueError, "'auto', 'exact', 'kdtree', 'tsvq'"),
         (np.zeros((4, 3)), {"memory_budget": 0}, ValueError, "memory_budget"),
         (np.zeros((4, 3)), {"leaf_size": 0}, ValueError, "leaf_size"),
         (np.zeros((4, 3)), {"rng": "seed"}, TypeError, "rng"),
