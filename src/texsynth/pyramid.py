@@ -404,23 +404,27 @@ def _radial_masks(radius, scale):
     return hi, lo
 
 
-def _angular_masks(angle, orientations, is_complex):
-    """A_k(t) = alpha_K cos(t - pi k/K)^(K-1), times (-i)^(K-1); analytic version if complex."""
+def _angular_masks(cos_t, sin_t, orientations, is_complex):
+    """Real angular masks A_k(t) = alpha_K cos(t - pi k/K)^(K-1), stacked (K, h, w).
+
+    The band's spectrum is ``(-i)^(K-1) A_k`` (the phase factor is applied by the caller). For a
+    complex pyramid the mask is doubled on the half-plane ``cos(t - pi k/K) > 0`` and zeroed on the
+    other (weight 1 on the boundary), so the real part of the band is the real band.
+    """
     order = orientations - 1
     alpha = math.sqrt(
         2.0 ** (2 * order) * math.factorial(order) ** 2 / (orientations * math.factorial(2 * order))
     )
-    phase = (-1j) ** order
-    masks = []
+    masks = np.empty((orientations,) + cos_t.shape)
     for k in range(orientations):
-        delta = np.mod(angle - np.pi * k / orientations + np.pi, 2 * np.pi) - np.pi  # in [-pi, pi)
-        a = alpha * np.cos(delta) ** order
+        phi = np.pi * k / orientations
+        c = cos_t * math.cos(phi) + sin_t * math.sin(phi)  # cos(t - phi)
+        a = masks[k]
+        a[...] = alpha
+        for _ in range(order):
+            a *= c
         if is_complex:
-            # Analytic band: keep the half-plane |delta| < pi/2 with weight 2, so that the real part
-            # of the complex band is the real band; the boundary |delta| = pi/2 gets weight 1.
-            half = np.abs(delta)
-            a = a * np.where(half < np.pi / 2, 2.0, np.where(half == np.pi / 2, 1.0, 0.0))
-        masks.append(a * phase)
+            a *= np.where(np.abs(c) < 1e-12, 1.0, np.where(c > 0, 2.0, 0.0))
     return masks
 
 
@@ -501,18 +505,18 @@ class SteerablePyramid:
     def _build_masks(self):
         radius, angle = _frequency_grid(self.shape)
         self._hi0, self._lo0 = _radial_masks(radius, 0)  # H0, L0: transition r in [1/2, 1]
-        self._band_masks = []  # per scale: (K, h, w) complex masks H(2^s r) A_k(t) (-i)^(K-1)
+        self._phase = (-1j) ** (self.orientations - 1)  # the bands' spectra are (-i)^(K-1) H A_k L
+        self._band_masks = []  # per scale: (K, h, w) real masks H(2^s r) A_k(t)
         self._real_masks = []  # the same with the real angular masks (the synthesis operator)
         self._lo_masks = []  # per scale: L(2^s r) on that scale's grid
         self._crops = []  # per scale: row / column indices kept by the crop to the next scale
         self._sizes = [self.shape]
         for s in range(self.scales):
             hi, lo = _radial_masks(radius, s + 1)
-            angular = _angular_masks(angle, self.orientations, self.is_complex)
-            self._band_masks.append(np.stack([hi * a for a in angular]))
+            cos_t, sin_t = np.cos(angle), np.sin(angle)
+            self._band_masks.append(_angular_masks(cos_t, sin_t, self.orientations, self.is_complex) * hi)
             if self.is_complex:
-                real = _angular_masks(angle, self.orientations, False)
-                self._real_masks.append(np.stack([hi * a for a in real]))
+                self._real_masks.append(_angular_masks(cos_t, sin_t, self.orientations, False) * hi)
             else:
                 self._real_masks.append(self._band_masks[-1])
             self._lo_masks.append(lo)
@@ -558,7 +562,7 @@ class SteerablePyramid:
         low = spectrum * self._lo0
         bands = []
         for s in range(self.scales):
-            oriented = sfft.ifft2(low[None] * self._band_masks[s], axes=(-2, -1))
+            oriented = sfft.ifft2((low * self._phase)[None] * self._band_masks[s], axes=(-2, -1))
             oriented = oriented if self.is_complex else oriented.real
             cdtype = np.complex64 if dtype == np.float32 else np.complex128
             oriented = oriented.astype(cdtype if self.is_complex else dtype, copy=False)
@@ -592,7 +596,8 @@ class SteerablePyramid:
             # A complex band's real part is the real band (the analytic mask M has
             # (M(w) + conj(M(-w))) / 2 = the real mask), so both kinds use the real masks.
             real_bands = np.real(np.stack(coeffs.bands[s]))
-            low += np.sum(sfft.fft2(real_bands, axes=(-2, -1)) * np.conj(self._real_masks[s]), axis=0)
+            band_spectra = sfft.fft2(real_bands, axes=(-2, -1))
+            low += np.conj(self._phase) * np.einsum("khw,khw->hw", band_spectra, self._real_masks[s])
         spectrum = low * self._lo0 + sfft.fft2(np.asarray(coeffs.highpass, dtype=float)) * self._hi0
         return sfft.ifft2(spectrum).real
 
