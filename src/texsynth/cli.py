@@ -232,14 +232,21 @@ def _run_method(args):
     return _write(method, result, args.output, args.overwrite)
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error message (exit status 2, as argparse uses)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
 def build_parser():
     """The full argument parser (methods that are registered)."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="texsynth",
         description="Example-based texture synthesis. 'texsynth list' shows the methods; "
                     "'texsynth METHOD --help' shows a method's options.",
     )
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.add_parser("list", help="list the methods with one line each")
     demo = sub.add_parser("demo", help="write a gallery of every method on bundled sample textures")
     demo.add_argument("--out", default="texsynth-demo", help="gallery folder (default: texsynth-demo)")

@@ -1,0 +1,89 @@
+"""The texsynth command: list, demo, errors (methods are tested with their modules' CLI tests here too)."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from texsynth import cli, data
+from texsynth.io import load_image, save_image
+
+
+def run(*argv):
+    return cli.main(list(argv))
+
+
+def test_list_shows_every_method(capsys):
+    assert run("list") == 0
+    out = capsys.readouterr().out
+    assert out.startswith("demo")
+    for name, method in cli.METHODS.items():
+        assert f"{name}" in out and method.summary in out
+
+
+def test_python_dash_m_works():
+    proc = subprocess.run([sys.executable, "-m", "texsynth", "list"], capture_output=True, text=True)
+    assert proc.returncode == 0 and "demo" in proc.stdout
+
+
+def test_unknown_method_is_a_one_line_error_with_status_2():
+    proc = subprocess.run([sys.executable, "-m", "texsynth", "frobnicate"], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "invalid choice" in proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+def test_every_method_has_help_generated_from_its_signature(capsys):
+    import inspect
+
+    for name, method in cli.METHODS.items():
+        with pytest.raises(SystemExit) as info:
+            run(name, "--help")
+        assert info.value.code == 0
+        text = capsys.readouterr().out
+        params = inspect.signature(method.function()).parameters
+        for pname, param in params.items():
+            if param.kind is param.KEYWORD_ONLY and pname not in cli._ALWAYS_SKIPPED | set(method.skip):
+                assert "--" + pname.replace("_", "-") in text, (name, pname)
+
+
+def test_parse_size():
+    assert cli.parse_size("64x32") == (32, 64)
+    assert cli.parse_size("8x4x2") == (2, 4, 8)
+    for bad in ("0x5", "axb", "1x2x3x4"):
+        with pytest.raises(cli.CommandError, match="--size"):
+            cli.parse_size(bad)
+
+
+def test_demo_writes_gallery_and_refuses_foreign_folders(tmp_path, monkeypatch):
+    from texsynth import demo
+
+    sample = demo.Entry("identity", "identity", "none", "metal", lambda ex, seed: ex[:32, :32])
+    index = demo.run_demo(tmp_path / "g", entries=[sample])
+    html = index.read_text()
+    assert 'src="identity.png"' in html and 'src="exemplar_metal.png"' in html
+    assert np.array_equal(load_image(tmp_path / "g" / "identity.png"), data.load("metal")[:32, :32])
+    demo.run_demo(tmp_path / "g", entries=[sample])  # its own folder: may be rewritten
+    foreign = tmp_path / "mine"
+    foreign.mkdir()
+    (foreign / "thesis.tex").write_text("precious")
+    with pytest.raises(FileExistsError, match="did not write"):
+        demo.run_demo(foreign, entries=[sample])
+    assert (foreign / "thesis.tex").read_text() == "precious"
+
+
+@pytest.mark.skipif(not cli.METHODS, reason="no method registered")
+def test_method_errors_exit_2_without_traceback(tmp_path, capsys):
+    name, method = next((n, m) for n, m in cli.METHODS.items() if m.inputs == "image")
+    assert run(name, str(tmp_path / "missing.png"), "-o", str(tmp_path / "o.png")) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("texsynth: error:") and err.count("\n") == 1
+    src = save_image(tmp_path / "in.png", data.load("bumpy"))
+    assert run(name, str(src), "-o", str(src), "--overwrite") == 2
+    assert "also an input" in capsys.readouterr().err
+    existing = save_image(tmp_path / "exists.png", np.zeros((4, 4)))
+    assert run(name, str(src), "-o", str(existing)) == 2
+    assert "--overwrite" in capsys.readouterr().err
+    assert load_image(existing).max() == 0.0
+    assert run(name, str(src), "-o", str(tmp_path / "o.png"), "--size", "0x3") == 2
