@@ -1,0 +1,1116 @@
+"""Harrison's patchwork texture synthesis: random Voronoi patches with invisible joins.
+
+Harrison (2002) copies random patches of the exemplar into the output, one per
+cell of a Voronoi diagram over jittered grid points ``p_i``, and hides the
+joins by blending the patches with weights ``w_i(x) = d(x, p_i)^-f`` while
+controlling the standard deviation of every blended pixel (eq. 2). Section 4
+extends this to video (intermediate sequences, eqs. 3-6) and Section 5 to
+texture transfer (source points matched to a pattern image, eq. 7).
+
+Symbols follow the paper (its Table 1):
+
+``O(x)``
+    output image; ``I(x)`` input image (exemplar); ``P(x)`` pattern image.
+``p_i``
+    points in the output (one per Voronoi cell, on a jittered grid).
+``q_i``
+    points in the input; cell ``i`` copies ``I(x - p_i + q_i)``.
+``f``
+    sharpness of the patch borders (``sharpness``).
+``a``
+    the input's mean colour (eq. 2); ``a_i`` local means for transfer (eq. 7).
+``d(a, b)``
+    Euclidean distance.
+
+Cost and the neighbour bound
+----------------------------
+Eq. 2 sums over every cell; "terms with small weight may be omitted". Here a
+pixel ``x`` sums over the cells of an ``m x m`` block of neighbouring grid
+points (``neighbors=m``, default 4): with grid spacing ``s`` the block is
+chosen so that ``x`` lies in its central region, every omitted point is at
+least ``(m - 1) s / 2`` away from ``x`` along one axis, while the point of
+``x``'s own grid square is at most ``sqrt(2) s`` away (and typically about
+``0.5 s``). For ``f = 6`` and ``m = 4`` the omitted share of ``sum w_i^2`` is
+about 1e-5 on average (``benchmarks/bench_patchwork.py`` measures it against
+the all-cells sum). The cost is ``m^2`` vectorized passes over the output:
+O(number of output pixels), with memory bounded by processing bands of rows.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validate import (
+    as_image,
+    as_rng,
+    as_size,
+    check_positive_float,
+    check_positive_int,
+    restore_channels,
+    with_channels,
+)
+from .neighborhood import extract
+
+__all__ = ["patchwork", "patchwork_video", "patchwork_transfer", "voronoi_weights", "PatchworkInfo"]
+
+_BAND_PIXELS = 1 << 16  # pixels per band: keeps the m*m weight arrays of a band in cache
+_NEAR = 0.01  # "near the cell": normalised weight above this must be sampled inside the input
+
+
+@dataclass
+class PatchworkInfo:
+    """What :func:`patchwork` and friends chose.
+
+    Attributes
+    ----------
+    p : numpy.ndarray
+        ``(n, 2)`` float, the points ``p_i`` (row, col) in the output. They lie
+        on pixel corners (half-integer coordinates), so no pixel is at
+        distance 0 from a point.
+    q : numpy.ndarray
+        ``(n, 2)`` float, the matching points ``q_i`` in the input; cell ``i``
+        copies ``I(x - p_i + q_i)`` (an integer offset).
+    cells : numpy.ndarray
+        ``(H, W)`` int, index ``i`` of the cell with the largest weight at each
+        output pixel (the Voronoi cell of ``p_i``).
+    grid_shape : tuple of int
+        Number of grid points (rows, columns); ``n`` is their product.
+    spacing : tuple of float
+        Grid spacing actually used (rows, columns); equal to ``grid_spacing``
+        except for tileable output, where it is adjusted so the grid wraps.
+    neighbors : int
+        Size ``m`` of the ``m x m`` block of cells summed per pixel.
+    exact_sources : bool
+        True when every sample ``x - p_i + q_i`` of every contributing cell
+        lies inside the input (the paper's condition). False for inputs
+        smaller than ``neighbors * grid_spacing``: then the far tails of the
+        cells are mirrored at the input border (see Notes of :func:`patchwork`).
+    clipped : float
+        Fraction of output values clipped to [0, 1] after eq. 2 or 7.
+    local_means : numpy.ndarray or None
+        ``(n, C)`` local averages ``a_i`` (transfer, eq. 7); None otherwise.
+    frame_keys : numpy.ndarray or None
+        Video only: ``(n, k)`` key frames ``p_{i,k}`` of each cell's
+        intermediate sequence (eqs. 3-6).
+    frame_sources : numpy.ndarray or None
+        Video only: ``(n, k)`` matching input frames ``q_{i,k}``.
+    """
+
+    p: np.ndarray
+    q: np.ndarray
+    cells: np.ndarray
+    grid_shape: tuple
+    spacing: tuple
+    neighbors: int
+    exact_sources: bool
+    clipped: float = 0.0
+    local_means: np.ndarray | None = None
+    frame_keys: np.ndarray | None = None
+    frame_sources: np.ndarray | None = None
+
+
+# --------------------------------------------------------------------------
+# Validation helpers
+
+
+def _check_sharpness(sharpness):
+    if not isinstance(sharpness, (int, float, np.integer, np.floating)) or isinstance(sharpness, bool):
+        raise TypeError(f"sharpness f must be a positive number (paper: 6), got {sharpness!r}")
+    if not np.isfinite(sharpness) or sharpness <= 0:
+        raise ValueError(
+            f"sharpness f must be a finite number > 0 (paper: 2, 6 or 20; default 6), got {sharpness}"
+        )
+    return float(sharpness)
+
+
+def _check_grid(grid_spacing, input_shape, name="exemplar"):
+    s = check_positive_int(grid_spacing, "grid_spacing")
+    if s > min(input_shape):
+        raise ValueError(
+            f"grid_spacing {s} is larger than the {name} ({input_shape[0]}x{input_shape[1]}); "
+            f"pass grid_spacing <= {min(input_shape)} (better <= {max(1, min(input_shape) // 3)}, "
+            f"so a whole cell fits) or a larger {name}"
+        )
+    return s
+
+
+def _check_neighbors(neighbors):
+    m = check_positive_int(neighbors, "neighbors", minimum=2)
+    if m > 8:
+        raise ValueError(f"neighbors must be an integer in 2..8 (default 4), got {m}")
+    return m
+
+
+def _progress(progress, total, desc):
+    """Return ``step(info)``: a tqdm bar, a user callable, or nothing."""
+    if progress is True:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=total, desc=desc)
+        state = {"n": 0}
+
+        def step(info=None):
+            state["n"] += 1
+            bar.update(1)
+            if state["n"] >= total:
+                bar.close()
+
+        return step
+    if callable(progress):
+        state = {"n": 0}
+
+        def step(info=None):
+            state["n"] += 1
+            progress(state["n"], total, info or {})
+
+        return step
+    if progress not in (False, None):
+        raise TypeError(f"progress must be False, True or a callable(step, total, info), got {progress!r}")
+    return lambda info=None: None
+
+
+# --------------------------------------------------------------------------
+# Section 3: the jittered grid of points p_i and the choice of q_i
+
+
+class _Axis:
+    """One axis of the jittered grid and of the block decomposition of the output.
+
+    Grid square ``j`` spans ``[j*s, (j+1)*s)``; its point ``p_j`` lies inside it.
+    Output coordinate ``r`` sums over the points ``k0(r) .. k0(r)+m-1`` with
+    ``k0(r) = floor(r/s - m/2 + 1/2)`` (so ``r`` is in the middle of that block
+    of squares). Rows with the same ``k0`` form a *block*; blocks are padded to
+    a common length ``T`` so the work broadcasts as ``(blocks, T)`` arrays.
+    """
+
+    def __init__(self, n_out, spacing, m, tileable, step=1):
+        self.n_out = n_out
+        self.m = m
+        self.tileable = tileable
+        if tileable:
+            self.n = max(1, round(n_out / spacing))
+            self.s = n_out / self.n
+        else:
+            self.n = max(1, math.ceil(n_out / spacing))
+            self.s = float(spacing)
+        # every pixel (step 1), or a coarse sample of them to measure the cells' influence
+        r = np.unique(np.r_[np.arange(0, n_out, step), n_out - 1])
+        k0 = np.floor(r / self.s - m / 2 + 0.5).astype(np.intp)
+        self.k0, start, counts = np.unique(k0, return_index=True, return_counts=True)
+        self.T = int(counts.max())
+        i = np.arange(self.T)
+        # coordinates of the padded layout (a block shorter than T repeats its last row)
+        self.coords = r[start[:, None] + np.minimum(i[None, :], counts[:, None] - 1)]
+        self.block_of = np.repeat(np.arange(len(start)), counts)
+        self.index_in_block = np.arange(len(r)) - start[self.block_of]
+
+    def reach(self, j):
+        """Offsets ``x - p`` of the output coordinates that sum over square ``j`` (lo, hi), before p."""
+        lo = np.ceil((j - self.m / 2 + 0.5) * self.s)
+        hi = np.ceil((j + self.m / 2 + 0.5) * self.s) - 1
+        return lo, hi
+
+    def neighbour(self, a):
+        """Point index (mod n), periodic-image shift and validity for offset ``a`` of every block."""
+        J = self.k0 + a
+        if self.tileable:
+            return np.mod(J, self.n), np.floor_divide(J, self.n) * self.n_out, np.ones(J.shape, bool)
+        valid = (J >= 0) & (J < self.n)
+        return np.clip(J, 0, self.n - 1), np.zeros(J.shape), valid
+
+
+def _jitter(axis, shape, gen, along):
+    """Jittered grid coordinates ``p`` on pixel corners: one point per grid square."""
+    u = gen.random(shape)
+    j = np.arange(axis.n).reshape((-1, 1) if along == 0 else (1, -1))
+    cell = np.floor((j + u) * axis.s)
+    lo = np.ceil(j * axis.s)
+    hi = np.ceil((j + 1) * axis.s) - 1
+    return np.clip(cell, lo, np.maximum(lo, hi)) + 0.5
+
+
+def _source_bounds(p, n_in, near):
+    """Allowed source pixels ``q_i - 1/2`` along one axis, so that ``x - p_i + q_i`` stays inside.
+
+    ``near`` holds, per point, the offsets ``(lo, hi)`` of ``x - p_i`` "in or
+    near" the cell: where its normalised weight exceeds ``_NEAR`` (measured
+    by :meth:`_Geometry.influence`). A window longer than the input is cut to
+    the input's length around ``p_i``. Samples of the cell outside the window
+    (its far tails) are mirrored at the input border.
+    Returns the first and last allowed source pixel per point.
+    """
+    wlo = np.minimum(near[0], 0)
+    whi = np.maximum(near[1], 0)
+    before = (n_in - 1) // 2
+    too_long = whi - wlo + 1 > n_in
+    wlo = np.where(too_long, np.maximum(wlo, np.maximum(-before, whi - n_in + 1)), wlo)
+    whi = np.where(too_long, wlo + n_in - 1, whi)
+    return -wlo, n_in - 1 - whi
+
+
+def _draw(first, last, gen, k=None):
+    """Uniform random integers in ``[first, last]``; ``k`` draws per entry if given."""
+    if k is None:
+        return first + np.floor(gen.random(first.shape) * (last - first + 1))
+    span = (last - first + 1)[..., None]
+    return first[..., None] + np.floor(gen.random(first.shape + (k,)) * span)
+
+
+class _Geometry:
+    """The points ``p_i``, ``q_i`` and the per-band weights ``w_i(x)`` (eq. 1)."""
+
+    def __init__(self, out_size, in_size, spacing, sharpness, m, tileable, gen, choose_q=True):
+        H, W = out_size
+        self.f = sharpness
+        self.m = m
+        self.rows = _Axis(H, spacing, m, tileable)
+        self.cols = _Axis(W, spacing, m, tileable)
+        ny, nx = self.rows.n, self.cols.n
+        self.grid_shape = (ny, nx)
+        self.py = _jitter(self.rows, (ny, nx), gen, 0)
+        self.px = _jitter(self.cols, (ny, nx), gen, 1)
+        self.in_size = in_size
+        self.qy = self.qx = None
+        self.exact = False
+        self.tileable = tileable
+        self.spacing = spacing
+        near_y, near_x = self.influence()
+        self.bounds_y = _source_bounds(self.py, in_size[0], near_y)
+        self.bounds_x = _source_bounds(self.px, in_size[1], near_x)
+        if choose_q:  # Section 3: q_i at random
+            self.set_sources(_draw(*self.bounds_y, gen) + 0.5, _draw(*self.bounds_x, gen) + 0.5)
+
+    def set_sources(self, qy, qx):
+        self.qy, self.qx = qy, qx
+        self.exact = not any(self.pad())  # every contributing sample inside the input
+
+    def pad(self):
+        """Margins (top, bottom, left, right) the input needs so every sample exists."""
+        j = np.arange(self.rows.n)[:, None]
+        k = np.arange(self.cols.n)[None, :]
+        lo, hi = self.rows.reach(j)
+        top = int(max(0, -np.min(lo - self.py + self.qy)))
+        bottom = int(max(0, np.max(hi - self.py + self.qy) - (self.in_size[0] - 1)))
+        lo, hi = self.cols.reach(k)
+        left = int(max(0, -np.min(lo - self.px + self.qx)))
+        right = int(max(0, np.max(hi - self.px + self.qx) - (self.in_size[1] - 1)))
+        return top, bottom, left, right
+
+    def influence(self):
+        """Offsets ``x - p_i`` (rows and columns) where cell ``i`` matters: "in or near" the cell.
+
+        Measured on a coarse sample of the output (every ``s/8``-th pixel,
+        widened by that step) as the extent of the region where
+        ``w_i(x) / sqrt(sum_j w_j(x)^2) > _NEAR``. Returns ``((lo, hi), (lo, hi))``
+        arrays of shape ``grid_shape``, in pixels from the pixel at ``p_i - 1/2``.
+        """
+        step = max(1, int(round(min(self.rows.s, self.cols.s) / 8)))
+        axes = (
+            _Axis(self.rows.n_out, self.spacing, self.m, self.tileable, step),
+            _Axis(self.cols.n_out, self.spacing, self.m, self.tileable, step),
+        )
+        n = self.grid_shape[0] * self.grid_shape[1]
+        ext = np.full((4, n), np.inf)
+        ext[1::2] = -np.inf  # lo_y, hi_y, lo_x, hi_x
+        for band in self.bands(axes):
+            parts, _ = self.band_weights(band, axes=axes)
+            norm = np.sqrt(sum(w * w for _, w, _, _, _ in parts))
+            r = axes[0].coords[band].astype(np.float64)[:, :, None]  # (By, T, 1)
+            c = axes[1].coords.astype(np.float64)[None, :, :]  # (1, Bx, T)
+            for ids, w, _, py, px in parts:
+                near = w > _NEAR * norm
+                dy = r - py[:, None, :] + 0.5  # (By, T, Bx)
+                dx = c - px[:, :, None] + 0.5  # (By, Bx, T)
+                hit_y, hit_x = near.any(3), near.any(1)
+                for row, d, hit, red in ((0, dy, hit_y, 1), (2, dx, hit_x, 2)):
+                    np.minimum.at(ext[row], ids.ravel(), np.where(hit, d, np.inf).min(red).ravel())
+                    np.maximum.at(ext[row + 1], ids.ravel(), np.where(hit, d, -np.inf).max(red).ravel())
+        ext[0::2] -= step  # the coarse sample may miss up to one step
+        ext[1::2] += step
+        unseen = ~np.isfinite(ext)  # a sliver of a cell between samples
+        fallback = np.broadcast_to(np.array([-step, step, -step, step], float)[:, None], ext.shape)
+        ext[unseen] = fallback[unseen]
+        shape = self.grid_shape
+        return (ext[0].reshape(shape), ext[1].reshape(shape)), (ext[2].reshape(shape), ext[3].reshape(shape))
+
+    def bands(self, axes=None):
+        """Slices of row blocks, each about ``_BAND_PIXELS`` output pixels."""
+        rows, cols = axes or (self.rows, self.cols)
+        per_block = rows.T * len(cols.k0) * cols.T
+        step = max(1, _BAND_PIXELS // per_block)
+        nb = len(rows.k0)
+        return [slice(b, min(nb, b + step)) for b in range(0, nb, step)]
+
+    def band_weights(self, band, padded_width=None, pads=(0, 0, 0, 0), need_cells=False, axes=None):
+        """Eq. 1 for every pixel of a band and each of its ``m*m`` neighbouring cells.
+
+        Returns a list of ``(ids, w, flat)`` per neighbour: ``ids`` the cell
+        index ``(By, Bx)``, ``w`` the weights relative to the nearest cell
+        ``(By, T, Bx, T)`` (float32, the scale cancels in eqs. 2 and 7),
+        ``flat`` the flat index of ``x - p_i + q_i`` in the padded input (None
+        without ``padded_width``); and the map of the nearest cell if
+        ``need_cells``.
+        """
+        rows, cols = axes or (self.rows, self.cols)
+        top, _, left, _ = pads
+        r = rows.coords[band].astype(np.float64)  # (By, T)
+        c = cols.coords.astype(np.float64)  # (Bx, T)
+        nx = self.grid_shape[1]
+        parts = []
+        for a in range(self.m):
+            J, shift_y, valid_y = (v[band] for v in rows.neighbour(a))
+            for b in range(self.m):
+                K, shift_x, valid_x = cols.neighbour(b)
+                py = self.py[J[:, None], K[None, :]] + shift_y[:, None]  # (By, Bx), periodic image
+                px = self.px[J[:, None], K[None, :]] + shift_x[None, :]
+                dy2 = ((r[:, :, None] - py[:, None, :]) ** 2).astype(np.float32)[..., None]  # (By,T,Bx,1)
+                dx2 = ((c[None, None, :, :] - px[:, None, :, None]) ** 2).astype(np.float32)  # (By,1,Bx,T)
+                valid = (valid_y[:, None] & valid_x[None, :])[:, None, :, None]
+                if not valid.all():  # non-tileable border: no grid point there
+                    dy2 = np.where(valid, dy2, np.float32(np.inf))
+                d2 = dy2 + dx2  # d(x, p_i)^2, (By, T, Bx, T)
+                ids = J[:, None] * nx + K[None, :]
+                if padded_width is None:
+                    parts.append([ids, d2, None, py, px])
+                    continue
+                # source x - p_i + q_i as a flat index into the padded input (integer offsets)
+                sy = (r[:, :, None] + (self.qy[J[:, None], K[None, :]] - py)[:, None, :] + top).astype(np.intp)
+                sx = (c[None, :, :] + (self.qx[J[:, None], K[None, :]] - px)[:, :, None] + left).astype(np.intp)
+                flat = sy[..., None] * padded_width + sx[:, None, :, :]
+                parts.append([ids, d2, flat, py, px])
+        d2min = parts[0][1].copy()
+        for part in parts[1:]:
+            np.minimum(d2min, part[1], out=d2min)
+        cells = None
+        if need_cells:
+            cells = np.zeros(d2min.shape, np.intp)
+            for ids, d2, *_ in parts:
+                hit = d2 == d2min
+                cells[hit] = np.broadcast_to(ids[:, None, :, None], d2.shape)[hit]
+        half = self.f / 2
+        for part in parts:
+            ratio = np.divide(d2min, part[1], out=part[1])  # (d_min / d_i)^2 in (0, 1]
+            part[1] = _power(ratio, half)  # w_i(x) = d(x, p_i)^-f, eq. 1, up to a per-pixel scale
+        return parts, cells
+
+    def to_output(self, band, padded):
+        """Scatter a band in the padded block layout back to output rows and columns."""
+        rows, cols = self.rows, self.cols
+        sel = (rows.block_of >= band.start) & (rows.block_of < band.stop)
+        by = rows.block_of[sel] - band.start
+        iy = rows.index_in_block[sel]
+        out = padded[by[:, None], iy[:, None], cols.block_of[None, :], cols.index_in_block[None, :]]
+        return np.flatnonzero(sel), out
+
+
+def _power(ratio, exponent):
+    """``ratio ** exponent`` for float32 arrays, by repeated multiplication for small integers."""
+    if exponent == int(exponent) and 1 <= exponent <= 16:
+        e = int(exponent)
+        result = None
+        base = ratio
+        while e:
+            if e & 1:
+                result = base.copy() if result is None else np.multiply(result, base, out=result)
+            e >>= 1
+            if e:
+                base = base * base
+        return result
+    return np.power(ratio, np.float32(exponent), dtype=np.float32)
+
+
+def _blend(parts, sample, channels, local_means=None):
+    """Eq. 2 (``local_means`` None: samples already have ``a`` subtracted) or eq. 7.
+
+    ``sample(n, ids, flat)`` returns the input values ``I(x - p_i + q_i)`` of
+    neighbour ``n`` with shape ``flat.shape + (C,)``.
+    """
+    shape = parts[0][1].shape
+    num = np.zeros(shape + (channels,), np.float32)
+    den2 = np.zeros(shape, np.float32)
+    if local_means is not None:
+        mean_num = np.zeros(shape + (channels,), np.float32)
+        den1 = np.zeros(shape, np.float32)
+    for n, (ids, w, flat, *_) in enumerate(parts):
+        values = sample(n, ids, flat)
+        wc = w[..., None]
+        if local_means is None:
+            num += np.multiply(values, wc, out=values)  # sum_i (I(x - p_i + q_i) - a) w_i(x)
+        else:
+            a_i = local_means[ids][:, None, :, None, :]  # (By, 1, Bx, 1, C)
+            num += (values - a_i) * wc  # sum_i (I(x - p_i + q_i) - a_i) w_i(x)
+            mean_num += a_i * wc  # sum_i a_i w_i(x)
+            den1 += w
+        den2 += w * w
+    num /= np.sqrt(den2)[..., None]  # divided by sqrt(sum_i w_i(x)^2)
+    if local_means is not None:
+        num += mean_num / den1[..., None]  # + sum_i a_i w_i / sum_i w_i   (eq. 7)
+    return num
+
+
+def _finish(out, dtype, was_grey):
+    clipped = float(np.mean((out < 0) | (out > 1)))
+    np.clip(out, 0, 1, out=out)
+    return restore_channels(out.astype(dtype, copy=False), was_grey), clipped
+
+
+def _info(geom, cells, clipped, **extra):
+    p = np.stack([geom.py.ravel(), geom.px.ravel()], 1)
+    q = np.stack([geom.qy.ravel(), geom.qx.ravel()], 1)
+    return PatchworkInfo(
+        p=p,
+        q=q,
+        cells=cells,
+        grid_shape=geom.grid_shape,
+        spacing=(geom.rows.s, geom.cols.s),
+        neighbors=geom.m,
+        exact_sources=geom.exact,
+        clipped=clipped,
+        **extra,
+    )
+
+
+def _padded_flat(image, pads):
+    """The input padded by mirroring (only used where samples leave it) as ``(pixels, C)``."""
+    top, bottom, left, right = pads
+    if any(pads):
+        image = np.pad(image, ((top, bottom), (left, right), (0, 0)), mode="symmetric")
+    return image.reshape(-1, image.shape[-1]), image.shape[1]
+
+
+def _run_bands(geom, width, pads, need_cells, compose, progress, desc):
+    """Loop over bands: weights once per band, then ``compose(band, parts)``."""
+    cells = np.zeros((geom.rows.n_out, geom.cols.n_out), np.intp) if need_cells else None
+    bands = geom.bands()
+    step = _progress(progress, len(bands), desc)
+    for band in bands:
+        parts, cell_blocks = geom.band_weights(band, width, pads, need_cells)
+        compose(band, parts)
+        if need_cells:
+            idx, block_cells = geom.to_output(band, cell_blocks[..., None])
+            cells[idx] = block_cells[..., 0]
+        step({"band": band.start})
+    return cells
+
+
+# --------------------------------------------------------------------------
+# Public functions
+
+
+def voronoi_weights(size, *, grid_spacing=64, sharpness=6, tileable=False, neighbors=4, rng=None):
+    """The largest normalised patch weight ``w_i(x) / sqrt(sum_j w_j(x)^2)`` (eqs. 1-2), and the cell map.
+
+    Draws the patch shapes of Figure 2: deep inside a cell the largest
+    normalised weight is close to 1; on the join between two cells both
+    weights are about ``1/sqrt(2)``. Larger ``f`` makes the joins narrower.
+
+    Parameters
+    ----------
+    size : int or (int, int)
+        Output size ``(height, width)``.
+    grid_spacing : int
+        Spacing of the jittered grid of points ``p_i`` (paper: 64).
+    sharpness : float
+        ``f`` in eq. 1 (paper: 6; Figure 2 shows 2, 6 and 20).
+    tileable : bool
+        Wrap the grid and the distance around the borders.
+    neighbors : int
+        Block size ``m``: each pixel sums over the cells of ``m x m`` grid points.
+    rng : None, int or numpy.random.Generator
+        Seed for the jittered grid (the same seed gives the same ``p_i`` as
+        :func:`patchwork` with the same size and options).
+
+    Returns
+    -------
+    largest : numpy.ndarray
+        ``(H, W)`` float64, the largest normalised weight at each pixel.
+    cells : numpy.ndarray
+        ``(H, W)`` int, index ``i`` of the cell with the largest weight.
+
+    Examples
+    --------
+    >>> largest, cells = voronoi_weights(32, grid_spacing=8, rng=0)
+    >>> largest.shape, int(cells.max()) + 1
+    ((32, 32), 16)
+    >>> bool(largest.min() > 0.6) and bool(largest.max() <= 1.0)
+    True
+    """
+    H, W = as_size(size)
+    f = _check_sharpness(sharpness)
+    s = check_positive_int(grid_spacing, "grid_spacing")
+    m = _check_neighbors(neighbors)
+    geom = _Geometry((H, W), (H, W), s, f, m, bool(tileable), as_rng(rng), choose_q=False)
+    largest = np.zeros((H, W), np.float64)
+    cells = np.zeros((H, W), np.intp)
+    for band in geom.bands():
+        parts, cell_blocks = geom.band_weights(band, need_cells=True)
+        weights = [w for _, w, *_ in parts]
+        norm = np.sqrt(sum(w * w for w in weights))
+        top = np.max(np.stack(weights), 0) / norm
+        idx, block = geom.to_output(band, np.stack([top.astype(np.float64), cell_blocks], -1))
+        largest[idx] = block[..., 0]
+        cells[idx] = block[..., 1].astype(np.intp)
+    return largest, cells
+
+
+def patchwork(
+    exemplar,
+    size,
+    *,
+    grid_spacing=64,
+    sharpness=6,
+    tileable=False,
+    neighbors=4,
+    rng=None,
+    return_info=False,
+    progress=False,
+):
+    """Synthesise a texture from random Voronoi patches with invisible joins (Harrison 2002, Section 3).
+
+    Parameters
+    ----------
+    exemplar : array_like
+        Input texture ``I``: ``(H, W)`` grey or ``(H, W, C)``; any accepted
+        dtype (see :func:`texsynth._validate.as_image`).
+    size : int or (int, int)
+        Output size ``(height, width)``; any size.
+    grid_spacing : int
+        Spacing of the jittered grid of points ``p_i``, about the size of a
+        patch (paper: 64 pixels, Figure 4). Must not exceed the exemplar;
+        inputs of at least ``neighbors * grid_spacing`` pixels copy every
+        contributing sample from inside the input (the paper's condition on
+        ``q_i``); smaller inputs (down to ``grid_spacing``) mirror the far
+        tails of the patches at the input border.
+    sharpness : float
+        ``f`` in eq. 1, the sharpness of the patch borders (paper: 6; Figure 2
+        shows 2, 6 and 20). Must be > 0.
+    tileable : bool
+        Make the output tile seamlessly: the jittered grid wraps around and the
+        distance ``d`` is toroidal. The grid spacing is then adjusted to
+        ``height / round(height / grid_spacing)`` (and likewise for width).
+    neighbors : int
+        Each pixel sums eq. 2 over the cells of the ``m x m`` nearest grid
+        points (``m = neighbors``, default 4); see the module notes for the
+        weight this omits.
+    rng : None, int or numpy.random.Generator
+        Random source for ``p_i`` and ``q_i``; an int seed reproduces the
+        output bit for bit.
+    return_info : bool
+        Also return a :class:`PatchworkInfo` with ``p_i``, ``q_i`` and the
+        cell map.
+    progress : bool or callable
+        Report progress per band of rows (True: tqdm bar; callable receives
+        ``(step, total, info)``).
+
+    Returns
+    -------
+    image : numpy.ndarray
+        ``(height, width)`` or ``(height, width, C)``, the exemplar's channel
+        layout; float32 for float32 input, float64 otherwise.
+    info : PatchworkInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError
+        If ``grid_spacing`` is larger than the exemplar, ``sharpness <= 0``,
+        or ``neighbors`` is outside 2..8.
+
+    Notes
+    -----
+    Each cell ``i`` weighs its patch by (eq. 1)
+
+    .. math:: w_i(x) = d(x, p_i)^{-f}
+
+    and the output is (eq. 2)
+
+    .. math:: O(x) = \\frac{\\sum_i (I(x - p_i + q_i) - a)\\, w_i(x)}
+              {\\sqrt{\\sum_i w_i(x)^2}} + a
+
+    with ``a`` the mean colour of the input. For uncorrelated patches the
+    divisor keeps the standard deviation of every pixel equal to the input's,
+    so joins are neither duller nor brighter than the patches (Figure 1c).
+    Values are clipped to [0, 1] afterwards (``info.clipped`` is the
+    fraction; typically well below 1%). The weights are computed relative to
+    the nearest point (``(d_min / d_i)^f``), which leaves eq. 2 unchanged and
+    cannot overflow for large ``f``.
+
+    The method fails, as the paper says, on tiling patterns (bricks, weaves)
+    and on textures with large objects or cracks: random patches break them.
+
+    References
+    ----------
+    .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
+       Monash University, 2002. (No DOI; see also P. Harrison, "A
+       non-hierarchical procedure for re-synthesis of complex textures",
+       WSCG 2001.)
+
+    Examples
+    --------
+    >>> from texsynth import data
+    >>> metal = data.load("metal")
+    >>> out, info = patchwork(metal, 96, grid_spacing=32, rng=0, return_info=True)
+    >>> out.shape, info.grid_shape, info.cells.shape
+    ((96, 96), (3, 3), (96, 96))
+    >>> bool(abs(out.mean() - metal.mean()) < 0.05)
+    True
+    """
+    image = as_image(exemplar, "exemplar")
+    ex, grey = with_channels(image)
+    H, W = as_size(size)
+    f = _check_sharpness(sharpness)
+    s = _check_grid(grid_spacing, ex.shape[:2])
+    m = _check_neighbors(neighbors)
+    geom = _Geometry((H, W), ex.shape[:2], s, f, m, bool(tileable), as_rng(rng))
+
+    C = ex.shape[-1]
+    src = ex.astype(np.float32)
+    a = src.reshape(-1, C).mean(0, dtype=np.float64).astype(np.float32)  # average colour a (eq. 2)
+    pads = geom.pad()
+    table, width = _padded_flat(src - a, pads)
+    out = np.empty((H, W, C), np.float32)
+
+    def compose(band, parts):
+        blended = _blend(parts, lambda n, ids, flat: table.take(flat, axis=0), C)
+        idx, rows = geom.to_output(band, blended)
+        out[idx] = rows + a  # eq. 2: ... + a
+
+    cells = _run_bands(geom, width, pads, return_info, compose, progress, "patchwork")
+    result, clipped = _finish(out, image.dtype, grey)
+    if return_info:
+        return result, _info(geom, cells, clipped)
+    return result
+
+
+# --------------------------------------------------------------------------
+# Section 4: video
+
+
+class _Intermediate:
+    """The intermediate sequences ``N_i(x, t)`` of every cell (eqs. 3-6), evaluated lazily.
+
+    Each cell has key frames ``p_{i,k}`` evenly spaced over the output loop
+    (with a random phase per cell, so cells change source at different times)
+    and source frames ``q_{i,k}`` chosen so that ``t - p_{i,k} + q_{i,k}``
+    stays inside the input for the two intervals around ``p_{i,k}``. The last
+    interval wraps to the first key plus ``n_frames``: the loop is seamless.
+    """
+
+    def __init__(self, n_cells, n_frames, n_input, spacing, gen):
+        self.N = n_frames
+        nk = max(1, math.ceil(n_frames / spacing))
+        step = n_frames / nk
+        phase = gen.random((n_cells, 1)) * step
+        keys = np.floor(phase + np.arange(nk) * step).astype(np.intp)  # p_{i,k}
+        self.keys = np.concatenate([keys, keys[:, :1] + n_frames], 1)  # ... and p_{i,nk} = p_{i,0} + N
+        length = np.diff(self.keys, axis=1)  # L_k = p_{k+1} - p_k
+        before = np.roll(length, 1, axis=1)  # L_{k-1}
+        # t - p_k ranges over (-L_{k-1}, L_k) where frame k has nonzero weight
+        first, last = before - 1, n_input - length
+        q = first + np.floor(gen.random(first.shape) * (last - first + 1)).astype(np.intp)
+        self.sources = np.concatenate([q, q[:, :1]], 1)  # q_{i,nk} = q_{i,0}
+
+    def at(self, t):
+        """Per-cell source frames and coefficients of eq. 6 at output frame ``t``."""
+        p0 = self.keys[:, 0]
+        tt = p0 + np.mod(t - p0, self.N)  # t in [p_0, p_0 + N)
+        k = np.sum(self.keys[:, :-1] <= tt[:, None], axis=1) - 1
+        rows = np.arange(len(tt))
+        pk, pk1 = self.keys[rows, k], self.keys[rows, k + 1]
+        u = (tt - pk) / (pk1 - pk)  # eq. 5
+        w1 = 0.5 + 0.5 * np.cos(np.pi * u)  # eq. 3
+        w2 = 0.5 - 0.5 * np.cos(np.pi * u)  # eq. 4
+        tau1 = tt - pk + self.sources[rows, k]
+        tau2 = tt - pk1 + self.sources[rows, k + 1]
+        norm = np.sqrt(w1**2 + w2**2)
+        # eq. 6: N = (w1 I1 + w2 I2 - A) / sqrt(w1^2 + w2^2) + A = c1 I1 + c2 I2 + cA A
+        coef = np.stack([w1 / norm, w2 / norm, 1 - 1 / norm], 1).astype(np.float32)
+        return tau1, tau2, coef
+
+
+def _check_video(frames, name="frames"):
+    video = as_image(frames, name, spatial_dims=3)
+    if video.shape[0] < 2:
+        raise ValueError(
+            f"{name} must hold at least 2 frames (T, H, W[, C]), got {video.shape[0]}; "
+            "for a single image use patchwork()"
+        )
+    return video
+
+
+def _frame_spacing(frame_spacing, n_input, n_frames):
+    """Spacing of the key frames: longest allowed by default (two intervals must fit in the input)."""
+    longest = (n_input + 1) // 2
+    if frame_spacing is None:  # a third of the input: long transitions, and varied source frames q_i
+        return max(1, min((n_input + 2) // 3, n_frames))
+    d = check_positive_int(frame_spacing, "frame_spacing")
+    if 2 * d - 1 > n_input:
+        raise ValueError(
+            f"frame_spacing {d} needs at least {2 * d - 1} input frames, got {n_input}; "
+            f"pass frame_spacing <= {longest}"
+        )
+    return d
+
+
+def _synthesize_video(geom, vid, n_frames, spacing, gen, local_means, progress, desc):
+    """Output frames: eq. 2 (or 7) over the intermediate sequences' frames, one Voronoi arrangement."""
+    T, Hin, Win, C = vid.shape
+    H, W = geom.rows.n_out, geom.cols.n_out
+    n_cells = geom.grid_shape[0] * geom.grid_shape[1]
+    seq = _Intermediate(n_cells, n_frames, T, spacing, gen)
+    src = vid.astype(np.float32)
+    A = src.mean(0)  # A(x), the per-pixel average over time (eq. 6)
+    a = None
+    if local_means is None:
+        a = src.reshape(-1, C).mean(0, dtype=np.float64).astype(np.float32)  # a, eq. 2
+        src = src - a
+        A = A - a
+    pads = geom.pad()
+    top, bottom, left, right = pads
+    if any(pads):
+        src = np.pad(src, ((0, 0), (top, bottom), (left, right), (0, 0)), mode="symmetric")
+    A_flat, width = _padded_flat(A, pads)
+    frame_size = A_flat.shape[0]
+    video = src.reshape(-1, C)
+    out = np.empty((n_frames, H, W, C), np.float32)
+    bands = geom.bands()
+    step = _progress(progress, len(bands) * n_frames, desc)
+    cells = np.zeros((H, W), np.intp)
+    for band in bands:
+        parts, cell_blocks = geom.band_weights(band, width, pads, need_cells=True)
+        idx, block_cells = geom.to_output(band, cell_blocks[..., None])
+        cells[idx] = block_cells[..., 0]
+        for t in range(n_frames):
+            tau1, tau2, coef = seq.at(t)
+
+            def sample(n, ids, flat, tau1=tau1, tau2=tau2, coef=coef):
+                c = coef[ids][:, None, :, None, :, None]  # (By, 1, Bx, 1, 3, 1)
+                o1 = (tau1[ids] * frame_size)[:, None, :, None]
+                o2 = (tau2[ids] * frame_size)[:, None, :, None]
+                return (
+                    c[..., 0, :] * video.take(flat + o1, axis=0)
+                    + c[..., 1, :] * video.take(flat + o2, axis=0)
+                    + c[..., 2, :] * A_flat.take(flat, axis=0)
+                )
+
+            blended = _blend(parts, sample, C, local_means)
+            _, rows = geom.to_output(band, blended)
+            out[t, idx] = rows if a is None else rows + a
+            step({"band": band.start, "frame": t})
+    return out, cells, seq
+
+
+def patchwork_video(
+    frames,
+    size,
+    n_frames,
+    *,
+    grid_spacing=64,
+    sharpness=6,
+    frame_spacing=None,
+    tileable=False,
+    neighbors=4,
+    rng=None,
+    return_info=False,
+    progress=False,
+):
+    """Synthesise a looping video texture (Harrison 2002, Section 4).
+
+    Patches are fixed in space; each cell plays its own *intermediate
+    sequence*, a chain of input clips joined by cosine transitions (eqs. 3-6),
+    and every output frame pieces the cells' frames together with eq. 2.
+    Static parts of the input stay static. The output loops seamlessly: its
+    last frame leads into its first as smoothly as any two consecutive frames.
+    Intermediate pixels are computed only where and when needed, so memory
+    is proportional to the input plus the output.
+
+    Parameters
+    ----------
+    frames : array_like
+        Input video ``(T, H, W)`` or ``(T, H, W, C)`` with ``T >= 2``.
+    size : int or (int, int)
+        Output frame size ``(height, width)``.
+    n_frames : int
+        Number of output frames (the loop length).
+    grid_spacing, sharpness, tileable, neighbors : see :func:`patchwork`
+        Spatial patches (paper: 64 and ``f = 6``).
+    frame_spacing : int, optional
+        Spacing of the key frames ``p_i`` of the intermediate sequences (the
+        length of one transition). The paper gives no value; the default is
+        ``(T + 2) // 3`` (at most ``n_frames``), which leaves about ``T / 3``
+        choices for each source frame ``q_i``. At most ``(T + 1) // 2``: the
+        two intervals around a key frame must fit in the input.
+    rng : None, int or numpy.random.Generator
+        Random source.
+    return_info : bool
+        Also return a :class:`PatchworkInfo` (``frame_keys``,
+        ``frame_sources`` hold the temporal ``p_i``, ``q_i``).
+    progress : bool or callable
+        Report progress per output frame.
+
+    Returns
+    -------
+    video : numpy.ndarray
+        ``(n_frames, height, width[, C])``.
+    info : PatchworkInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError
+        For fewer than 2 input frames, a ``grid_spacing`` larger than the
+        frames, ``sharpness <= 0`` or a ``frame_spacing`` the input is too
+        short for.
+
+    Notes
+    -----
+    With ``u = (t - p_i) / (p_{i+1} - p_i)`` (eq. 5), the transition weights
+    are ``w_1 = 1/2 + cos(pi u)/2`` (eq. 3) and ``w_2 = 1/2 - cos(pi u)/2``
+    (eq. 4), and the intermediate sequence is (eq. 6)
+
+    .. math:: N(x, t) = \\frac{w_1 I(x, t - p_i + q_i) + w_2 I(x, t - p_{i+1}
+              + q_{i+1}) - A(x)}{\\sqrt{w_1^2 + w_2^2}} + A(x)
+
+    where ``A(x)`` is the average of the input over time. Since
+    ``w_1 + w_2 = 1`` this equals ``(w_1 (I_1 - A) + w_2 (I_2 - A)) /
+    sqrt(w_1^2 + w_2^2) + A``: the temporal variation about ``A`` keeps its
+    standard deviation through a transition.
+
+    References
+    ----------
+    .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
+       Monash University, 2002, Section 4.
+
+    Examples
+    --------
+    >>> from texsynth import data
+    >>> metal = data.load("metal")[:64, :64]
+    >>> clip = np.stack([np.roll(metal, t, axis=1) for t in range(6)])  # drifting texture
+    >>> loop = patchwork_video(clip, 48, 8, grid_spacing=16, rng=0)
+    >>> loop.shape
+    (8, 48, 48)
+    """
+    video = _check_video(frames)
+    vid, grey = with_channels(video, spatial_dims=3)
+    H, W = as_size(size)
+    N = check_positive_int(n_frames, "n_frames")
+    f = _check_sharpness(sharpness)
+    s = _check_grid(grid_spacing, vid.shape[1:3], "frames")
+    m = _check_neighbors(neighbors)
+    spacing = _frame_spacing(frame_spacing, vid.shape[0], N)
+    gen = as_rng(rng)
+    geom = _Geometry((H, W), vid.shape[1:3], s, f, m, bool(tileable), gen)
+    out, cells, seq = _synthesize_video(geom, vid, N, spacing, gen, None, progress, "patchwork_video")
+    result, clipped = _finish(out, video.dtype, grey)
+    if return_info:
+        info = _info(geom, cells, clipped, frame_keys=seq.keys[:, :-1], frame_sources=seq.sources[:, :-1])
+        return result, info
+    return result
+
+
+# --------------------------------------------------------------------------
+# Section 5: texture transfer
+
+
+def _prescale(pattern, texture):
+    """Rescale the pattern to the texture's mean colour and colour range (the paper's pre-processing)."""
+    axes = tuple(range(pattern.ndim - 1))
+    p_mean, t_mean = pattern.mean(axes), texture.mean(axes)
+    p_range = pattern.max(axes) - pattern.min(axes)
+    t_range = texture.max(axes) - texture.min(axes)
+    gain = np.where(p_range > 0, t_range / np.where(p_range > 0, p_range, 1), 1.0)
+    return (pattern - p_mean) * gain + t_mean
+
+
+def _match_sources(geom, pattern, texture, candidates, patch, gen, progress):
+    """Section 5: each q_i minimises the SSD between the pattern around p_i and the texture around q_i.
+
+    Only ``candidates`` random positions (inside the allowed range of
+    :func:`_source_bounds`) are tried per point. Returns ``q`` (rows, cols)
+    and the local averages ``a_i`` of the chosen texture patches.
+    """
+    ny, nx = geom.grid_shape
+    n = ny * nx
+    cy = _draw(*geom.bounds_y, gen, candidates).reshape(n, candidates).astype(np.intp)
+    cx = _draw(*geom.bounds_x, gen, candidates).reshape(n, candidates).astype(np.intp)
+    centers = np.stack([(geom.py - 0.5).ravel(), (geom.px - 0.5).ravel()], 1).astype(np.intp)
+    target = extract(pattern, centers, patch, mode="reflect").reshape(n, -1)
+    values = target.shape[1]
+    chunk = max(1, (1 << 22) // (candidates * values))  # about 16 MB of candidate patches at a time
+    best = np.empty(n, np.intp)
+    means = np.empty((n, texture.shape[-1]), np.float64)
+    steps = range(0, n, chunk)
+    step = _progress(progress, len(steps), "patchwork_transfer: matching")
+    for start in steps:
+        sl = slice(start, min(n, start + chunk))
+        k = sl.stop - sl.start
+        cand = np.stack([cy[sl].ravel(), cx[sl].ravel()], 1)
+        patches = extract(texture, cand, patch, mode="reflect").reshape(k, candidates, -1)
+        ssd = np.einsum("nkd,nkd->nk", patches, patches) - 2 * np.einsum("nkd,nd->nk", patches, target[sl])
+        choice = np.argmin(ssd, axis=1)  # + ||P||^2, the same for every candidate
+        best[sl] = choice
+        chosen = patches[np.arange(k), choice].reshape(k, -1, texture.shape[-1])
+        means[sl] = chosen.mean(1)  # local average a_i of the patch
+        step({"points": sl.stop})
+    rows = np.arange(n)
+    qy = cy[rows, best].reshape(ny, nx) + 0.5
+    qx = cx[rows, best].reshape(ny, nx) + 0.5
+    return qy, qx, means.astype(np.float32)
+
+
+def patchwork_transfer(
+    texture,
+    pattern,
+    *,
+    grid_spacing=16,
+    sharpness=2,
+    candidates=64,
+    patch_size=None,
+    prescale=True,
+    n_frames=None,
+    frame_spacing=None,
+    neighbors=4,
+    rng=None,
+    return_info=False,
+    progress=False,
+):
+    """Texture transfer: render a pattern image in a texture (Harrison 2002, Section 5).
+
+    The output has the pattern's size. Its Voronoi cells copy texture patches
+    chosen, among ``candidates`` random positions per cell, to best match the
+    pattern around each ``p_i`` (sum of squared differences), and are joined
+    with eq. 7, which blends the local patch averages ``a_i`` so the output
+    follows the pattern's light and dark regions.
+
+    Parameters
+    ----------
+    texture : array_like
+        Texture ``I``: an image ``(H, W[, C])``, or with ``n_frames`` a video
+        ``(T, H, W[, C])`` (the pattern is then matched against the average
+        frame ``A(x)`` and the video method of Section 4 animates the result).
+    pattern : array_like
+        Pattern ``P`` ``(h, w[, C])`` with the same number of channels as the
+        texture (for a grey pattern and a colour texture, repeat it:
+        ``np.repeat(pattern[..., None], 3, axis=-1)``).
+    grid_spacing : int
+        Spacing of the points ``p_i`` (paper, Figure 8: 16).
+    sharpness : float
+        ``f`` of eq. 1 (paper, Figure 8: 2).
+    candidates : int
+        Size of the random subset of texture positions tried for each ``q_i``
+        (the paper's remedy against one texture area repeated everywhere; it
+        gives no number).
+    patch_size : int, optional
+        Side of the square patches compared around ``p_i`` and ``q_i`` and
+        averaged for ``a_i``; default ``grid_spacing``.
+    prescale : bool
+        Rescale the pattern to the texture's mean colour and colour range
+        before matching (the paper's pre-processing; default True).
+    n_frames : int, optional
+        Output a video of this many frames (``texture`` is then a video).
+    frame_spacing : int, optional
+        Video only, see :func:`patchwork_video`.
+    neighbors : int
+        Block size of the neighbour bound, see :func:`patchwork`.
+    rng : None, int or numpy.random.Generator
+        Random source.
+    return_info : bool
+        Also return a :class:`PatchworkInfo` (with ``local_means`` = ``a_i``).
+    progress : bool or callable
+        Report progress of the matching.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        ``(h, w[, C])``, or ``(n_frames, h, w[, C])`` for video.
+    info : PatchworkInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError
+        If the texture and the pattern have different numbers of channels,
+        ``grid_spacing`` or ``patch_size`` exceed the texture, ``sharpness <=
+        0``, or a video texture has fewer than 2 frames.
+
+    Notes
+    -----
+    Eq. 7:
+
+    .. math:: O(x) = \\frac{\\sum_i (I(x - p_i + q_i) - a_i) w_i(x)}
+              {\\sqrt{\\sum_i w_i(x)^2}} + \\frac{\\sum_i a_i w_i(x)}{\\sum_i w_i(x)}
+
+    References
+    ----------
+    .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
+       Monash University, 2002, Section 5.
+
+    Examples
+    --------
+    >>> from texsynth import data
+    >>> metal = data.load("metal")
+    >>> pattern = np.zeros((48, 48)); pattern[12:36, 12:36] = 1.0  # a bright square
+    >>> out = patchwork_transfer(metal, pattern, grid_spacing=8, candidates=16, rng=0)
+    >>> out.shape, bool(out[16:32, 16:32].mean() > out[:8].mean())
+    ((48, 48), True)
+    """
+    is_video = n_frames is not None
+    if is_video:
+        source = _check_video(texture, "texture")
+        tex, grey = with_channels(source, spatial_dims=3)
+        N = check_positive_int(n_frames, "n_frames")
+        spacing = _frame_spacing(frame_spacing, tex.shape[0], N)
+        reference = tex.astype(np.float32).mean(0)  # A(x): the pattern is matched against the average frame
+    else:
+        source = as_image(texture, "texture")
+        tex, grey = with_channels(source)
+        reference = tex.astype(np.float32)
+    pat, pat_grey = with_channels(as_image(pattern, "pattern"))
+    if pat.shape[-1] != reference.shape[-1]:
+        hint = " (repeat a grey pattern: np.repeat(pattern[..., None], 3, axis=-1))" if pat.shape[-1] == 1 else ""
+        raise ValueError(
+            f"pattern has {pat.shape[-1]} channel(s) but texture has {reference.shape[-1]}; "
+            f"pass images with the same number of channels{hint}"
+        )
+    f = _check_sharpness(sharpness)
+    s = _check_grid(grid_spacing, reference.shape[:2], "texture")
+    m = _check_neighbors(neighbors)
+    K = check_positive_int(candidates, "candidates")
+    patch = s if patch_size is None else check_positive_int(patch_size, "patch_size")
+    if patch > min(reference.shape[:2]) or patch > min(pat.shape[:2]):
+        raise ValueError(
+            f"patch_size {patch} is larger than the texture {reference.shape[:2]} or the pattern "
+            f"{pat.shape[:2]}; pass a smaller patch_size"
+        )
+    gen = as_rng(rng)
+    H, W = pat.shape[:2]
+    geom = _Geometry((H, W), reference.shape[:2], s, f, m, False, gen, choose_q=False)
+    target = pat.astype(np.float32)
+    if prescale:
+        target = _prescale(target, reference)
+    qy, qx, local = _match_sources(geom, target, reference, K, patch, gen, progress)
+    geom.set_sources(qy, qx)
+
+    if is_video:
+        out, cells, seq = _synthesize_video(geom, tex, N, spacing, gen, local, False, "patchwork_transfer")
+        extra = {"frame_keys": seq.keys[:, :-1], "frame_sources": seq.sources[:, :-1]}
+    else:
+        C = reference.shape[-1]
+        pads = geom.pad()
+        table, width = _padded_flat(reference, pads)
+        out = np.empty((H, W, C), np.float32)
+
+        def compose(band, parts):
+            blended = _blend(parts, lambda n, ids, flat: table.take(flat, axis=0), C, local)
+            idx, rows = geom.to_output(band, blended)
+            out[idx] = rows
+
+        cells = _run_bands(geom, width, pads, return_info, compose, False, "patchwork_transfer")
+        extra = {}
+    result, clipped = _finish(out, source.dtype, grey)
+    if return_info:
+        return result, _info(geom, cells, clipped, local_means=local, **extra)
+    return result
