@@ -322,3 +322,10 @@ def test_sharpness_must_be_positive(f):
     img = np.zeros((20, 20))
     with pytest.raises(ValueError, match="sharpness f must be a finite number > 0"):
         patchwork(img, 16, grid_spacing=8, sharpness=f)
+
+
+def test_progress_callback_counts_frames(texture):
+    clip = _drifting(texture, frames=4, size=32)
+    seen = []
+    patchwork_video(clip, 24, 3, grid_spacing=8, rng=0, progress=lambda s, t, i: seen.append((s, t)))
+    assert seen[-1][0] == seen[-1][1] and len(seen) == seen[-1][1] >= 3
