@@ -377,10 +377,13 @@ def max_scales(shape):
     return max(0, int(math.floor(math.log2(smallest))) - 2) if smallest > 0 else 0
 
 
-def _frequency_grid(shape):
-    """Radius and angle of the unshifted FFT grid, frequencies normalised to [-1, 1)."""
+def _frequency_grid(shape, half):
+    """Radius and angle of the FFT grid (natural order), frequencies normalised to [-1, 1).
+
+    ``half=True`` gives the grid of ``rfft2`` (columns ``0 .. n//2`` only).
+    """
     fy = sfft.fftfreq(shape[0]) * 2.0
-    fx = sfft.fftfreq(shape[1]) * 2.0
+    fx = (sfft.rfftfreq(shape[1]) if half else sfft.fftfreq(shape[1])) * 2.0
     y, x = np.meshgrid(fy, fx, indexing="ij")
     return np.hypot(x, y), np.arctan2(y, x)
 
@@ -389,6 +392,16 @@ def _crop_index(n):
     """Indices (natural FFT order) kept when an axis of n samples is cropped to ceil(n/2)."""
     m = (n + 1) // 2
     return np.r_[0 : m - m // 2, n - m // 2 : n]
+
+
+def _crop_half_index(n):
+    """Columns of an rfft2 spectrum kept when the (full) width n is cropped to m = ceil(n/2).
+
+    The columns ``0 .. m//2`` of the parent; for even ``m`` column ``m/2`` stands for the
+    child's Nyquist frequency, where the low-pass mask is zero.
+    """
+    m = (n + 1) // 2
+    return np.arange(m // 2 + 1)
 
 
 def _radial_masks(radius, scale):
@@ -503,40 +516,44 @@ class SteerablePyramid:
         self._build_masks()
 
     def _build_masks(self):
-        radius, angle = _frequency_grid(self.shape)
-        self._hi0, self._lo0 = _radial_masks(radius, 0)  # H0, L0: transition r in [1/2, 1]
-        self._phase = (-1j) ** (self.orientations - 1)  # the bands' spectra are (-i)^(K-1) H A_k L
-        self._band_masks = []  # per scale: (K, h, w) real masks H(2^s r) A_k(t)
-        self._real_masks = []  # the same with the real angular masks (the synthesis operator)
-        self._lo_masks = []  # per scale: L(2^s r) on that scale's grid
-        self._crops = []  # per scale: row / column indices kept by the crop to the next scale
+        # Sizes of every scale: each axis n -> ceil(n / 2).
         self._sizes = [self.shape]
+        for _ in range(self.scales):
+            self._sizes.append(tuple((n + 1) // 2 for n in self._sizes[-1]))
+        self._phase = (-1j) ** (self.orientations - 1)  # the bands' spectra are (-i)^(K-1) H A_k L
+        # Real bands live on the half (rfft2) grid; analytic bands need the full grid.
+        self._half = self._masks_on_grid(half=True, analytic=False)
+        self._full = self._masks_on_grid(half=False, analytic=True) if self.is_complex else None
+
+    def _masks_on_grid(self, half, analytic):
+        """H0, L0, and per scale: the (K, h, w) masks H(2^s r) A_k(t), L(2^s r) and the crop indices."""
+        radius, angle = _frequency_grid(self.shape, half)
+        hi0, lo0 = _radial_masks(radius, 0)  # H0, L0: transition r in [1/2, 1]
+        bands, lows, crops = [], [], []
         for s in range(self.scales):
             hi, lo = _radial_masks(radius, s + 1)
-            cos_t, sin_t = np.cos(angle), np.sin(angle)
-            self._band_masks.append(_angular_masks(cos_t, sin_t, self.orientations, self.is_complex) * hi)
-            if self.is_complex:
-                self._real_masks.append(_angular_masks(cos_t, sin_t, self.orientations, False) * hi)
-            else:
-                self._real_masks.append(self._band_masks[-1])
-            self._lo_masks.append(lo)
-            rows, cols = _crop_index(radius.shape[0]), _crop_index(radius.shape[1])
-            self._crops.append((rows, cols))
+            bands.append(_angular_masks(np.cos(angle), np.sin(angle), self.orientations, analytic) * hi)
+            lows.append(lo)
+            n_rows, n_cols = self._sizes[s]
+            rows = _crop_index(n_rows)
+            cols = _crop_half_index(n_cols) if half else _crop_index(n_cols)
+            crops.append((rows, cols))
             radius, angle = radius[np.ix_(rows, cols)], angle[np.ix_(rows, cols)]
-            self._sizes.append(radius.shape)
+        return {"half": half, "hi0": hi0, "lo0": lo0, "bands": bands, "lows": lows, "crops": crops}
 
-    def _crop(self, spectrum, s):
-        rows, cols = self._crops[s]
-        n_in = spectrum.shape[-2] * spectrum.shape[-1]
-        out = spectrum[..., rows, :][..., cols]
-        return out * math.sqrt(out.shape[-2] * out.shape[-1] / n_in)
+    def array_shapes(self):
+        """Shapes of :meth:`SteerableCoefficients.arrays`, in the same order.
 
-    def _uncrop(self, spectrum, s):
-        rows, cols = self._crops[s]
-        big = self._sizes[s]
-        out = np.zeros(spectrum.shape[:-2] + tuple(big), dtype=complex)
-        out[np.ix_(rows, cols)] = spectrum * math.sqrt(big[0] * big[1] / (spectrum.shape[-2] * spectrum.shape[-1]))
-        return out
+        >>> SteerablePyramid((20, 30), 2, 2).array_shapes()
+        [(20, 30), (20, 30), (20, 30), (10, 15), (10, 15), (5, 8)]
+        """
+        bands = [tuple(self._sizes[s]) for s in range(self.scales) for _ in range(self.orientations)]
+        return [self.shape] + bands + [tuple(self._sizes[self.scales])]
+
+    def _gain(self, s):
+        """sqrt(N_{s+1} / N_s): keeps the crop an isometry (Parseval) from scale s to s + 1."""
+        (h0, w0), (h1, w1) = self._sizes[s], self._sizes[s + 1]
+        return math.sqrt(h1 * w1 / (h0 * w0))
 
     def decompose(self, image):
         """Decompose a 2-D image of the pyramid's shape.
@@ -549,6 +566,8 @@ class SteerablePyramid:
         Returns
         -------
         SteerableCoefficients
+            float32 arrays for a float32 image, float64 otherwise (complex64 /
+            complex128 bands for a complex pyramid).
         """
         image = np.asarray(image)
         if image.shape != self.shape:
@@ -557,18 +576,27 @@ class SteerablePyramid:
         if not np.isrealobj(image):
             raise TypeError("image must be real")
         dtype = np.float32 if image.dtype == np.float32 else np.float64
-        spectrum = sfft.fft2(image)
-        highpass = sfft.ifft2(spectrum * self._hi0).real.astype(dtype, copy=False)
-        low = spectrum * self._lo0
+        grid = self._full if self.is_complex else self._half
+        if grid["half"]:
+            spectrum = sfft.rfft2(image)
+
+            def inverse(x, size):
+                return sfft.irfft2(x, s=size, axes=(-2, -1)).astype(dtype, copy=False)
+        else:
+            spectrum = sfft.fft2(image)
+            cdtype = np.complex64 if dtype == np.float32 else np.complex128
+
+            def inverse(x, size):
+                return sfft.ifft2(x, axes=(-2, -1)).astype(cdtype, copy=False)
+
+        highpass = np.real(inverse(spectrum * grid["hi0"], self.shape)).astype(dtype, copy=False)
+        low = spectrum * grid["lo0"]
         bands = []
         for s in range(self.scales):
-            oriented = sfft.ifft2((low * self._phase)[None] * self._band_masks[s], axes=(-2, -1))
-            oriented = oriented if self.is_complex else oriented.real
-            cdtype = np.complex64 if dtype == np.float32 else np.complex128
-            oriented = oriented.astype(cdtype if self.is_complex else dtype, copy=False)
-            bands.append(list(oriented))
-            low = self._crop(low * self._lo_masks[s], s)
-        lowpass = sfft.ifft2(low).real.astype(dtype, copy=False)
+            bands.append(list(inverse((low * self._phase)[None] * grid["bands"][s], self._sizes[s])))
+            rows, cols = grid["crops"][s]
+            low = (low * grid["lows"][s])[np.ix_(rows, cols)] * self._gain(s)
+        lowpass = np.real(inverse(low, self._sizes[-1])).astype(dtype, copy=False)
         return SteerableCoefficients(highpass, bands, lowpass)
 
     def reconstruct(self, coeffs):
@@ -590,16 +618,19 @@ class SteerablePyramid:
                 f"coeffs has {len(coeffs.bands)} scales x {[len(b) for b in coeffs.bands]} orientations but the "
                 f"pyramid has {self.scales} x {self.orientations}"
             )
-        low = sfft.fft2(np.asarray(coeffs.lowpass, dtype=float))
+        grid = self._half  # synthesis only needs real bands: half spectra throughout
+        low = sfft.rfft2(np.asarray(coeffs.lowpass, dtype=float))
         for s in reversed(range(self.scales)):
-            low = self._uncrop(low, s) * self._lo_masks[s]
+            rows, cols = grid["crops"][s]
+            parent = np.zeros((self._sizes[s][0], self._sizes[s][1] // 2 + 1), dtype=complex)
+            parent[np.ix_(rows, cols)] = low / self._gain(s)
+            low = parent * grid["lows"][s]
             # A complex band's real part is the real band (the analytic mask M has
             # (M(w) + conj(M(-w))) / 2 = the real mask), so both kinds use the real masks.
-            real_bands = np.real(np.stack(coeffs.bands[s]))
-            band_spectra = sfft.fft2(real_bands, axes=(-2, -1))
-            low += np.conj(self._phase) * np.einsum("khw,khw->hw", band_spectra, self._real_masks[s])
-        spectrum = low * self._lo0 + sfft.fft2(np.asarray(coeffs.highpass, dtype=float)) * self._hi0
-        return sfft.ifft2(spectrum).real
+            band_spectra = sfft.rfft2(np.real(np.stack(coeffs.bands[s])), axes=(-2, -1))
+            low += np.conj(self._phase) * np.einsum("khw,khw->hw", band_spectra, grid["bands"][s])
+        spectrum = low * grid["lo0"] + sfft.rfft2(np.asarray(coeffs.highpass, dtype=float)) * grid["hi0"]
+        return sfft.irfft2(spectrum, s=self.shape)
 
 
 # --------------------------------------------------------------------------- periodic + smooth
