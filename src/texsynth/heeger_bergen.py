@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._progress import Progress
 from ._validate import as_image, as_rng, as_size, check_positive_int, restore_channels, with_channels
 from .pyramid import SteerablePyramid, max_scales, periodic_smooth_decomposition
 
@@ -143,31 +144,6 @@ class HeegerBergenInfo:
     orientations: int
     periodic_exemplar: str
     extra: dict = field(default_factory=dict)
-
-
-class _Progress:
-    """tqdm bar (progress=True), user callback (callable), or nothing."""
-
-    def __init__(self, progress, total, desc):
-        self.bar, self.callback, self.total = None, None, total
-        if callable(progress):
-            self.callback = progress
-        elif progress is True:
-            from tqdm.auto import tqdm
-
-            self.bar = tqdm(total=total, desc=desc, leave=False)
-        elif progress not in (False, None):
-            raise TypeError(f"progress must be True, False or a callable (step, total, info), got {progress!r}")
-
-    def update(self, step, info):
-        if self.bar is not None:
-            self.bar.update(1)
-        if self.callback is not None:
-            self.callback(step, self.total, info)
-
-    def close(self):
-        if self.bar is not None:
-            self.bar.close()
 
 
 # --------------------------------------------------------------------------- the algorithm
@@ -325,11 +301,10 @@ def heeger_bergen(exemplar, size=None, *, scales=4, orientations=4, iterations=5
     n_out = shape[0] * shape[1]
     out_sizes = [int(np.prod(b)) for b in pyr_out.array_shapes()]
     noise = gen.standard_normal((channels,) + shape)
-    measure = return_info or progress is not False
+    measure = return_info or progress not in (False, None)
     distances = np.zeros((iterations + 1, len(names)))
-    bar = _Progress(progress, channels * iterations, "Heeger-Bergen")
     result = np.empty((channels,) + shape)
-    try:
+    with Progress(progress, channels * iterations, "Heeger-Bergen") as bar:
         for c in range(channels):
             # Analysis: the exemplar's sorted values resampled to the output's sizes, once.
             pixel_targets = _quantile_targets(np.sort(components[c].ravel()), n_out)
@@ -347,8 +322,7 @@ def heeger_bergen(exemplar, size=None, *, scales=4, orientations=4, iterations=5
                 if measure:
                     distances[it] += distance / channels
                 if it > 0:
-                    bar.update(c * iterations + it, {"component": c, "iteration": it,
-                                                     "band_distance": float(distance.mean())})
+                    bar.advance({"component": c, "iteration": it, "band_distance": float(distance.mean())})
                 if it == iterations:
                     break  # this decomposition only measured the final output
                 # every sub-band of J <- match(sub-band of J, sub-band of I)
@@ -357,8 +331,6 @@ def heeger_bergen(exemplar, size=None, *, scales=4, orientations=4, iterations=5
                 coeffs.bands = [bands[1 + s * orientations : 1 + (s + 1) * orientations] for s in range(scales)]
                 out, _ = _match_to_targets(pyr_out.reconstruct(coeffs), pixel_targets, False)  # J <- match(J, I)
             result[c] = out
-    finally:
-        bar.close()
 
     image = (basis @ result.reshape(channels, -1)).T + mean  # back to the exemplar's colour space
     image = np.clip(image.reshape(shape + (channels,)), 0.0, 1.0).astype(dtype, copy=False)

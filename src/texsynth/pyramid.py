@@ -5,7 +5,7 @@ that the public API has already converted with :func:`texsynth._validate.as_imag
 (floating point, channels last); nothing here rescales values.
 
 Gaussian and Laplacian pyramids (Burt & Adelson 1983)
-----------------------------------------------------
+-----------------------------------------------------
 :func:`downsample` ("REDUCE") blurs every spatial axis with the 5-tap binomial
 kernel ``[1, 4, 6, 4, 1] / 16`` and keeps every second sample starting at
 index 0, so an axis of ``n`` samples becomes ``ceil(n / 2)`` (odd sizes are
@@ -16,13 +16,13 @@ zeros are inserted between the samples and the result is filtered with
 :func:`reconstruct_laplacian` is exact for *any* EXPAND (it only undoes the
 subtractions, up to floating-point rounding, about 1e-16 per level). EXPAND by
 zero insertion + binomial is chosen over linear interpolation because it is
-the classical Burt-Adelson operator, it has the same support as REDUCE, and it
-interpolates exactly the samples that REDUCE kept when the image is smooth.
+the classical Burt-Adelson operator, the adjoint of REDUCE (so the Laplacian
+levels are the usual band-pass images) and it keeps constants exactly.
 
-Boundaries: ``mode="reflect"`` mirrors about the edge samples (``d c b | a b c d``
-is *not* used; it is ``c b | a b c``, numpy's ``pad(mode="reflect")``, which
-keeps zero-inserted samples aligned), ``mode="wrap"`` is periodic (tileable
-textures).
+Boundaries: ``mode="reflect"`` mirrors about the edge sample without repeating
+it (``c b | a b c``, numpy's ``pad(mode="reflect")``, scipy.ndimage's
+``"mirror"``), which keeps the zero-inserted samples of EXPAND symmetric;
+``mode="wrap"`` is periodic (tileable textures).
 
 Steerable pyramid (Simoncelli & Freeman 1995)
 ---------------------------------------------
