@@ -280,3 +280,20 @@ def test_periodic_component_removes_the_spectral_cross(metal):
 
     assert cross(lit) > 5 and cross(p) < 2.5
     assert border_jump(lit) > 2 and border_jump(p) < 1
+
+
+def test_complex_band_magnitude_is_the_envelope():
+    # For a grating, the analytic band is A exp(i phase): its magnitude is flat (the local amplitude
+    # Portilla-Simoncelli use) while its real part oscillates between -A and A.
+    n = 64
+    yy, xx = np.mgrid[:n, :n]
+    grating = np.cos(2 * np.pi * (8 * xx + 3 * yy) / n)  # periodic on the grid, |f| = 0.13 cycles/pixel
+    coeffs = SteerablePyramid((n, n), 3, 4, is_complex=True).decompose(grating)
+    energies = [np.sum(np.abs(b) ** 2) for s in coeffs.bands for b in s]
+    band = [b for s in coeffs.bands for b in s][int(np.argmax(energies))]
+    magnitude = np.abs(band)
+    assert magnitude.std() < 1e-6 * magnitude.mean()
+    assert band.real.std() > 0.5 * magnitude.mean()
+    # the phase advances by 2 pi * 8 / width per band pixel (8 cycles across, whatever the band's scale)
+    phase_step = np.angle(band[:, 1:] / band[:, :-1])
+    np.testing.assert_allclose(np.abs(phase_step), 2 * np.pi * 8 / band.shape[1], atol=1e-6)
