@@ -1,0 +1,972 @@
+"""Texture optimization: EM-like synthesis by energy minimisation (Kwatra et al. 2005).
+
+The output ``X`` is judged by its *texture energy*: the distance of each of
+its neighbourhoods ``x_p``, centred on a sparse grid ``X†`` spaced ``w/4``
+apart, to the nearest exemplar neighbourhood ``z_p`` (eq. 1)::
+
+    E_t(x; {z_p}) = sum_{p in X†} ||x_p - z_p||^2                       (1)
+
+Synthesis (Algorithm 1) alternates two minimisations of ``E_t``:
+
+E-step
+    ``x <- argmin_x E_t(x; {z_p})``: every pixel becomes the weighted average
+    of the ``z_p`` that overlap it (a Poisson-like linear system when the
+    gradient term is on).
+M-step
+    ``z_p <- nearest exemplar neighbourhood of x_p`` for every ``p``
+    (:class:`texsynth.nearest.PatchIndex`, built once per level and size).
+
+until the set ``{z_p}`` stops changing. Section 3.1 makes it robust: the
+squared norm becomes ``||x_p - z_p||^r`` (``r = 0.8``), minimised by
+iteratively reweighted least squares (IRLS) with weights
+``ω_p = ||x_p - z_p||^(r - 2)``, and each neighbourhood's pixels are weighted
+by a Gaussian fall-off. Section 3.2 runs it coarse to fine over 3 resolution
+levels and, within each, neighbourhood sizes 32, 16 and 8.
+
+Section 4 adds control: ``E = E_t + λ E_c`` with the soft constraint
+``E_c(x; x^c) = sum_{k in C} (x(k) - x^c(k))^2`` (eq. 2) changes the E-step
+into a weighted average with the targets and the M-step into a search for
+neighbourhoods already consistent with them (Algorithm 2): with a mask that
+leaves a hole this is hole filling. Section 4.1 animates a texture along a
+flow (eq. 3), frame by frame, with the previous frame warped along the flow
+as the soft-constraint target (:func:`animate_texture`).
+
+What the implementation guarantees
+----------------------------------
+The energy actually minimised is the robust texture energy
+
+.. math:: E(x, \\{z_p\\}) = \\sum_p \\left(\\rho_p + \\varepsilon^2\\right)^{r/2}
+          + \\lambda E_c(x), \\qquad
+          \\rho_p = \\|x_p - z_p\\|_g^2 + \\mu \\|D x_p - D z_p\\|_g^2
+
+where ``‖·‖_g`` carries the Gaussian fall-off and ``ε`` (an RMS difference of
+1e-3 per value, a quarter of an 8-bit grey level) keeps the IRLS weight
+finite when ``x_p == z_p``. Because ``s -> (s + ε²)^{r/2}`` is concave for
+``r <= 2``, its tangent at the current ``ρ_p`` is an upper bound: the IRLS
+E-step (weights ``ω_p = (r/2)(ρ_p + ε²)^{(r-2)/2}``, the paper's
+``||x_p - z_p||^{r-2}`` up to the constant ``r/2`` and the guard ``ε``)
+minimises a majoriser that touches ``E`` at the current ``x``, so it cannot
+raise ``E``; the M-step keeps the old ``z_p`` unless the search found one
+strictly closer, so it cannot raise ``E`` either, even with an approximate
+search backend. Hence, for ``λ = 0``, ``E`` never rises between two
+iterations of one (level, size) stage beyond floating-point noise (the E-step
+with ``μ > 0`` is solved by conjugate gradients to a relative residual of
+1e-10). The modified M-step of Algorithm 2 ranks candidates by
+``||x_p - v||^2 + λ E_c(y)``, which is *not* ``E``; with constraints the
+energy usually falls but is not guaranteed to.
+
+References
+----------
+.. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization
+   for example-based synthesis", ACM Transactions on Graphics (SIGGRAPH
+   2005) 24(3), pp. 795-802. :doi:`10.1145/1073204.1073263`
+"""
+
+from __future__ import annotations
+
+import numbers
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import fft as sfft
+
+from ._progress import Progress
+from ._validate import (
+    as_float_array,
+    as_image,
+    as_rng,
+    as_size,
+    check_in_range,
+    check_positive_float,
+    check_positive_int,
+    restore_channels,
+    with_channels,
+)
+from .flows import flow_sequence, warp
+from .nearest import METHODS, PatchIndex
+from .neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
+from .pyramid import gaussian_pyramid, max_levels, upsample
+
+__all__ = ["optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo"]
+
+# IRLS guard: RMS difference per weighted value below which a neighbourhood
+# counts as matched (1e-3 = a quarter of an 8-bit grey level).
+_EPS_RMS = 1e-3
+# Candidates re-ranked by the modified M-step (Algorithm 2) for constrained patches.
+_CONSTRAINED_CANDIDATES = 8
+# Conjugate gradients of the gradient-energy E-step: relative residual and cap.
+_CG_RTOL = 1e-10
+_CG_MAXITER = 500
+
+
+# --------------------------------------------------------------------------- results
+@dataclass
+class StageInfo:
+    """One (resolution level, neighbourhood size) stage of the synthesis.
+
+    Attributes
+    ----------
+    level : int
+        0 is full resolution, 1 half, 2 a quarter.
+    size : int
+        Neighbourhood width ``w``.
+    shape : tuple of int
+        Output size at this level.
+    spacing : int
+        Grid spacing of ``X†`` (``w/4``).
+    neighborhoods : int
+        ``|X†|``, the number of output neighbourhoods.
+    exemplar_neighborhoods : int
+        Number of searchable exemplar neighbourhoods.
+    iterations : int
+        EM iterations run.
+    converged : bool
+        True if ``{z_p}`` stopped changing before ``max_iterations``.
+    seconds : float
+        Wall time of the stage (index build included).
+    nn_seconds : float
+        Part of it spent building the index and searching it (M-step).
+    first : int
+        Position of the stage's first energy value in
+        :attr:`OptimizationInfo.energy`.
+    """
+
+    level: int
+    size: int
+    shape: tuple
+    spacing: int
+    neighborhoods: int
+    exemplar_neighborhoods: int
+    iterations: int = 0
+    converged: bool = False
+    seconds: float = 0.0
+    nn_seconds: float = 0.0
+    first: int = 0
+
+
+@dataclass
+class OptimizationInfo:
+    """What :func:`optimize_texture` did, for plots and diagnostics.
+
+    Attributes
+    ----------
+    energy : numpy.ndarray
+        The minimised energy ``E(x, {z_p})`` after every M-step, all stages
+        concatenated in synthesis order (Figure 3 of the paper). Values of
+        different stages are not comparable (other sizes, other levels).
+    mse : numpy.ndarray
+        The same iterations' eq. 1 energy normalised by the number of
+        neighbourhoods and the (weighted) values per neighbourhood: the mean
+        squared difference per value, comparable across stages (what
+        Figure 3 plots).
+    stage : numpy.ndarray of int
+        Index into :attr:`stages` of every energy value.
+    stages : list of StageInfo
+        The stages in synthesis order.
+    centers : numpy.ndarray
+        ``(N, 2)`` centres ``X†`` (row, col) of the last stage, in output pixels.
+    sources : numpy.ndarray
+        ``(N, 2)`` centre in the exemplar of each final ``z_p``: where each
+        neighbourhood of the output came from.
+    seconds : float
+        Total wall time.
+    """
+
+    energy: np.ndarray
+    mse: np.ndarray
+    stage: np.ndarray
+    stages: list
+    centers: np.ndarray
+    sources: np.ndarray
+    seconds: float = 0.0
+
+    @property
+    def boundaries(self):
+        """Index of the first energy value of every stage (level/size changes)."""
+        return [s.first for s in self.stages]
+
+    @property
+    def nn_seconds(self):
+        """Time spent building and searching nearest-neighbour indexes."""
+        return float(sum(s.nn_seconds for s in self.stages))
+
+    @property
+    def nn_share(self):
+        """Fraction of the wall time spent in nearest-neighbour search."""
+        return self.nn_seconds / self.seconds if self.seconds > 0 else 0.0
+
+    @property
+    def level_seconds(self):
+        """``{level: seconds}`` summed over that level's stages."""
+        out = {}
+        for s in self.stages:
+            out[s.level] = out.get(s.level, 0.0) + s.seconds
+        return out
+
+
+@dataclass
+class AnimationInfo:
+    """What :func:`animate_texture` did.
+
+    Attributes
+    ----------
+    first : OptimizationInfo
+        The multi-level synthesis of frame 1 (None if ``first_frame`` was given).
+    frames : list of OptimizationInfo
+        The single-resolution constrained synthesis of frames 2..L.
+    frame_seconds : numpy.ndarray
+        Wall time of each frame 2..L (warping included).
+    """
+
+    first: object
+    frames: list = field(default_factory=list)
+    frame_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+# --------------------------------------------------------------------------- features
+def _difference_weights(g):
+    """Fall-off weights of the horizontal and vertical pixel differences of a patch."""
+    return (g[:, 1:] + g[:, :-1]) / 2.0, (g[1:, :] + g[:-1, :]) / 2.0
+
+
+def _features(patches, mu):
+    """Vector of a neighbourhood: its values and, if ``μ > 0``, ``sqrt(μ) D x_p``.
+
+    ``D`` is the forward difference inside the neighbourhood, horizontal then
+    vertical, so the weighted squared distance of two feature vectors is
+    ``ρ_p = ||x_p - z_p||_g^2 + μ ||D x_p - D z_p||_g^2``.
+    """
+    n = patches.shape[0]
+    flat = patches.reshape(n, -1)
+    if mu == 0:
+        return flat
+    s = np.sqrt(mu)
+    dx = (patches[:, :, 1:] - patches[:, :, :-1]).reshape(n, -1) * s
+    dy = (patches[:, 1:] - patches[:, :-1]).reshape(n, -1) * s
+    return np.concatenate([flat, dx, dy], axis=1)
+
+
+def _feature_weights(g, channels, mu):
+    """Per-dimension weights matching :func:`_features` (fall-off repeated per channel)."""
+    rep = lambda a: np.repeat(a.ravel(), channels)  # noqa: E731  (h, w, C) order
+    if mu == 0:
+        return rep(g)
+    gx, gy = _difference_weights(g)
+    return np.concatenate([rep(g), rep(gx), rep(gy)])
+
+
+def _weighted_sq(a, b, weights):
+    """Row-wise ``sum_d w_d (a_d - b_d)^2`` in float64."""
+    d = a - b
+    return np.einsum("ij,ij,j->i", d, d, weights)
+
+
+class _Exemplar:
+    """The searchable neighbourhoods of one exemplar level for one size (built once)."""
+
+    def __init__(self, image, valid, size, mu, falloff, method, rng):
+        self.image, self.size, self.mu = image, size, mu
+        self.view = all_patches(image, size)  # (Ny, Nx, w, w, C), a view
+        ok = all_patches(valid[..., None].astype(np.float64), size).min(axis=(2, 3, 4)) > 0.5
+        self.corner = np.argwhere(ok)  # top-left corners of patches free of masked pixels
+        self.g = gaussian_falloff(size) if falloff else np.ones((size, size))
+        self.weights = _feature_weights(self.g, image.shape[-1], mu)
+        self.eps2 = _EPS_RMS**2 * float(self.weights.sum())
+        t0 = time.perf_counter()
+        # the index searches float32 copies (half the memory, twice the BLAS speed);
+        # energies and the M-step's final choice use exact float64 distances
+        feats = np.empty((len(self.corner), self.weights.shape[0]), dtype=np.float32)
+        step = max(1, 2**24 // max(1, self.weights.shape[0] * 8))
+        for a in range(0, len(self.corner), step):
+            feats[a : a + step] = _features(self.patches(np.arange(a, min(a + step, len(self.corner)))), mu)
+        self.index = PatchIndex(feats, weights=self.weights, method=method, rng=rng)
+        self.build_seconds = time.perf_counter() - t0
+
+    def __len__(self):
+        return len(self.corner)
+
+    def patches(self, idx):
+        c = self.corner[idx]
+        return self.view[c[:, 0], c[:, 1]]
+
+    def centers(self, idx):
+        return self.corner[idx] + self.size // 2
+
+
+# --------------------------------------------------------------------------- E-step
+def _dx(u, wrap):
+    return np.roll(u, -1, axis=1) - u if wrap else u[:, 1:] - u[:, :-1]
+
+
+def _dy(u, wrap):
+    return np.roll(u, -1, axis=0) - u if wrap else u[1:] - u[:-1]
+
+
+def _dxT(e, wrap, shape):
+    if wrap:
+        return np.roll(e, 1, axis=1) - e
+    out = np.zeros(shape + e.shape[2:], dtype=e.dtype)
+    out[:, :-1] -= e
+    out[:, 1:] += e
+    return out
+
+
+def _dyT(e, wrap, shape):
+    if wrap:
+        return np.roll(e, 1, axis=0) - e
+    out = np.zeros(shape + e.shape[2:], dtype=e.dtype)
+    out[:-1] -= e
+    out[1:] += e
+    return out
+
+
+def _laplacian_eigenvalues(n, wrap):
+    """Eigenvalues of D^T D on a line of n pixels: periodic (FFT) or Neumann (DCT-II)."""
+    k = np.arange(n)
+    return 2.0 - 2.0 * np.cos((2.0 if wrap else 1.0) * np.pi * k / n)
+
+
+def _solve_gradient_system(data_w, rhs_data, wx, gx, wy, gy, mu, wrap, x0):
+    """Minimise sum_i a_i (x_i - m_i)^2 + μ sum_e b_e (D x - G)_e^2 over x.
+
+    Normal equations ``(A + μ Dᵀ B D) x = A m + μ Dᵀ B G`` (the "Poisson-like
+    linear system" of the paper, with spatially varying weights), solved by
+    conjugate gradients preconditioned with the constant-coefficient operator,
+    which the FFT (periodic output) or the DCT (non-periodic output,
+    Neumann boundary) diagonalises exactly.
+    """
+    shape = data_w.shape
+    a = data_w[..., None]
+    bx, by = wx[..., None], wy[..., None]
+
+    def apply(u):
+        return a * u + mu * (_dxT(bx * _dx(u, wrap), wrap, shape) + _dyT(by * _dy(u, wrap), wrap, shape))
+
+    b = rhs_data + mu * (_dxT(bx * gx, wrap, shape) + _dyT(by * gy, wrap, shape))
+    lam = (
+        float(data_w.mean())
+        + mu * float(wy.mean()) * _laplacian_eigenvalues(shape[0], wrap)[:, None]
+        + mu * float(wx.mean()) * _laplacian_eigenvalues(shape[1], wrap)[None, :]
+    )[..., None]
+
+    def precondition(r):
+        if wrap:
+            return np.real(sfft.ifft2(sfft.fft2(r, axes=(0, 1)) / lam, axes=(0, 1)))
+        return sfft.idctn(sfft.dctn(r, type=2, axes=(0, 1), norm="ortho") / lam, type=2, axes=(0, 1), norm="ortho")
+
+    x = x0.copy()
+    r = b - apply(x)
+    z = precondition(r)
+    p = z.copy()
+    rz = np.einsum("ijc,ijc->c", r, z)
+    bnorm = np.sqrt(np.einsum("ijc,ijc->c", b, b))
+    for _ in range(_CG_MAXITER):
+        if np.all(np.sqrt(np.einsum("ijc,ijc->c", r, r)) <= _CG_RTOL * np.maximum(bnorm, 1e-300)):
+            break
+        q = apply(p)
+        pq = np.einsum("ijc,ijc->c", p, q)
+        alpha = np.divide(rz, pq, out=np.zeros_like(rz), where=pq > 0)
+        x += alpha * p
+        r -= alpha * q
+        z = precondition(r)
+        rz_new = np.einsum("ijc,ijc->c", r, z)
+        beta = np.divide(rz_new, rz, out=np.zeros_like(rz), where=rz > 0)
+        p = z + beta * p
+        rz = rz_new
+    return x
+
+
+def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0):
+    """x <- argmin_x sum_p ω_p ρ_p(x) + λ E_c(x): eq. 1 (and eq. 2) minimised over x."""
+    z = ex.patches(zidx)
+    mean, wd = accumulate(z, centers, shape, patch_weights=omega, pixel_weights=ex.g, mode=mode)
+    data_w = wd.copy()
+    rhs = wd[..., None] * mean
+    if constraint is not None:  # eq. 2: the weighted average with the targets (Section 4)
+        m, t, lam = constraint
+        data_w += lam * m
+        rhs += (lam * m)[..., None] * t
+    if mu == 0:
+        return (rhs / data_w[..., None]).astype(mean.dtype, copy=False)
+    # gradient energy: accumulate the patches' differences like the patches themselves
+    w = ex.size
+    wrap = mode == "wrap"
+    gxw, gyw = _difference_weights(ex.g)
+    shift = w // 2 - (w - 1) // 2  # centre of a (w-1)-wide difference patch, anchored at its left pixel
+    h_, w_ = shape
+    gx, wx = accumulate(z[:, :, 1:] - z[:, :, :-1], centers - [0, shift], (h_, w_ if wrap else w_ - 1),
+                        patch_weights=omega, pixel_weights=gxw, mode=mode)
+    gy, wy = accumulate(z[:, 1:] - z[:, :-1], centers - [shift, 0], (h_ if wrap else h_ - 1, w_),
+                        patch_weights=omega, pixel_weights=gyw, mode=mode)
+    x = _solve_gradient_system(data_w, rhs, wx, gx, wy, gy, mu, wrap, x0.astype(np.float64))
+    return x.astype(mean.dtype, copy=False)
+
+
+# --------------------------------------------------------------------------- M-step
+def _m_step(ex, x, centers, mode, zidx, constraint):
+    """z_p <- nearest exemplar neighbourhood of x_p (modified by Algorithm 2 under constraints).
+
+    Returns the new indices and ``ρ_p`` of every (x_p, z_p) pair in float64.
+    A candidate replaces the current ``z_p`` only if it is strictly better, so
+    an approximate index can never make the step worse than keeping ``z_p``.
+    """
+    q = _features(extract(x, centers, ex.size, mode=mode), ex.mu).astype(np.float64, copy=False)
+    cand = ex.index.query(q.astype(np.float32), k=1)[0][:, 0]
+    rho_new = _weighted_sq(q, _features(ex.patches(cand), ex.mu), ex.weights)
+    if zidx is None:
+        new, rho = cand, rho_new
+    else:
+        rho_old = _weighted_sq(q, _features(ex.patches(zidx), ex.mu), ex.weights)
+        better = rho_new < rho_old
+        new, rho = np.where(better, cand, zidx), np.where(better, rho_new, rho_old)
+    if constraint is None:
+        return new, rho
+    m, t, lam = constraint
+    mp = extract(m[..., None], centers, ex.size, mode=mode)[..., 0]  # (N, w, w)
+    sel = np.flatnonzero(mp.reshape(len(centers), -1).max(axis=1) > 0)
+    if sel.size == 0:
+        return new, rho
+    # Algorithm 2: minimise ||x_p - v||^2 + λ E_c(y) = ρ(x_p, v) + λ sum_k m_k (v_k - x^c_k)^2 over v.
+    # The per-patch weights g + λ m differ from patch to patch, so no single index
+    # holds them: fetch candidates for the completed-square query
+    # (g x + λ m x^c) / (g + λ m) and re-rank them by the exact criterion.
+    xp = extract(x, centers[sel], ex.size, mode=mode)
+    tp = extract(t, centers[sel], ex.size, mode=mode)
+    g = ex.g[None, :, :, None]
+    lm = lam * mp[sel][..., None]
+    blended = ((g * xp + lm * tp) / (g + lm)).reshape(len(sel), -1)
+    # the constraint is on values only: the query keeps x_p's own differences
+    qb = np.concatenate([blended, q[sel, blended.shape[1]:]], axis=1)
+    k = min(_CONSTRAINED_CANDIDATES, len(ex))
+    cands = np.concatenate([ex.index.query(qb.astype(np.float32), k=k)[0], new[sel, None]], axis=1)
+    lm_flat = np.broadcast_to(lm, xp.shape).reshape(len(sel), -1)
+    tflat = tp.reshape(len(sel), -1)
+    scores = np.empty(cands.shape)
+    rhos = np.empty(cands.shape)
+    for j in range(cands.shape[1]):
+        v = ex.patches(cands[:, j])
+        rhos[:, j] = _weighted_sq(q[sel], _features(v, ex.mu), ex.weights)
+        diff = v.reshape(len(sel), -1) - tflat
+        scores[:, j] = rhos[:, j] + np.einsum("ij,ij->i", lm_flat * diff, diff)
+    # ties (the current z_p is the last column) keep the current z_p
+    best = cands.shape[1] - 1 - np.argmin(scores[:, ::-1], axis=1)
+    new = new.copy()
+    rho = rho.copy()
+    new[sel] = cands[np.arange(len(sel)), best]
+    rho[sel] = rhos[np.arange(len(sel)), best]
+    return new, rho
+
+
+def _energy(rho, r, eps2, x, constraint):
+    """E = sum_p (ρ_p + ε²)^{r/2} + λ E_c(x): the robust eq. 1 plus eq. 2."""
+    e = float(np.sum((rho + eps2) ** (r / 2.0)))
+    if constraint is not None:
+        m, t, lam = constraint
+        e += lam * float(np.einsum("ij,ijc->", m, (x - t) ** 2))
+    return e
+
+
+# --------------------------------------------------------------------------- one stage
+def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
+    """Algorithm 1 (or 2) at one level with one neighbourhood size."""
+    t0 = time.perf_counter()
+    w = ex.size
+    spacing = max(1, int(round(w * params["grid_spacing"])))
+    mode = "wrap" if params["tileable"] else "valid"
+    centers = grid_centers(shape, w, spacing, mode=mode)
+    stage = StageInfo(level=level, size=w, shape=tuple(shape), spacing=spacing, neighborhoods=len(centers),
+                      exemplar_neighborhoods=len(ex), first=len(record["energy"]))
+    build, ex.build_seconds = ex.build_seconds, 0.0  # an index reused later costs nothing more
+    nn = build
+    r, mu, eps2 = params["r"], params["mu"], ex.eps2
+    values = float(ex.weights.sum())
+
+    def log(rho):
+        record["energy"].append(_energy(rho, r, eps2, x, constraint))
+        record["mse"].append(float(rho.mean()) / values)
+        record["stage"].append(len(record["stages"]))
+
+    if x is None:  # bootstrap: z_p^0 <- random neighbourhood in Z
+        zidx = rng.integers(len(ex), size=len(centers))
+        omega = np.ones(len(centers))
+        rho = None
+    else:
+        t1 = time.perf_counter()
+        zidx, rho = _m_step(ex, x, centers, mode, None, constraint)
+        nn += time.perf_counter() - t1
+        log(rho)
+    max_it = params["max_iterations"]
+    for it in range(max_it):
+        if rho is not None:  # IRLS weights ω_p (Section 3.1), majorising (ρ + ε²)^{r/2}
+            omega = (r / 2.0) * (rho + eps2) ** ((r - 2.0) / 2.0)
+        x0 = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
+        x = _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0)
+        t1 = time.perf_counter()
+        new, rho = _m_step(ex, x, centers, mode, zidx, constraint)
+        nn += time.perf_counter() - t1
+        log(rho)
+        stage.iterations = it + 1
+        done = np.array_equal(new, zidx)
+        zidx = new
+        e = record["energy"]
+        # the paper stops when {z_p} no longer changes; we also stop when E has
+        # stopped falling (relative decrease below `tolerance`)
+        flat = len(e) - stage.first >= 2 and e[-2] - e[-1] <= params["tolerance"] * abs(e[-2])
+        progress.advance({"level": level, "size": w, "iteration": it, "energy": e[-1]},
+                         n=max_it - it if (done or flat) else 1)
+        if done or flat:
+            stage.converged = bool(done)
+            break
+    stage.seconds = time.perf_counter() - t0 + build
+    stage.nn_seconds = nn
+    record["stages"].append(stage)
+    record["centers"], record["sources"] = centers, ex.centers(zidx)
+    return x
+
+
+# --------------------------------------------------------------------------- validation
+def _check_sizes(sizes):
+    if isinstance(sizes, numbers.Integral) and not isinstance(sizes, bool):
+        sizes = (sizes,)
+    try:
+        sizes = tuple(sizes)
+    except TypeError:
+        raise TypeError(f"neighborhood_sizes must be an int or a sequence of ints, got {sizes!r}") from None
+    if not sizes:
+        raise ValueError("neighborhood_sizes is empty; pass e.g. (32, 16, 8)")
+    out = [check_positive_int(s, "neighborhood_sizes", minimum=2) for s in sizes]
+    return tuple(sorted(set(out), reverse=True))
+
+
+def _check_mask(mask, shape, name):
+    arr = np.asarray(mask)
+    if arr.ndim == 3 and arr.shape[-1] == 1:
+        arr = arr[..., 0]
+    if arr.ndim != 2 or arr.shape != tuple(shape):
+        raise ValueError(f"{name} must have shape {tuple(shape)} (one weight per pixel), got shape {np.shape(mask)}")
+    return as_float_array(arr, name).astype(np.float64)
+
+
+def _check_like(image, shape, channels, name):
+    arr, _ = with_channels(as_image(image, name))
+    if arr.shape[:2] != tuple(shape) or arr.shape[-1] != channels:
+        want = tuple(shape) + ((channels,) if channels > 1 else ())
+        raise ValueError(f"{name} must have the output's shape {want} (channels as the exemplar), got shape {np.shape(image)}")
+    return arr
+
+
+def _schedule(sizes, ex_shapes, out_shapes):
+    """Neighbourhood sizes per level (Section 3.2): only those that fit the sub-sampled exemplar.
+
+    At full resolution a size fits if the exemplar holds at least one
+    neighbourhood; at sub-sampled levels it must hold a real choice of them,
+    so the exemplar must be at least twice the neighbourhood size.
+    """
+    plan = []
+    for level, (es, os_) in enumerate(zip(ex_shapes, out_shapes)):
+        room = min(es) if level == 0 else min(es) // 2
+        plan.append(tuple(s for s in sizes if s <= room and s <= min(os_)))
+    return plan
+
+
+def _prepare(exemplar, size, neighborhood_sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance,
+             gradient_weight, constraint_weight, mask, target, exemplar_mask, init, method):
+    ex = as_image(exemplar, "exemplar")
+    ex, grey = with_channels(ex)
+    shape = as_size(size)
+    sizes = _check_sizes(neighborhood_sizes)
+    levels = check_positive_int(levels, "levels")
+    r = check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True)
+    grid_spacing = check_in_range(grid_spacing, "grid_spacing", 0.0, 1.0, low_open=True)
+    max_iterations = check_positive_int(max_iterations, "max_iterations")
+    tolerance = check_positive_float(tolerance, "tolerance", allow_zero=True)
+    mu = check_positive_float(gradient_weight, "gradient_weight", allow_zero=True)
+    lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True)
+    if not isinstance(method, str) or method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
+    smallest = sizes[-1]
+    if smallest > min(ex.shape[:2]):
+        raise ValueError(
+            f"exemplar is {ex.shape[0]}x{ex.shape[1]} but the smallest neighborhood is {smallest}x{smallest}; "
+            f"pass neighborhood_sizes no larger than {min(ex.shape[:2])} or a larger exemplar"
+        )
+    if smallest > min(shape):
+        raise ValueError(
+            f"size {shape} is smaller than the smallest neighborhood {smallest}x{smallest}; "
+            "pass a larger size or smaller neighborhood_sizes"
+        )
+    valid = np.ones(ex.shape[:2])
+    if exemplar_mask is not None:
+        valid = _check_mask(exemplar_mask, ex.shape[:2], "exemplar_mask")
+        valid = (valid > 0.5).astype(np.float64)
+        free = all_patches(valid[..., None], smallest).min(axis=(2, 3, 4)) > 0.5
+        if not free.any():
+            raise ValueError(
+                f"exemplar_mask leaves no {smallest}x{smallest} neighbourhood of the exemplar free of masked pixels; "
+                "mark more pixels valid or pass smaller neighborhood_sizes"
+            )
+    channels = ex.shape[-1]
+    constraint = None
+    if mask is not None and target is None:
+        raise ValueError("mask was given without target; pass target=image holding the wanted values at the masked pixels")
+    if target is not None:
+        t = _check_like(target, shape, channels, "target")
+        m = np.ones(shape) if mask is None else _check_mask(mask, shape, "mask")
+        constraint = (m, t.astype(ex.dtype), lam)
+    x_init = None if init is None else _check_like(init, shape, channels, "init").astype(ex.dtype)
+    params = dict(r=r, mu=mu, grid_spacing=grid_spacing, max_iterations=max_iterations, tolerance=tolerance)
+    return ex, grey, shape, sizes, levels, valid, constraint, x_init, params
+
+
+def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
+    """Exemplar, its valid mask, output shapes, constraints and init at every level."""
+    levels = max(1, min(levels, max_levels(ex.shape[:2]), max_levels(shape)))
+    pmode = "wrap" if wrap else "reflect"
+    ex_pyr = gaussian_pyramid(ex, levels)
+    # a coarse exemplar pixel is valid only if no masked pixel contributed to it
+    valid_pyr = [v > 1 - 1e-6 for v in gaussian_pyramid(valid, levels)]
+    out_shapes = [tuple(shape)]
+    for _ in range(levels - 1):
+        out_shapes.append(tuple((s + 1) // 2 for s in out_shapes[-1]))
+    cons_pyr = [constraint] + [None] * (levels - 1)
+    if constraint is not None:
+        m, t, lam = constraint
+        mp = gaussian_pyramid(m, levels, mode=pmode)
+        mtp = gaussian_pyramid(m[..., None] * t, levels, mode=pmode)
+        for lv in range(1, levels):
+            # target of a coarse pixel: the mask-weighted average of the fine targets
+            tl = np.divide(mtp[lv], mp[lv][..., None], out=np.zeros_like(mtp[lv]), where=mp[lv][..., None] > 1e-12)
+            cons_pyr[lv] = (mp[lv], tl.astype(ex.dtype), lam)
+    init_pyr = None if x_init is None else gaussian_pyramid(x_init, levels, mode=pmode)
+    return ex_pyr, valid_pyr, out_shapes, cons_pyr, init_pyr
+
+
+# --------------------------------------------------------------------------- public API
+def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3, grid_spacing=0.25,
+                     irls_exponent=0.8, max_iterations=5, tolerance=5e-3, gradient_weight=0.0, mask=None, target=None,
+                     constraint_weight=1.0, exemplar_mask=None, tileable=False, init=None, falloff=True,
+                     method="auto", rng=None, progress=False, return_info=False):
+    """Synthesise a texture by texture optimization (Kwatra et al. 2005).
+
+    Minimises the texture energy (eq. 1) of the output over its
+    neighbourhoods on a sparse grid by alternating a weighted-average E-step
+    and a nearest-neighbour M-step (Algorithm 1), with robust IRLS weights
+    (Section 3.1), coarse-to-fine over resolution levels and neighbourhood
+    sizes (Section 3.2), an optional gradient term, and optional soft
+    constraints (Section 4, Algorithm 2) for controlled synthesis and hole
+    filling.
+
+    Parameters
+    ----------
+    exemplar : array_like
+        ``(h, w)`` grey or ``(h, w, C)`` input texture ``Z``, any accepted
+        dtype (see :func:`texsynth._validate.as_image`).
+    size : int or (int, int)
+        Output size ``(H, W)``, independent of the exemplar's size.
+    neighborhood_sizes : sequence of int
+        Neighbourhood widths ``w``, used largest first at every level. Default
+        ``(32, 16, 8)`` as in the paper; at each level only the sizes that fit
+        the sub-sampled exemplar are used (see Notes).
+    levels : int
+        Resolution levels (default 3, the paper's). 1 synthesises at full
+        resolution only.
+    grid_spacing : float
+        Spacing of the neighbourhood centres ``X†`` as a fraction of ``w``
+        (default 1/4: "centers that are w/4 pixels apart").
+    irls_exponent : float
+        ``r`` of the robust energy ``||x_p - z_p||^r``, in (0, 2]; default 0.8
+        (Section 3.1). ``r = 2`` is the plain least-squares eq. 1.
+    max_iterations : int
+        EM iterations per (level, size) stage at most; a stage also stops when
+        ``{z_p}`` no longer changes. Default 5 ("usually 3-5 iterations per
+        resolution/scale level were found to be enough", Section 5).
+    tolerance : float
+        A stage also stops when one iteration lowers the energy by less than
+        this fraction (default 5e-3; an addition to the paper's test, which
+        rarely fires with thousands of neighbourhoods). 0 keeps only the
+        paper's criterion.
+    gradient_weight : float
+        ``μ`` of the gradient energy ``μ sum_p ||D x_p - D z_p||^2``
+        (Section 3). Default 0 (off): the paper's Algorithm 1, its robust
+        optimisation and its results are stated for the colour energy (1);
+        the gradient term is offered as a generalisation ("we can
+        generalize...") with ``μ = 10`` "in our experiments". Pass 10 to use
+        it; the E-step then solves a Poisson-like linear system.
+    mask : array_like, optional
+        ``(H, W)`` constrained pixels ``C`` of eq. 2: bool, or weights in
+        [0, 1] (soft masks). Requires ``target``.
+    target : array_like, optional
+        Output-shaped wanted values ``x^c``. Alone (no mask) it constrains
+        every pixel.
+    constraint_weight : float
+        ``λ >= 0``, the weight of ``E_c`` against the texture energy (default
+        1). With the default sizes and ``r``, the texture term weighs a pixel
+        by roughly 1-10, so λ = 1 is a gentle pull and λ = 100 nearly hard.
+    exemplar_mask : array_like, optional
+        ``(h, w)`` bool: exemplar pixels that may be copied. Neighbourhoods
+        touching a False pixel are never used (e.g. the hole when the
+        exemplar is the image being filled).
+    tileable : bool
+        Periodic output: neighbourhoods wrap around the edges, so the result
+        tiles seamlessly.
+    init : array_like, optional
+        Output-shaped initial image; the coarsest level starts from its
+        down-sampled version instead of random neighbourhoods.
+    falloff : bool
+        Weight each neighbourhood's pixels by a Gaussian fall-off (σ = w/4)
+        in both steps (Section 3.1). Default True.
+    method : {"auto", "exact", "kdtree", "tsvq"}
+        Nearest-neighbour backend of the M-step
+        (:class:`texsynth.nearest.PatchIndex`).
+    rng : None, int or numpy.random.Generator
+        Seeds the random initial neighbourhoods (and approximate indexes).
+    progress : bool or callable
+        True shows a tqdm bar; a callable receives ``(step, total, info)``
+        after every iteration.
+    return_info : bool
+        Also return an :class:`OptimizationInfo`.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        ``(H, W)`` or ``(H, W, C)``, the exemplar's layout and float dtype,
+        clipped to [0, 1].
+    info : OptimizationInfo
+        Only with ``return_info=True``: energy per iteration with the stage
+        boundaries (Figure 3), the final source of every ``z_p``, times.
+
+    Raises
+    ------
+    ValueError
+        Exemplar smaller than the smallest neighbourhood, ``size`` smaller
+        than it, ``mask``/``target``/``init`` of another shape than the
+        output, NaN in any input, ``constraint_weight < 0``,
+        ``irls_exponent`` outside (0, 2], ``gradient_weight < 0``.
+    TypeError
+        Unsupported dtypes or argument types.
+
+    Notes
+    -----
+    Texture energy, eq. (1) with the robust norm of Section 3.1 and the
+    gradient term::
+
+        E_t(x; {z_p}) = sum_{p in X†} ||x_p - z_p||^r + μ ||D x_p - D z_p||^2
+
+    The E-step minimises its IRLS majoriser ``sum_p ω_p ||x_p - z_p||^2``
+    with ``ω_p = ||x_p - z_p||^{r-2}`` (a weighted average; with ``μ > 0``
+    the normal equations ``(A + μ Dᵀ B D) x = A m + μ Dᵀ B G`` are solved by
+    conjugate gradients preconditioned by FFT for tileable output, DCT
+    otherwise). The M-step finds each ``z_p`` by nearest-neighbour search.
+    Soft constraints, eq. (2), ``E_c(x; x^c) = sum_{k in C} (x(k) -
+    x^c(k))^2``, enter the E-step as a weighted average with the targets
+    and the M-step as ``argmin_v ||x_p - v||^2 + λ ||v - x^c_p||^2_C``
+    (Algorithm 2). For ``λ = 0`` the energy provably never rises within a
+    stage (module docstring).
+
+    Neighbourhood sizes per level: at full resolution every size not larger
+    than the exemplar is used; at a level sub-sampled ``2^l`` times only
+    sizes up to half the sub-sampled exemplar's smaller side, so the coarse
+    search has a choice of neighbourhoods (a 128-pixel exemplar gives
+    (16, 8) at 1/4, (32, 16, 8) at 1/2 and at full resolution).
+
+    References
+    ----------
+    .. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization
+       for example-based synthesis", ACM Transactions on Graphics (SIGGRAPH
+       2005) 24(3), pp. 795-802. :doi:`10.1145/1073204.1073263`
+
+    Examples
+    --------
+    >>> from texsynth import data
+    >>> ex = data.load("bumpy")[:32, :32]
+    >>> out, info = optimize_texture(ex, 40, neighborhood_sizes=(16, 8), levels=1,
+    ...                              max_iterations=2, rng=0, return_info=True)
+    >>> out.shape, [(s.level, s.size) for s in info.stages]
+    ((40, 40, 3), [(0, 16), (0, 8)])
+    >>> bool(np.all(np.diff(info.energy[info.stage == 1]) <= 1e-9 * info.energy[0]))
+    True
+    """
+    t_start = time.perf_counter()
+    ex, grey, shape, sizes, levels, valid, constraint, x_init, params = _prepare(
+        exemplar, size, neighborhood_sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance,
+        gradient_weight, constraint_weight, mask, target, exemplar_mask, init, method)
+    params["tileable"] = bool(tileable)
+    rng = as_rng(rng)
+    x, info = _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, falloff, method, rng,
+                          progress, {}, "optimize_texture")
+    info.seconds = time.perf_counter() - t_start
+    out = restore_channels(np.clip(x, 0.0, 1.0), grey)
+    return (out, info) if return_info else out
+
+
+def _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, falloff, method, rng, progress,
+                cache, desc):
+    """Coarse-to-fine driver (Section 3.2); ``cache`` keeps indexes across calls."""
+    ex_pyr, valid_pyr, out_shapes, cons_pyr, init_pyr = _pyramids(
+        ex, valid, shape, levels, constraint, x_init, params["tileable"])
+    plan = _schedule(sizes, [e.shape[:2] for e in ex_pyr], out_shapes)
+    if not any(plan):
+        raise ValueError(f"no neighborhood size in {sizes} fits the exemplar {ex.shape[:2]} and the output {shape}")
+    record = dict(energy=[], mse=[], stage=[], stages=[], centers=None, sources=None)
+    bar = Progress(progress, sum(len(p) for p in plan) * params["max_iterations"], desc)
+    x, x_level = None, None
+    try:
+        for level in reversed(range(len(plan))):
+            if not plan[level]:
+                continue
+            if x is None and init_pyr is not None:
+                x = init_pyr[level]
+            elif x is not None:
+                # Section 3.2: up-sample the coarse result as the next level's initialisation
+                for finer in range(x_level - 1, level - 1, -1):
+                    x = upsample(x, out_shapes[finer], mode="wrap" if params["tileable"] else "reflect")
+            x_level = level
+            for w in plan[level]:
+                key = (level, w)
+                if key not in cache:
+                    cache[key] = _Exemplar(ex_pyr[level], valid_pyr[level], w, params["mu"], falloff, method, rng)
+                x = _run_stage(cache[key], x, out_shapes[level], level, params, cons_pyr[level], rng, record, bar)
+    finally:
+        bar.close()
+    info = OptimizationInfo(
+        energy=np.asarray(record["energy"]), mse=np.asarray(record["mse"]),
+        stage=np.asarray(record["stage"], dtype=int), stages=record["stages"],
+        centers=record["centers"], sources=record["sources"] * (2 ** record["stages"][-1].level),
+    )
+    return x, info
+
+
+def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16, 8), levels=3,
+                    frame_sizes=None, grid_spacing=0.25, irls_exponent=0.8, max_iterations=5, tolerance=5e-3,
+                    frame_iterations=3, gradient_weight=0.0, constraint_weight=1.0, tileable=False,
+                    first_frame=None, falloff=True, method="auto", rng=None, progress=False,
+                    return_info=False):
+    """Animate a texture along a flow field (Kwatra et al. 2005, Section 4.1).
+
+    Frame 1 is an ordinary multi-level synthesis (:func:`optimize_texture`).
+    Each next frame ``i + 1`` is initialised by warping frame ``i`` along the
+    flow ``f_i`` and synthesised at a single resolution with the warped frame
+    as the soft-constraint target (eq. 3 treated as eq. 2, Algorithm 2), so
+    texture elements move with the flow but keep their shape.
+
+    Parameters
+    ----------
+    exemplar : array_like
+        ``(h, w)`` or ``(h, w, C)`` input texture.
+    flows : array_like or callable
+        ``(L-1, H, W, 2)`` flows (one per transition, may vary over time),
+        one ``(H, W, 2)`` stationary flow, or a callable ``i -> (H, W, 2)``;
+        displacements ``(d_row, d_col)`` in pixels per frame (see
+        :mod:`texsynth.flows` for sink, source, vortex, rotation,
+        translation). The frame size is the flows' ``(H, W)``.
+    frames : int, optional
+        Number of frames ``L``; required for a single flow or a callable.
+    neighborhood_sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance, gradient_weight, falloff, method
+        As in :func:`optimize_texture`, for frame 1.
+    frame_sizes : sequence of int, optional
+        Neighbourhood sizes of the single-resolution synthesis of frames
+        2..L; default the last two of ``neighborhood_sizes`` (16, 8): the
+        warped frame is already a good texture, so the large size, which
+        rearranges whole elements, is not needed to repair it.
+    frame_iterations : int
+        EM iterations per size for frames 2..L (default 3).
+    constraint_weight : float
+        ``λ`` of the flow term: how strongly a frame keeps the warped previous
+        frame (default 1).
+    tileable : bool
+        Periodic frames: the warp wraps around, so every pixel has a target.
+        Otherwise pixels that flow in from outside the frame are
+        unconstrained and synthesised freely.
+    first_frame : array_like, optional
+        Use this ``(H, W[, C])`` image as frame 1 instead of synthesising it.
+    rng, progress, return_info
+        As in :func:`optimize_texture` (progress counts frames).
+
+    Returns
+    -------
+    frames : numpy.ndarray
+        ``(L, H, W)`` or ``(L, H, W, C)``.
+    info : AnimationInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError
+        Flows of the wrong shape or with NaN, ``frames`` inconsistent with
+        the flows, and everything :func:`optimize_texture` rejects.
+
+    Notes
+    -----
+    Eq. (3), the flow energy ``E_c(x; f) = sum_i sum_p (x(p, i) -
+    x(f_i(p), i + 1))^2``, couples a frame only to the previous one, which is
+    known when the frame is synthesised; it is the soft constraint (2) with
+    the previous frame warped along ``f_i`` as the target ``x^c``. Warping
+    is backward with :func:`texsynth.flows.warp`.
+
+    References
+    ----------
+    .. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization
+       for example-based synthesis", ACM Transactions on Graphics (SIGGRAPH
+       2005) 24(3), pp. 795-802. :doi:`10.1145/1073204.1073263`
+
+    Examples
+    --------
+    >>> from texsynth import data, flows
+    >>> ex = data.load("bumpy")[:32, :32]
+    >>> f = flows.translation((24, 24), (0.0, 2.0))
+    >>> video = animate_texture(ex, f, frames=3, neighborhood_sizes=(8,), levels=1,
+    ...                         max_iterations=2, frame_iterations=1, rng=0)
+    >>> video.shape
+    (3, 24, 24, 3)
+    """
+    t_start = time.perf_counter()
+    if not callable(flows) and np.ndim(flows) not in (3, 4):
+        raise ValueError(f"flows must have shape (H, W, 2) or (L-1, H, W, 2), or be a callable, got shape {np.shape(flows)}")
+    seq = flow_sequence(flows, frames)
+    shape = seq.shape[1:3]
+    sizes = _check_sizes(neighborhood_sizes)
+    fsizes = sizes[-2:] if frame_sizes is None else _check_sizes(frame_sizes)
+    frame_iterations = check_positive_int(frame_iterations, "frame_iterations")
+    ex, grey, shape, _, levels, valid, _, _, params = _prepare(
+        exemplar, shape, sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance,
+        gradient_weight, constraint_weight, None, None, None, None, method)
+    _prepare(exemplar, shape, fsizes, 1, grid_spacing, irls_exponent, frame_iterations, tolerance, gradient_weight,
+             constraint_weight, None, None, None, None, method)  # validates frame_sizes against the frame size
+    params["tileable"] = bool(tileable)
+    lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True)
+    rng = as_rng(rng)
+    count = seq.shape[0] + 1
+    bar = Progress(progress, count, "animate_texture")
+    info = AnimationInfo(first=None)
+    try:
+        if first_frame is None:
+            x, info.first = _synthesize(ex, valid, shape, sizes, levels, None, None, params, falloff, method, rng,
+                                        False, {}, "frame 1")
+        else:
+            x = _check_like(first_frame, shape, ex.shape[-1], "first_frame").astype(ex.dtype)
+        x = np.clip(x, 0.0, 1.0)
+        bar.advance({"frame": 1})
+        video = [x]
+        frame_params = dict(params, max_iterations=frame_iterations)
+        cache = {}
+        seconds = []
+        for i in range(seq.shape[0]):
+            t0 = time.perf_counter()
+            # eq. 3 as eq. 2: the previous frame warped along f_i is target and initialisation
+            warped, ok = warp(x, seq[i], mode="wrap" if tileable else "nearest", return_valid=True)
+            constraint = (ok.astype(np.float64), warped, lam)
+            x, finfo = _synthesize(ex, valid, shape, fsizes, 1, constraint, warped, frame_params, falloff, method,
+                                   rng, False, cache, f"frame {i + 2}")
+            x = np.clip(x, 0.0, 1.0)
+            video.append(x)
+            info.frames.append(finfo)
+            seconds.append(time.perf_counter() - t0)
+            bar.advance({"frame": i + 2, "energy": float(finfo.energy[-1])})
+    finally:
+        bar.close()
+    info.frame_seconds = np.asarray(seconds)
+    if info.first is not None:
+        info.first.seconds = time.perf_counter() - t_start - float(info.frame_seconds.sum())
+    out = np.stack([restore_channels(v, grey) for v in video])
+    return (out, info) if return_info else out
