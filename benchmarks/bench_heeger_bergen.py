@@ -35,15 +35,17 @@ def main():
     cases = [("embark/1.jpg (colour)", load_image(TEXTURES / "embark" / "1.jpg")),
              ("lcv/metal.pgm (grey)", load_image(TEXTURES / "lcv" / "metal.pgm"))]
     print(f"Heeger-Bergen, output 512x512, 4 scales x 4 orientations, 5 iterations (best of {args.repeat})")
-    print(f"{'exemplar':<28} {'time [s]':>9} {'spectrum dist.':>15} {'noise dist.':>12}")
+    print("(wall time, and CPU time of this process: the VM is shared, so wall time includes waiting)")
+    print(f"{'exemplar':<28} {'wall [s]':>9} {'CPU [s]':>8} {'spectrum dist.':>15} {'noise dist.':>12}")
     for name, exemplar in cases:
-        best, out = np.inf, None
+        best, best_cpu, out = np.inf, np.inf, None
         for seed in range(args.repeat):
-            t = time.perf_counter()
+            t, c = time.perf_counter(), time.process_time()
             out = heeger_bergen(exemplar, 512, iterations=5, rng=seed)
             best = min(best, time.perf_counter() - t)
+            best_cpu = min(best_cpu, time.process_time() - c)
         noise = np.random.default_rng(0).random(out.shape)
-        print(f"{name:<28} {best:9.2f} {spectrum_distance(out, exemplar):15.3f} "
+        print(f"{name:<28} {best:9.2f} {best_cpu:8.2f} {spectrum_distance(out, exemplar):15.3f} "
               f"{spectrum_distance(noise, exemplar):12.3f}")
     if args.profile:
         profile = cProfile.Profile()
