@@ -1,10 +1,24 @@
 """texsynth: example-based texture synthesis on one shared numpy layer.
 
-The public API is listed once, in ``__all__``; see ``docs/`` and README.md.
+The algorithms are functions at the top level (``texsynth.heeger_bergen``, ...);
+the shared layer and the tools are submodules: :mod:`texsynth.neighborhood`,
+:mod:`texsynth.pyramid`, :mod:`texsynth.nearest`, :mod:`texsynth.metrics`,
+:mod:`texsynth.testing`, :mod:`texsynth.io`, :mod:`texsynth.data`.
 """
 
-from . import data, io
+from . import data, io, metrics, nearest, neighborhood, pyramid, testing
+from .heeger_bergen import heeger_bergen
 
 __version__ = "0.1.0"
 
-__all__ = ["data", "io", "__version__"]
+__all__ = [
+    "heeger_bergen",
+    "data",
+    "io",
+    "metrics",
+    "nearest",
+    "neighborhood",
+    "pyramid",
+    "testing",
+    "__version__",
+]

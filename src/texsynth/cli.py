@@ -63,7 +63,10 @@ class Method:
 
 
 #: Every method of the command, in the order ``texsynth list`` shows them.
-METHODS: dict[str, Method] = {}
+METHODS: dict[str, Method] = {
+    "heeger-bergen": Method("heeger_bergen:heeger_bergen",
+                            "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)"),
+}
 
 _ALWAYS_SKIPPED = {"rng", "progress", "return_info"}
 

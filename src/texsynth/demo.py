@@ -37,9 +37,21 @@ class Entry:
     make: Callable
 
 
+def _heeger_bergen(exemplar, seed):
+    from .heeger_bergen import heeger_bergen
+
+    return heeger_bergen(exemplar, (192, 192), rng=seed)
+
+
 def _entries():
-    """The gallery, in display order (modules imported lazily)."""
-    return []
+    """The gallery, in display order."""
+    hb = "Heeger & Bergen, SIGGRAPH 1995 (doi:10.1145/218380.218446)"
+    return [
+        Entry("heeger_bergen_metal", "Heeger-Bergen: stochastic texture (works)", hb, "metal", _heeger_bergen),
+        Entry("heeger_bergen_bread", "Heeger-Bergen: colour by PCA (works)", hb, "bread", _heeger_bergen),
+        Entry("heeger_bergen_text", "Heeger-Bergen: structured texture (fails: no letters)", hb, "text",
+              _heeger_bergen),
+    ]
 
 
 ENTRIES = _entries()
