@@ -1,0 +1,1072 @@
+"""Wei-Levoy pixel synthesis, Wei's multi-source texture mixtures and solid textures.
+
+One engine implements the three functions of this module, because Wei's
+multi-source algorithm [2]_ *is* Wei-Levoy synthesis [1]_ with several sources:
+
+:func:`synthesize_pixels`
+    Wei & Levoy 2000: multi-resolution pixel synthesis. The output pyramid
+    starts as noise drawn from the exemplar's pixels; levels are synthesised
+    coarse to fine; each pixel becomes the exemplar pixel whose causal
+    (L-shaped) neighbourhood at this level, joined to the full neighbourhood
+    of its parent one level coarser, is nearest. Toroidal output: it tiles.
+    ``order="independent"`` gives the order-independent variant (Wei & Levoy
+    2002 [3]_): non-causal neighbourhoods, every pixel of a level updated at
+    once from the previous pass, which vectorizes.
+:func:`mix_textures`
+    Wei 2002, eq. 1: every source ``i`` has a weight image ``w_i`` and its own
+    neighbourhood ``N_i``; each output pixel ``p`` minimises
+
+    .. math:: E(p, \\{p_i\\}) = \\sum_i w_i \\left(\\|p - p_i\\|^2
+              + \\|N_i(p) - N_i(p_i)\\|^2\\right)                  \\quad (1)
+
+    by alternation: fix ``p``, choose each ``p_i``; fix the ``p_i``, set ``p``
+    to their weighted average; stop when ``E`` stops falling.
+:func:`synthesize_solid`
+    Wei 2002, second specialisation: the sources are 2-D views of a solid
+    along the volume axes; the neighbourhood of a voxel for the view along
+    axis ``a`` lies in the plane perpendicular to ``a``.
+
+References
+----------
+.. [1] L.-Y. Wei and M. Levoy, "Fast texture synthesis using tree-structured
+   vector quantization", SIGGRAPH 2000, pp. 479-488.
+   :doi:`10.1145/344779.345009`
+.. [2] L.-Y. Wei, "Texture synthesis from multiple sources", SIGGRAPH 2003
+   Sketches & Applications. :doi:`10.1145/965400.965507`
+.. [3] L.-Y. Wei and M. Levoy, "Order-independent texture synthesis",
+   Stanford University Technical Report TR-2002-01, 2002.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import numbers
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._validate import as_image, as_rng, as_size, check_positive_int, restore_channels, with_channels
+from .nearest import PatchIndex
+from .neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
+from .pyramid import gaussian_pyramid
+
+__all__ = [
+    "synthesize_pixels",
+    "mix_textures",
+    "synthesize_solid",
+    "PixelSynthesisInfo",
+    "ORDERS",
+    "SEARCHES",
+]
+
+#: Visiting orders: Wei & Levoy 2000 (scanline) and 2002 (order-independent).
+ORDERS = ("scanline", "independent")
+#: Nearest-neighbour search: ``"auto"``/``"exact"`` or an approximate backend of :class:`~texsynth.nearest.PatchIndex`.
+SEARCHES = ("auto", "exact", "kdtree", "tsvq")
+
+try:  # installed with scikit-learn; tiny per-pixel BLAS calls run faster on one thread
+    from threadpoolctl import threadpool_limits as _threadpool_limits
+except ImportError:  # pragma: no cover
+    _threadpool_limits = None
+
+
+def _one_blas_thread():
+    return _threadpool_limits(1, user_api="blas") if _threadpool_limits else contextlib.nullcontext()
+
+
+# "auto" search for the order-independent variant: exact brute force while the
+# number of (query, candidate) pairs of one pass stays below this, kd-tree above.
+_AUTO_EXACT_PAIRS = 4e8
+# Relative tolerance of "E stops falling" (eq. 1 alternation).
+_STOP_TOLERANCE = 1e-9
+# Volume slices whose neighbourhoods are gathered at once (bounds memory).
+_SLICE_CHUNK = 8
+
+
+@dataclass
+class PixelSynthesisInfo:
+    """Extra results of :func:`synthesize_pixels`, :func:`mix_textures` and :func:`synthesize_solid`.
+
+    Attributes
+    ----------
+    energy : list of float
+        Per level, coarsest first: the mean over output pixels of eq. 1,
+        ``sum_i a_i (||p - p_i||^2 + ||N_i(p) - N_i(p_i)||^2)`` with the
+        weights normalised to sum to 1 at each pixel, at the last update.
+    iterations : list of float
+        Per level: mean number of eq. 1 alternation steps per pixel update.
+    level_shapes : list of tuple
+        Output shape of each level, coarsest first.
+    order, search : str
+        Visiting order and search backend actually used.
+    seconds : float
+        Wall time.
+    """
+
+    energy: list = field(default_factory=list)
+    iterations: list = field(default_factory=list)
+    level_shapes: list = field(default_factory=list)
+    order: str = "scanline"
+    search: str = "exact"
+    seconds: float = 0.0
+
+
+# --------------------------------------------------------------------------- #
+# validation
+# --------------------------------------------------------------------------- #
+def _choice(value, allowed, name):
+    if not isinstance(value, str) or value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
+    return value
+
+
+def _default_parent_size(size):
+    """Parent neighbourhood: about half the size, odd (5x5 -> 3x3, 9x9 -> 5x5), as in [1]_ Fig. 5."""
+    return tuple(max(1, (s // 2) | 1) for s in size)
+
+
+def _per_source(value, n, name, convert):
+    """A single setting for every source, or one per source."""
+    if value is None or isinstance(value, numbers.Integral) or (
+        isinstance(value, tuple) and len(value) == 2 and all(isinstance(v, numbers.Integral) for v in value)
+    ):
+        return [convert(value, name) for _ in range(n)]
+    values = list(value)
+    if len(values) != n:
+        raise ValueError(f"{name} holds {len(values)} entries but there are {n} sources; pass one per source or a single value")
+    return [convert(v, f"{name}[{i}]") for i, v in enumerate(values)]
+
+
+def _check_levels(levels):
+    return check_positive_int(levels, "levels")
+
+
+def _check_fits(image, size, name, size_name):
+    h, w = image.shape[:2]
+    if size[0] > h or size[1] > w:
+        raise ValueError(
+            f"{size_name} {size} is larger than {name} ({h}x{w}); pass a smaller {size_name} or a larger {name}"
+        )
+
+
+# --------------------------------------------------------------------------- #
+# the sources of eq. 1
+# --------------------------------------------------------------------------- #
+@dataclass
+class _Source:
+    """One input of eq. 1: exemplar pyramid, neighbourhood N_i, weight images, plane."""
+
+    pyramid: list  # exemplar levels (h, w, C), finest first
+    size: tuple  # N_i at each level
+    parent_size: tuple  # N_i at the parent level
+    axis: int | None  # output axis the view looks along (None: 2-D output)
+    name: str
+    weights: list = field(default_factory=list)  # normalised weight per output level
+
+
+def _masks(size):
+    """Causal parts of the neighbourhood: rows above (fixed when a scanline starts) and left of the centre."""
+    h, w = size
+    above = np.zeros((h, w), bool)
+    above[: h // 2] = True
+    left = causal_mask(size) & ~above
+    full = np.ones((h, w), bool)
+    full[h // 2, w // 2] = False  # eq. 1 keeps p itself out of N_i(p)
+    return above, left, full
+
+
+def _vectors(image, parent, centers, size, parent_size, mask, mode):
+    """This level's masked neighbourhood joined to the parent's full one (Wei & Levoy 2000, Sec. 3.2)."""
+    if parent is None:
+        return extract(image, centers, size, mode=mode)[:, mask].reshape(len(centers), -1)
+    return multilevel_vectors(image, parent, centers, size, parent_size, mode=mode, mask=mask)
+
+
+def _candidates(source, level, levels):
+    """Exemplar pixels whose neighbourhoods (and parents') lie inside the exemplar."""
+    ex = source.pyramid[level]
+    has_parent = level + 1 < levels
+    (nh, nw), (ph, pw) = source.size, source.parent_size
+    rows = np.arange(nh // 2, ex.shape[0] - nh + nh // 2 + 1)
+    cols = np.arange(nw // 2, ex.shape[1] - nw + nw // 2 + 1)
+    if has_parent:
+        par = source.pyramid[level + 1]
+        rows = rows[(rows // 2 >= ph // 2) & (rows // 2 - ph // 2 + ph <= par.shape[0])]
+        cols = cols[(cols // 2 >= pw // 2) & (cols // 2 - pw // 2 + pw <= par.shape[1])]
+    if rows.size == 0 or cols.size == 0:
+        raise ValueError(
+            f"{source.name} is only {ex.shape[0]}x{ex.shape[1]} at pyramid level {level} (of levels={levels}), "
+            f"too small for the neighbourhood {source.size} with parent {source.parent_size}; "
+            f"pass fewer levels (e.g. levels={max(1, level)}) or a smaller neighbourhood"
+        )
+    rr, cc = np.meshgrid(rows, cols, indexing="ij")
+    return np.stack([rr.ravel(), cc.ravel()], 1)
+
+
+def _exemplar_vectors(source, level, levels, centers, mask):
+    parent = source.pyramid[level + 1] if level + 1 < levels else None
+    return _vectors(source.pyramid[level], parent, centers, source.size, source.parent_size, mask, "valid")
+
+
+def _output_vectors(out, parent, source, mask):
+    """Neighbourhood vectors of every output pixel (or voxel) for one source, toroidal.
+
+    For a volume, the neighbourhood of the view along ``axis`` lies in the
+    plane perpendicular to it: the slices along ``axis`` are stacked as
+    channels so that the 2-D shared layer extracts every plane at once.
+    """
+    size, psize = source.size, source.parent_size
+    if source.axis is None:
+        h, w = out.shape[:2]
+        centers = np.argwhere(np.ones((h, w), bool))
+        return _vectors(out, parent, centers, size, psize, mask, "wrap")
+    vol = np.moveaxis(out, source.axis, 2)  # (P0, P1, S, C): plane axes first
+    p0, p1, s, c = vol.shape
+    pvol = None
+    if parent is not None:  # parent voxel of (i, j, k) is (i//2, j//2, k//2)
+        pvol = np.repeat(np.moveaxis(parent, source.axis, 2), 2, axis=2)[:, :, :s]
+    centers = np.argwhere(np.ones((p0, p1), bool))
+    n_here = int(mask.sum())
+    result = None
+    for s0 in range(0, s, _SLICE_CHUNK):
+        chunk = slice(s0, min(s, s0 + _SLICE_CHUNK))
+        ns = chunk.stop - chunk.start
+        img = vol[:, :, chunk].reshape(p0, p1, ns * c)
+        pim = None if pvol is None else pvol[:, :, chunk].reshape(pvol.shape[0], pvol.shape[1], ns * c)
+        v = _vectors(img, pim, centers, size, psize, mask, "wrap")
+        parts = [v[:, : n_here * ns * c].reshape(p0 * p1, n_here, ns, c)]
+        if pim is not None:
+            parts.append(v[:, n_here * ns * c :].reshape(p0 * p1, -1, ns, c))
+        # (P0*P1, ns, n, C) -> one row per voxel, vector = [here..., parent...]
+        v = np.concatenate([np.swapaxes(q, 1, 2).reshape(p0 * p1, ns, -1) for q in parts], axis=2)
+        if result is None:
+            result = np.empty((p0, p1, s, v.shape[-1]), dtype=out.dtype)
+        result[:, :, chunk] = v.reshape(p0, p1, ns, -1)
+    return np.moveaxis(result, 2, source.axis).reshape(-1, result.shape[-1])
+
+
+# --------------------------------------------------------------------------- #
+# progress
+# --------------------------------------------------------------------------- #
+class _Progress:
+    def __init__(self, progress, total, desc):
+        self.callback = None
+        self.bar = None
+        self.step = 0
+        self.total = total
+        if callable(progress):
+            self.callback = progress
+        elif progress is True:
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=total, desc=desc, leave=False)
+        elif progress not in (False, None):
+            raise TypeError(f"progress must be True, False or a callable (step, total, info), got {progress!r}")
+
+    def update(self, info):
+        self.step += 1
+        if self.bar is not None:
+            self.bar.update(1)
+        if self.callback is not None:
+            self.callback(self.step, self.total, info)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+
+
+# --------------------------------------------------------------------------- #
+# the engine
+# --------------------------------------------------------------------------- #
+def _noise(sources, weights, channels, dtype, rng, level=0):
+    """Noise drawn from the exemplars' pixels (so its histogram matches), mixed by the weights.
+
+    Two uniform draws per pixel whatever the number of sources (which source,
+    which of its pixels), so a source of weight zero leaves the noise as it
+    is without that source.
+    """
+    shape = weights[0].shape
+    u, v = rng.random(shape), rng.random(shape)
+    pick = np.zeros(shape, np.intp)
+    cumulative = np.zeros(shape)
+    for w in weights[:-1]:
+        cumulative = cumulative + w
+        pick += u >= cumulative
+    out = np.empty(shape + (channels,), dtype)
+    for i, src in enumerate(sources):
+        pixels = src.pyramid[level].reshape(-1, channels)
+        here = pick == i
+        out[here] = pixels[np.minimum((v[here] * len(pixels)).astype(np.intp), len(pixels) - 1)]
+    return out
+
+
+def _weight_pyramids(raw, levels, spatial_dims):
+    """Per level, weights normalised to sum 1 at each pixel (the scale of eq. 1 does not move its minimum)."""
+    pyramids = [gaussian_pyramid(w[..., None], levels, spatial_dims=spatial_dims) for w in raw]
+    result = []
+    for level in range(levels):
+        ws = [np.maximum(p[level][..., 0], 0.0) for p in pyramids]
+        total = sum(ws)
+        result.append([np.divide(w, total, out=np.full_like(w, 1.0 / len(ws)), where=total > 0) for w in ws])
+    return result  # [level][source]
+
+
+def _resolve_search(search, order, n_pairs):
+    if search in ("auto", "exact"):
+        if order == "scanline" or search == "exact" or n_pairs <= _AUTO_EXACT_PAIRS:
+            return "exact"
+        return "kdtree"
+    return search
+
+
+def _synthesize(sources, shape, channels, dtype, *, levels, order, search, iterations, passes, rng, progress, desc):
+    """Multi-resolution synthesis minimising eq. 1 at every pixel, coarse to fine."""
+    start = time.perf_counter()
+    spatial_dims = len(shape)
+    raw = [np.broadcast_to(np.asarray(s.weights, dtype=np.float64), shape) for s in sources]
+    weights = _weight_pyramids(raw, levels, spatial_dims)
+    noise = _noise(sources, weights[0], channels, dtype, rng)
+    # Wei & Levoy 2000, Sec. 3.2: Gaussian pyramids of the exemplar and of the noise output.
+    out_pyr = [np.array(level, dtype=dtype) for level in gaussian_pyramid(noise, levels, spatial_dims=spatial_dims, mode="wrap")]
+    tables = [[_candidates(s, level, levels) for s in sources] for level in range(levels)]
+    total = sum(out_pyr[lv].shape[0] for lv in range(levels)) if order == "scanline" else levels * (passes + 1)
+    bar = _Progress(progress, total, desc)
+    info = PixelSynthesisInfo(order=order)
+    n_pairs = max(int(np.prod(out_pyr[0].shape[:-1])) * len(t) for t in tables[0])
+    used = _resolve_search(search, order, n_pairs)
+    info.search = used
+    # Index builds (PCA subsample, k-means) draw from their own streams, so the
+    # synthesis stream does not depend on the search backend or on `iterations`.
+    index_seed = int(rng.integers(2**62))
+    try:
+        for level in range(levels - 1, -1, -1):
+            out = out_pyr[level]
+            parent = out_pyr[level + 1] if level + 1 < levels else None
+            if order == "scanline":
+                with _one_blas_thread():
+                    energy, iters = _scanline_level(
+                        out, parent, sources, tables[level], weights[level], level, levels, iterations, used,
+                        index_seed, bar,
+                    )
+            else:
+                energy, iters = _independent_level(
+                    out, parent, sources, tables[level], weights[level], level, levels, iterations, passes, used, index_seed, bar
+                )
+            info.energy.append(float(energy))
+            info.iterations.append(float(iters))
+            info.level_shapes.append(out.shape[:-1])
+    finally:
+        bar.close()
+    info.seconds = time.perf_counter() - start
+    return out_pyr[0], info
+
+
+def _index(vectors, search, seed, *key):
+    return PatchIndex(vectors, method=search, rng=np.random.default_rng([seed, *key]))
+
+
+def _scanline_level(out, parent, sources, centers, weights, level, levels, iterations, search, seed, bar):
+    """Wei & Levoy 2000, Table 1: visit pixels in scanline order, causal neighbourhoods.
+
+    The causal neighbourhood of pixel (r, j) splits into the rows above (and
+    the parent level), fixed once scanline r starts, and the few pixels left
+    of (r, j), which change as the line is written. Exact search computes the
+    first part for the whole line with one matrix product, so the per-pixel
+    work is a small dot product; approximate search queries the index pixel by
+    pixel.
+    """
+    height, width, channels = out.shape
+    exact = search == "exact"
+    tabs = []
+    for i, (src, cen, a) in enumerate(zip(sources, centers, weights)):
+        above, left, _ = _masks(src.size)
+        fixed = _exemplar_vectors(src, level, levels, cen, above)
+        lefts = extract(src.pyramid[level], cen, src.size, mode="valid")[:, left].reshape(len(cen), -1)
+        pixels = np.ascontiguousarray(src.pyramid[level][cen[:, 0], cen[:, 1]])
+        nw = src.size[1]
+        t = dict(
+            src=src, above=above, a=a, pixels=pixels, fixed_t=np.ascontiguousarray(fixed.T),
+            fixed_sq=np.einsum("nd,nd->n", fixed, fixed), lefts=np.ascontiguousarray(lefts),
+            cols=(np.arange(width)[:, None] - nw // 2 + np.arange(nw // 2)[None, :]) % width,
+        )
+        if exact:
+            t["lefts_sq"] = np.einsum("nd,nd->n", lefts, lefts)
+            t["lefts_t"] = np.ascontiguousarray(lefts.T)
+            t["pixels_t"] = np.ascontiguousarray(pixels.T)
+            t["pixels_sq"] = np.einsum("nc,nc->n", pixels, pixels)
+        else:
+            full = np.concatenate([fixed, lefts], axis=1)
+            t["index"] = _index(full, search, seed, level, i, 0)
+            if len(sources) > 1:
+                t["index_p"] = _index(np.concatenate([full, pixels], axis=1), search, seed, level, i, 1)
+        tabs.append(t)
+    single = len(tabs) == 1
+    energy = 0.0
+    steps = 0
+    line_centers = np.stack([np.zeros(width, np.intp), np.arange(width)], 1)
+    for r in range(height):
+        line_centers[:, 0] = r
+        row = out[r]
+        active = [t for t in tabs if t["a"][r].any()]
+        for t in active:
+            src = t["src"]
+            q = _vectors(out, parent, line_centers, src.size, src.parent_size, t["above"], "wrap")
+            if exact:  # ||q - e||^2 for the fixed part, + ||e_left||^2 of the left part
+                t["base"] = (np.einsum("wd,wd->w", q, q)[:, None] - 2.0 * (q @ t["fixed_t"])) + (
+                    t["fixed_sq"] + t["lefts_sq"]
+                )
+            else:
+                t["q"] = q
+        if single and exact:  # Wei & Levoy 2000: p = the exemplar pixel of nearest neighbourhood
+            energy += _scanline_single(row, tabs[0])
+            steps += width
+        else:
+            for j in range(width):
+                if single:
+                    t = tabs[0]
+                    lv = row[t["cols"][j]].ravel()
+                    k, d_k = _query_one(t["index"], np.concatenate([t["q"][j], lv]))
+                    row[j] = t["pixels"][k]
+                    energy += d_k
+                    steps += 1
+                    continue
+                e, n_iter = _solve_pixel(row, j, r, active, iterations, exact)
+                energy += e
+                steps += n_iter
+        bar.update({"level": level, "row": r})
+    n = height * width
+    return energy / n, steps / n
+
+
+def _scanline_single(row, t):
+    """One scanline of single-source exact synthesis: the per-pixel loop kept minimal."""
+    base, lefts_t, pixels, cols = t["base"], t["lefts_t"], t["pixels"], t["cols"]
+    energy = 0.0
+    for j in range(len(row)):
+        lv = row[cols[j]].ravel()
+        d = base[j] - 2.0 * (lv @ lefts_t) + lv @ lv  # ||N(p) - N(p_1)||^2 for every candidate p_1
+        k = d.argmin()
+        row[j] = pixels[k]
+        energy += d[k]
+    return energy
+
+
+def _query_one(index, vector):
+    idx, d2 = index.query(vector[None], k=1)
+    return idx[0, 0], d2[0, 0]
+
+
+def _solve_pixel(row, j, r, active, iterations, exact):
+    """Eq. 1 at one pixel; writes p into ``row[j]``, returns (E, iterations).
+
+    With one source of positive weight, eq. 1 is minimised directly (Wei
+    2002: choose the p_i of nearest neighbourhood and set p = p_i, which is
+    Wei & Levoy 2000). With several, Wei's alternation starts from the
+    current value of p (the initial noise, or the previous pass).
+    """
+    terms = []  # (table, a_i, neighbourhood distances to all candidates, or the query vector)
+    for t in active:
+        a = t["a"][r, j]
+        if a <= 0:
+            continue
+        lv = row[t["cols"][j]].ravel()
+        if exact:
+            nd = t["base"][j] - 2.0 * (lv @ t["lefts_t"]) + lv @ lv  # ||N_i(p) - N_i(p_i)||^2, all p_i
+            terms.append((t, a, nd))
+        else:
+            terms.append((t, a, np.concatenate([t["q"][j], lv])))
+    if len(terms) == 1:
+        t, _, x = terms[0]
+        if exact:
+            k = x.argmin()
+            nd = x[k]
+        else:
+            k, nd = _query_one(t["index"], x)
+        row[j] = t["pixels"][k]
+        return nd, 1
+    n_iter = 0
+    # Wei's alternation needs a starting p; start from each source's own
+    # direct solution (its p_i of nearest neighbourhood) and keep the end of
+    # lowest E. With one source this is Wei & Levoy 2000 exactly.
+    best = None
+    shifted = [x + t["pixels_sq"] for t, _, x in terms] if exact else terms
+    for start in range(len(terms)):
+        t, _, x = terms[start]
+        p = t["pixels"][x.argmin()] if exact else t["pixels"][_query_one(t["index"], x)[0]]
+        energy, n = np.inf, 0
+        for _ in range(iterations):
+            # fix p, choose each p_i minimising ||p - p_i||^2 + ||N_i(p) - N_i(p_i)||^2 (one term of eq. 1)
+            chosen = []
+            for (t, _, x), xp in zip(terms, shifted):
+                if exact:  # ||p - p_i||^2 = ||p_i||^2 - 2 p.p_i + ||p||^2 (the last is constant)
+                    k = (xp - 2.0 * (p @ t["pixels_t"])).argmin()
+                    chosen.append((k, x[k]))
+                else:
+                    k, d = _query_one(t["index_p"], np.concatenate([x, p]))
+                    chosen.append((k, d - ((t["pixels"][k] - p) ** 2).sum()))
+            # fix {p_i}, p = weighted average (minimises eq. 1 over p)
+            p_new, e_new = _average(terms, chosen)
+            n += 1
+            if not e_new < energy * (1.0 - _STOP_TOLERANCE):  # E stopped falling
+                break
+            p, energy = p_new, e_new
+        n_iter += n
+        if best is None or energy < best[1]:
+            best = (p, energy)
+    row[j] = best[0]
+    return best[1], n_iter
+
+
+def _average(terms, chosen):
+    """p = sum_i a_i p_i (sum a_i = 1) and the energy of eq. 1 at that p."""
+    picks = [t["pixels"][k] for (t, _, _), (k, _) in zip(terms, chosen)]
+    p = terms[0][1] * picks[0]
+    for (_, a, _), q in zip(terms[1:], picks[1:]):
+        p = p + a * q
+    energy = 0.0
+    for (_, a, _), q, (_, nd) in zip(terms, picks, chosen):
+        energy += a * (float(((p - q) ** 2).sum()) + float(nd))
+    return p, energy
+
+
+def _independent_level(out, parent, sources, centers, weights, level, levels, iterations, passes, search, seed, bar):
+    """Wei & Levoy 2002: non-causal neighbourhoods, all pixels updated at once per pass.
+
+    Every pass reads the previous pass's output (Jacobi order), so the
+    search for all pixels is one batched query per source. A Jacobi update
+    of blurred noise settles on flat, self-consistent regions, so each level
+    starts from a better guess: the coarsest from noise drawn from the
+    coarsest exemplar level (its contrast matches), finer ones from a first
+    pass that matches the parent's neighbourhood alone, among the exemplar
+    pixels of the same row and column parity, so that the four children of
+    one parent pixel become a coherent 2x2 block rather than four copies.
+    """
+    flat = out.reshape(-1, out.shape[-1])
+    a_flat = [w.reshape(-1) for w in weights]
+    tabs = []
+    for i, (src, cen) in enumerate(zip(sources, centers)):
+        _, _, full = _masks(src.size)
+        vec = _exemplar_vectors(src, level, levels, cen, full)
+        pixels = np.ascontiguousarray(src.pyramid[level][cen[:, 0], cen[:, 1]])
+        t = dict(src=src, full=full, pixels=pixels)
+        t["index"] = _index(vec, search, seed, level, i, 0)
+        if len(sources) > 1:
+            t["index_p"] = _index(np.concatenate([vec, pixels], axis=1), search, seed, level, i, 1)
+        if parent is not None:
+            coarse = _exemplar_vectors(src, level, levels, cen, np.zeros(src.size, bool))
+            t["parity"] = _plane_parity(out.shape[:-1], src.axis)
+            t["index_parent"] = []
+            for c in range(4):
+                subset = np.flatnonzero((cen[:, 0] % 2) * 2 + cen[:, 1] % 2 == c)
+                subset = subset if subset.size else np.arange(len(cen))
+                t["index_parent"].append((subset, _index(coarse[subset], search, seed, level, i, 2, c)))
+        tabs.append(t)
+    if parent is None:
+        out[...] = _noise(sources, weights, out.shape[-1], out.dtype, np.random.default_rng([seed, level]), level)
+    energy = np.zeros(len(flat))
+    n_iter = np.zeros(len(flat))
+    schedule = ([True] if parent is not None else []) + [False] * passes
+    for parent_only in schedule:
+        queries = []
+        for t in tabs:
+            mask = np.zeros(t["src"].size, bool) if parent_only else t["full"]
+            queries.append(_output_vectors(out, parent, t["src"], mask))
+        key = "index_parent" if parent_only else "index"
+        p, energy, n_iter = _solve_all(flat, tabs, a_flat, queries, key, 1 if parent_only else iterations)
+        flat[:] = p
+        bar.update({"level": level, "parent_only": parent_only})
+    return energy.mean(), n_iter.mean()
+
+
+def _plane_parity(shape, axis):
+    """Row and column parity (0..3) of every output pixel in the plane of a source's neighbourhood."""
+    plane = [d for d in range(len(shape)) if d != axis] if axis is not None else [0, 1]
+    grids = np.indices(shape)
+    return ((grids[plane[0]] % 2) * 2 + grids[plane[1]] % 2).reshape(-1)
+
+
+def _query(t, key, q, sel):
+    """Nearest candidate of each query vector: (indices, squared distances)."""
+    if key != "index_parent":
+        idx, d2 = t[key].query(q, k=1)
+        return idx[:, 0], d2[:, 0]
+    k, d = np.empty(len(q), np.intp), np.empty(len(q))
+    parity = t["parity"][sel]
+    for c, (subset, index) in enumerate(t[key]):
+        m = parity == c
+        if m.any():
+            idx, d2 = index.query(q[m], k=1)
+            k[m], d[m] = subset[idx[:, 0]], d2[:, 0]
+    return k, d
+
+
+def _solve_all(flat, tabs, a_flat, queries, key, iterations):
+    """Eq. 1 at every pixel at once (vectorized over pixels), as :func:`_solve_pixel`."""
+    n = len(flat)
+    everything = np.arange(n)
+    # Each source's direct solution: p_i of nearest neighbourhood (Wei & Levoy 2000).
+    ks, nds = [], []
+    for t, a, q in zip(tabs, a_flat, queries):
+        k, nd = np.zeros(n, np.intp), np.zeros(n)
+        on = np.flatnonzero(a > 0)
+        k[on], nd[on] = _query(t, key, q[on], on)
+        ks.append(k)
+        nds.append(nd)
+    # One source at a pixel: that is the minimum of eq. 1. (The parent-only
+    # first pass stops here everywhere: it is only a starting guess.)
+    p, energy = _average_sel(tabs, a_flat, ks, nds, everything)
+    n_iter = np.ones(n)
+    multi = np.flatnonzero(sum((a > 0).astype(int) for a in a_flat) > 1)
+    if key == "index_parent" or multi.size == 0:
+        return p, energy, n_iter
+    # Several sources: Wei's alternation from each source's direct solution; keep the lowest E.
+    energy[multi] = np.inf
+    n_iter[multi] = 0
+    for start_tab, start_a, start_k in zip(tabs, a_flat, ks):
+        sel = multi[start_a[multi] > 0]
+        cur_p = start_tab["pixels"][start_k[sel]]
+        cur_e = np.full(len(sel), np.inf)
+        cur_k = [k[sel] for k in ks]
+        cur_nd = [nd[sel] for nd in nds]
+        todo = np.arange(len(sel))
+        for _ in range(iterations):
+            # fix p, choose each p_i minimising ||p - p_i||^2 + ||N_i(p) - N_i(p_i)||^2
+            new_k = [k.copy() for k in cur_k]
+            new_nd = [nd.copy() for nd in cur_nd]
+            for i, (t, a, q) in enumerate(zip(tabs, a_flat, queries)):
+                m = todo[a[sel[todo]] > 0]
+                idx, d2 = t["index_p"].query(np.concatenate([q[sel[m]], cur_p[m]], axis=1), k=1)
+                new_k[i][m] = idx[:, 0]
+                new_nd[i][m] = d2[:, 0] - ((t["pixels"][idx[:, 0]] - cur_p[m]) ** 2).sum(1)
+            # fix {p_i}, p = weighted average
+            p_new, e_new = _average_sel(tabs, a_flat, [k[todo] for k in new_k], [d[todo] for d in new_nd], sel[todo])
+            n_iter[sel[todo]] += 1
+            better = e_new < cur_e[todo] * (1.0 - _STOP_TOLERANCE)  # E still falling
+            if not better.any():
+                break
+            todo = todo[better]
+            cur_p[todo], cur_e[todo] = p_new[better], e_new[better]
+            for i in range(len(tabs)):
+                cur_k[i][todo], cur_nd[i][todo] = new_k[i][todo], new_nd[i][todo]
+        win = cur_e < energy[sel]
+        p[sel[win]], energy[sel[win]] = cur_p[win], cur_e[win]
+    return p, energy, n_iter
+
+
+def _average_sel(tabs, a_flat, ks, nds, sel):
+    """At pixels ``sel``: p = sum_i a_i p_i (sum a_i = 1) and eq. 1 at that p."""
+    picks = [t["pixels"][k] for t, k in zip(tabs, ks)]
+    p = np.zeros_like(picks[0])
+    for a, q in zip(a_flat, picks):
+        p += a[sel, None].astype(p.dtype) * q
+    energy = np.zeros(len(sel))
+    for a, q, nd in zip(a_flat, picks, nds):
+        energy += a[sel] * (((p - q) ** 2).sum(1) + nd)
+    return p, energy
+
+
+# --------------------------------------------------------------------------- #
+# public functions
+# --------------------------------------------------------------------------- #
+def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name):
+    """Convert the sources once and check their channels and neighbourhoods."""
+    converted = [with_channels(as_image(img, name)) for img, name in zip(images, names)]
+    channels = converted[0][0].shape[-1]
+    for (img, _), name in zip(converted, names):
+        if img.shape[-1] != channels:
+            raise ValueError(
+                f"{name} has {img.shape[-1]} channels but {names[0]} has {channels}; "
+                f"pass sources with the same channels (e.g. convert all to RGB or all to grey)"
+            )
+    dtype = np.float32 if all(img.dtype == np.float32 for img, _ in converted) else np.float64
+    sources = []
+    for i, ((img, _), name, axis) in enumerate(zip(converted, names, axes)):
+        size = patch_shape(sizes[i], f"{size_name}[{i}]" if len(images) > 1 else size_name)
+        psize = _default_parent_size(size) if parent_sizes[i] is None else patch_shape(parent_sizes[i], "parent_size")
+        _check_fits(img, size, name, size_name)
+        pyr = [np.asarray(level, dtype=dtype) for level in gaussian_pyramid(img.astype(dtype, copy=False), levels)]
+        sources.append(_Source(pyr, size, psize, axis, name))
+    return sources, channels, dtype, converted[0][1]
+
+
+def _identity(value, name):
+    return value
+
+
+def _check_order_search(order, search, passes, iterations=1):
+    _choice(order, ORDERS, "order")
+    _choice(search, SEARCHES, "search")
+    check_positive_int(passes, "passes")
+    check_positive_int(iterations, "iterations")
+
+
+def synthesize_pixels(
+    exemplar,
+    size,
+    *,
+    neighborhood_size=5,
+    parent_size=None,
+    levels=3,
+    order="scanline",
+    search="auto",
+    passes=2,
+    rng=None,
+    progress=False,
+    return_info=False,
+):
+    """Wei-Levoy multi-resolution pixel synthesis (scanline or order-independent).
+
+    Parameters
+    ----------
+    exemplar : array_like
+        ``(h, w)`` or ``(h, w, C)`` texture sample.
+    size : int or (int, int)
+        Output ``(height, width)``.
+    neighborhood_size : int or (int, int)
+        Neighbourhood at each level. Default 5 (5x5, of which the causal
+        half is used in scanline order): the paper's multi-resolution
+        results use 5x5 neighbourhoods over 3 levels [1]_ (Sec. 3.2, 5).
+    parent_size : int or (int, int), optional
+        Full neighbourhood at the parent (coarser) level. Default about half
+        ``neighborhood_size`` rounded to odd (5 -> 3, 9 -> 5).
+    levels : int
+        Pyramid levels (default 3, as in [1]_). 1 is single-resolution.
+    order : {"scanline", "independent"}
+        ``"scanline"``: Wei & Levoy 2000, causal neighbourhoods, sequential.
+        ``"independent"``: Wei & Levoy 2002 [2]_, non-causal neighbourhoods,
+        every pixel of a level updated at once per pass.
+    search : {"auto", "exact", "kdtree", "tsvq"}
+        Nearest-neighbour search (:class:`texsynth.nearest.PatchIndex`).
+        In scanline order ``"auto"`` is exact search done one scanline at a
+        time (the fastest here); ``"kdtree"``/``"tsvq"`` query per pixel.
+        In independent order ``"auto"`` is exact for small problems and
+        ``"kdtree"`` for large ones.
+    passes : int
+        ``order="independent"`` only: passes over each level (default 2).
+    rng : None, int or numpy.random.Generator
+        Seeds the initial noise. Same seed, same output.
+    progress : bool or callable
+        True shows a tqdm bar; a callable receives ``(step, total, info)``.
+    return_info : bool
+        Also return a :class:`PixelSynthesisInfo`.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        ``size`` with the exemplar's channel layout; tileable.
+    info : PixelSynthesisInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For an invalid exemplar, size, option, or a neighbourhood larger than
+        the exemplar (at its finest or coarsest pyramid level).
+
+    Notes
+    -----
+    Each output pixel ``p`` becomes the exemplar pixel ``p_1`` minimising
+    ``||N(p) - N(p_1)||^2`` over the multi-level neighbourhood ``N`` (this
+    level's causal part, the parent's full part): eq. 1 of Wei 2002 with one
+    source, which :func:`mix_textures` reduces to exactly. Candidate
+    neighbourhoods lie wholly inside the exemplar; the output is toroidal.
+    The output pyramid starts as a Gaussian pyramid of noise drawn from the
+    exemplar's pixels (so its histogram matches the exemplar's).
+
+    References
+    ----------
+    .. [1] L.-Y. Wei and M. Levoy, "Fast texture synthesis using
+       tree-structured vector quantization", SIGGRAPH 2000, pp. 479-488.
+       :doi:`10.1145/344779.345009`
+    .. [2] L.-Y. Wei and M. Levoy, "Order-independent texture synthesis",
+       Stanford University Technical Report TR-2002-01, 2002.
+
+    Examples
+    --------
+    >>> from texsynth.data import load
+    >>> ex = load("bread")[:24, :24]
+    >>> out = synthesize_pixels(ex, 20, levels=2, rng=0)
+    >>> out.shape == (20, 20, 3), out.dtype
+    (True, dtype('float64'))
+    >>> bool(np.array_equal(out, synthesize_pixels(ex, 20, levels=2, rng=0)))
+    True
+    """
+    size = as_size(size)
+    levels = _check_levels(levels)
+    _check_order_search(order, search, passes)
+    rng = as_rng(rng)
+    sources, channels, dtype, grey = _prepare(
+        [exemplar], ["exemplar"], [neighborhood_size], [parent_size], [None], levels, "neighborhood_size"
+    )
+    sources[0].weights = 1.0
+    out, info = _synthesize(
+        sources, size, channels, dtype, levels=levels, order=order, search=search, iterations=1,
+        passes=passes, rng=rng, progress=progress, desc="Wei-Levoy",
+    )
+    out = restore_channels(out, grey)
+    return (out, info) if return_info else out
+
+
+def _check_weights(weights, n, size):
+    """Weight images of the output size (a scalar means constant), non-negative, never all zero."""
+    if weights is None:
+        return [1.0] * n
+    if isinstance(weights, np.ndarray) and weights.ndim == 3 and weights.shape[0] == n:
+        weights = list(weights)
+    if isinstance(weights, numbers.Real) or (isinstance(weights, np.ndarray) and weights.ndim < 3 and n > 1 and weights.ndim != 1):
+        raise ValueError(
+            f"weights must hold one weight (a number or a {size[0]}x{size[1]} image) per source, "
+            f"i.e. a list of {n}, got {np.asarray(weights).shape if hasattr(weights, 'shape') else weights!r}"
+        )
+    weights = list(weights)
+    if len(weights) != n:
+        raise ValueError(f"weights holds {len(weights)} entries but there are {n} sources; pass one weight per source")
+    result = []
+    for i, w in enumerate(weights):
+        arr = np.asarray(w)
+        if arr.dtype == object or not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
+            raise TypeError(f"weights[{i}] must be a real number or array, got dtype {arr.dtype}")
+        arr = arr.astype(np.float64)
+        if arr.ndim != 0 and arr.shape != tuple(size):
+            raise ValueError(
+                f"weights[{i}] has shape {arr.shape} but the output size is {tuple(size)}; "
+                f"pass a number or a weight image of shape {tuple(size)}"
+            )
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"weights[{i}] contains NaN or infinite values")
+        if arr.size and arr.min() < 0:
+            raise ValueError(f"weights[{i}] has negative values (min {arr.min():.4g}); weights must be >= 0")
+        result.append(arr)
+    total = sum(np.broadcast_to(w, size) for w in result)
+    if np.any(total <= 0):
+        bad = tuple(int(v) for v in np.argwhere(total <= 0)[0])
+        raise ValueError(
+            f"weights are all zero at pixel {bad} (and {int(np.sum(total <= 0)) - 1} others); "
+            "every output pixel needs a positive weight for at least one source"
+        )
+    return result
+
+
+def mix_textures(
+    sources,
+    size,
+    *,
+    weights=None,
+    neighborhood_sizes=5,
+    parent_sizes=None,
+    levels=3,
+    iterations=4,
+    order="scanline",
+    search="auto",
+    passes=2,
+    rng=None,
+    progress=False,
+    return_info=False,
+):
+    """Texture mixture from several sources (Wei 2002, eq. 1).
+
+    Parameters
+    ----------
+    sources : sequence of array_like
+        Exemplars ``(h_i, w_i[, C])``, all with the same channels (sizes may
+        differ).
+    size : int or (int, int)
+        Output ``(height, width)``.
+    weights : sequence, optional
+        One weight per source: a number (constant) or a weight image of the
+        output size; non-negative, with a positive sum at every pixel.
+        Default: equal weighting (a uniform mixture). A ramp
+        ``np.linspace(0, 1, width)`` for one source and its complement for
+        the other turns one texture into the other from left to right.
+    neighborhood_sizes : int, (int, int) or sequence of them
+        ``N_i`` per source (sources differ in texon size). Default 5.
+    parent_sizes : optional
+        Parent-level neighbourhood per source; default about half.
+    levels : int
+        Pyramid levels (default 3).
+    iterations : int
+        Most alternation steps of eq. 1 per pixel (default 4: the paper found
+        1 to 4 enough). Stops earlier when E stops falling.
+    order, search, passes, rng, progress, return_info
+        As in :func:`synthesize_pixels`.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        The mixture, ``size`` with the sources' channel layout.
+    info : PixelSynthesisInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For weights of the wrong shape, negative weights, all weights zero at
+        a pixel, sources with different channel counts, a neighbourhood
+        larger than its source, or an invalid option.
+
+    Notes
+    -----
+    For each output pixel ``p`` the algorithm minimises (Wei 2002, eq. 1)
+
+    .. math:: E(p, \\{p_i\\}) = \\sum_i w_i \\left(\\|p - p_i\\|^2
+              + \\|N_i(p) - N_i(p_i)\\|^2\\right)
+
+    First each ``p_i`` minimises its neighbourhood term (``p`` is not known
+    yet); then ``p`` is set to the weighted average of the ``p_i``; then,
+    with ``p`` fixed, each ``p_i`` minimises its whole term, and so on. Both
+    steps never raise E; the loop stops when E stops falling or after
+    ``iterations`` steps. The weights are normalised to sum 1 at each pixel,
+    which does not move the minimum. With one source the first step is
+    Wei & Levoy 2000 and later steps keep it, so the result equals
+    :func:`synthesize_pixels` bit for bit.
+
+    References
+    ----------
+    .. [1] L.-Y. Wei, "Texture synthesis from multiple sources", SIGGRAPH 2003
+       Sketches & Applications. :doi:`10.1145/965400.965507`
+    .. [2] L.-Y. Wei and M. Levoy, "Fast texture synthesis using
+       tree-structured vector quantization", SIGGRAPH 2000.
+       :doi:`10.1145/344779.345009`
+
+    Examples
+    --------
+    >>> from texsynth.data import load
+    >>> a, b = load("bread")[:24, :24], load("wood")[:24, :24]
+    >>> ramp = np.tile(np.linspace(0, 1, 20), (20, 1))
+    >>> out = mix_textures([a, b], 20, weights=[1 - ramp, ramp], levels=2, rng=0)
+    >>> out.shape
+    (20, 20, 3)
+    """
+    if isinstance(sources, np.ndarray) or not hasattr(sources, "__len__") or len(sources) == 0:
+        raise ValueError("sources must be a non-empty list of exemplar images, e.g. [a, b]")
+    n = len(sources)
+    size = as_size(size)
+    levels = _check_levels(levels)
+    _check_order_search(order, search, passes, iterations)
+    rng = as_rng(rng)
+    sizes = _per_source(neighborhood_sizes, n, "neighborhood_sizes", _identity)
+    psizes = _per_source(parent_sizes, n, "parent_sizes", _identity)
+    names = [f"sources[{i}]" for i in range(n)]
+    srcs, channels, dtype, grey = _prepare(sources, names, sizes, psizes, [None] * n, levels, "neighborhood_sizes")
+    for src, w in zip(srcs, _check_weights(weights, n, size)):
+        src.weights = w
+    out, info = _synthesize(
+        srcs, size, channels, dtype, levels=levels, order=order, search=search, iterations=iterations,
+        passes=passes, rng=rng, progress=progress, desc="Wei mixture",
+    )
+    out = restore_channels(out, grey)
+    return (out, info) if return_info else out
+
+
+def synthesize_solid(
+    views,
+    shape,
+    *,
+    axes=None,
+    neighborhood_size=5,
+    parent_size=None,
+    levels=3,
+    iterations=2,
+    passes=2,
+    search="auto",
+    rng=None,
+    progress=False,
+    return_info=False,
+):
+    """Solid texture from 2-D views along the volume axes (Wei 2002).
+
+    Parameters
+    ----------
+    views : array_like or sequence of array_like
+        One image (used as the view along all three axes) or a list of 1 to 3
+        images with the same channels. ``views[k]`` is what the solid looks
+        like when cut perpendicular to ``axes[k]``.
+    shape : int or (int, int, int)
+        Output ``(depth, height, width)``.
+    axes : sequence of int, optional
+        Volume axis of each view: 0 (z: the slice ``volume[d]`` has rows H,
+        columns W), 1 (y: ``volume[:, h]`` has rows D, columns W) or 2 (x:
+        ``volume[:, :, w]`` has rows D, columns H). Default: ``(0, 1, 2)``
+        for one view (repeated) or three views, ``(0, 1)`` for two.
+    neighborhood_size, parent_size, levels
+        As in :func:`synthesize_pixels` (one setting for every view).
+    iterations : int
+        Most alternation steps of eq. 1 per voxel and pass (default 2).
+    passes : int
+        Passes per level of the order-independent update (default 2).
+    search : {"auto", "exact", "kdtree", "tsvq"}
+        ``"auto"``: exact for small volumes, kd-tree for large ones.
+    rng, progress, return_info
+        As in :func:`synthesize_pixels`.
+
+    Returns
+    -------
+    volume : numpy.ndarray
+        ``(D, H, W)`` or ``(D, H, W, C)`` following the views' layout;
+        toroidal along every axis.
+    info : PixelSynthesisInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For views with mismatched channels, more than 3 views, repeated or
+        invalid axes, a neighbourhood larger than a view, bad options.
+
+    Notes
+    -----
+    Every view is one source of eq. 1 (equal weights); the neighbourhood
+    ``N_a`` of a voxel for the view along axis ``a`` is the square in the
+    plane perpendicular to ``a`` (and its parent one level coarser, in the
+    same plane), so each view constrains what the slices across its axis
+    look like. Wei synthesised the volume in scanline order; here voxels
+    are updated in the order-independent way (Wei & Levoy 2002: non-causal
+    neighbourhoods, all voxels per pass), which vectorizes over the volume.
+    The output pyramid is a 3-D Gaussian pyramid of noise.
+
+    References
+    ----------
+    .. [1] L.-Y. Wei, "Texture synthesis from multiple sources", SIGGRAPH 2003
+       Sketches & Applications. :doi:`10.1145/965400.965507`
+    .. [2] L.-Y. Wei and M. Levoy, "Order-independent texture synthesis",
+       Stanford University Technical Report TR-2002-01, 2002.
+
+    Examples
+    --------
+    >>> from texsynth.data import load
+    >>> vol = synthesize_solid(load("bread")[:24, :24], 8, levels=1, passes=1, rng=0)
+    >>> vol.shape
+    (8, 8, 8, 3)
+    """
+    shape = as_size(shape, "shape", ndim=3)
+    levels = _check_levels(levels)
+    _check_order_search("independent", search, passes, iterations)
+    rng = as_rng(rng)
+    if isinstance(views, np.ndarray) or not isinstance(views, (list, tuple)):
+        views = [views]
+    views = list(views)
+    if not 1 <= len(views) <= 3:
+        raise ValueError(f"views must hold 1 to 3 images (one per axis), got {len(views)}")
+    if axes is None:
+        axes = (0, 1, 2) if len(views) in (1, 3) else (0, 1)
+    axes = tuple(axes)
+    if len(views) == 1 and len(axes) > 1:
+        views = views * len(axes)
+    if len(axes) != len(views) or len(set(axes)) != len(axes) or not all(
+        isinstance(a, numbers.Integral) and 0 <= a <= 2 for a in axes
+    ):
+        raise ValueError(f"axes must name a distinct volume axis (0, 1 or 2) for each of the {len(views)} views, got {axes!r}")
+    n = len(views)
+    names = [f"views[{i}]" for i in range(n)]
+    srcs, channels, dtype, grey = _prepare(
+        views, names, [neighborhood_size] * n, [parent_size] * n, list(axes), levels, "neighborhood_size"
+    )
+    for src in srcs:
+        src.weights = 1.0
+    out, info = _synthesize(
+        srcs, shape, channels, dtype, levels=levels, order="independent", search=search, iterations=iterations,
+        passes=passes, rng=rng, progress=progress, desc="Wei solid",
+    )
+    out = restore_channels(out, grey)
+    return (out, info) if return_info else out
