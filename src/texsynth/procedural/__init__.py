@@ -1,4 +1,44 @@
-"""Procedural textures: Perlin noise, turbulence, marble, wood, reaction-diffusion."""
-from .noise import perlin, band_limit_octaves
-from .patterns import turbulence, fbm, marble, wood, apply_colormap, MARBLE_COLORS, WOOD_COLORS
-from .reaction_diffusion import reaction_diffusion, gray_scott, TURK_PRESETS, GRAY_SCOTT_PRESETS, ReactionDiffusionInfo, stability_limit
+"""Procedural textures: Perlin noise, turbulence, fBm, marble, wood and reaction-diffusion.
+
+Functions of space rather than of an exemplar (the lecture slides "Procedural
+Textures" to "Solid Textures"):
+
+- :func:`perlin` -- Perlin gradient noise in 2-D and 3-D, on a grid (image or
+  volume) or at arbitrary points, optionally periodic (tileable);
+- :func:`turbulence` and :func:`fbm` -- sums of noise octaves, truncated at the
+  band limit of the grid;
+- :func:`marble` and :func:`wood` -- solid textures through a colour transfer
+  function, as 2-D images or 3-D volumes;
+- :func:`reaction_diffusion` (Turk 1991) and :func:`gray_scott` (Pearson
+  1993) -- patterns grown by two reacting, diffusing chemicals.
+"""
+
+from .noise import FADES, band_limit_octaves, perlin
+from .patterns import MARBLE_COLORS, WOOD_COLORS, apply_colormap, fbm, marble, turbulence, wood
+from .reaction_diffusion import (
+    GRAY_SCOTT_PRESETS,
+    TURK_PRESETS,
+    ReactionDiffusionInfo,
+    gray_scott,
+    reaction_diffusion,
+    stability_limit,
+)
+
+__all__ = [
+    "perlin",
+    "turbulence",
+    "fbm",
+    "marble",
+    "wood",
+    "reaction_diffusion",
+    "gray_scott",
+    "apply_colormap",
+    "band_limit_octaves",
+    "stability_limit",
+    "ReactionDiffusionInfo",
+    "FADES",
+    "MARBLE_COLORS",
+    "WOOD_COLORS",
+    "TURK_PRESETS",
+    "GRAY_SCOTT_PRESETS",
+]
