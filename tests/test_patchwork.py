@@ -302,6 +302,12 @@ def test_bad_input_messages(texture):
         patchwork(ex, 64, grid_spacing=100)
     with pytest.raises(ValueError, match="neighbors"):
         patchwork(ex, 64, grid_spacing=16, neighbors=1)
+    with pytest.raises(ValueError, match="grid_spacing 90 is larger than the frames"):
+        patchwork_video(np.stack([ex] * 3), 32, 4, grid_spacing=90)
+    with pytest.raises(ValueError, match="grid_spacing 80 is larger than the texture"):
+        patchwork_transfer(ex, ex, grid_spacing=80)
+    with pytest.raises(ValueError, match="sharpness f must be a finite number > 0"):
+        patchwork_transfer(ex, ex, sharpness=0)
     with pytest.raises(ValueError, match="at least 2 frames"):
         patchwork_video(ex[None], 32, 4, grid_spacing=16)
     with pytest.raises(ValueError, match="pattern has 1 channel.*texture has 3.*np.repeat"):

@@ -86,9 +86,11 @@ class PatchworkInfo:
         Size ``m`` of the ``m x m`` block of cells summed per pixel.
     exact_sources : bool
         True when every sample ``x - p_i + q_i`` of every contributing cell
-        lies inside the input (the paper's condition). False for inputs
-        smaller than ``neighbors * grid_spacing``: then the far tails of the
-        cells are mirrored at the input border (see Notes of :func:`patchwork`).
+        lies inside the input. ``q_i`` always keeps the part of the cell
+        where its normalised weight exceeds 0.01 inside (the paper's "in or
+        near the cell"); beyond it the far tails may leave the input and are
+        mirrored at the input border, which changes a pixel by less than 0.01
+        per mirrored cell.
     clipped : float
         Fraction of output values clipped to [0, 1] after eq. 2 or 7.
     local_means : numpy.ndarray or None
@@ -553,10 +555,8 @@ def patchwork(
     grid_spacing : int
         Spacing of the jittered grid of points ``p_i``, about the size of a
         patch (paper: 64 pixels, Figure 4). Must not exceed the exemplar;
-        inputs of at least ``neighbors * grid_spacing`` pixels copy every
-        contributing sample from inside the input (the paper's condition on
-        ``q_i``); smaller inputs (down to ``grid_spacing``) mirror the far
-        tails of the patches at the input border.
+        at most a third of it is best, so whole cells fit in the input and
+        the ``q_i`` vary (see Notes).
     sharpness : float
         ``f`` in eq. 1, the sharpness of the patch borders (paper: 6; Figure 2
         shows 2, 6 and 20). Must be > 0.
@@ -610,6 +610,14 @@ def patchwork(
     fraction; typically well below 1%). The weights are computed relative to
     the nearest point (``(d_min / d_i)^f``), which leaves eq. 2 unchanged and
     cannot overflow for large ``f``.
+
+    The points ``p_i`` lie on pixel corners; ``q_i`` is drawn uniformly
+    among the positions that keep the cell "in or near" the input: the region
+    where its normalised weight ``w_i / sqrt(sum_j w_j^2)`` exceeds 0.01
+    (measured per cell on a coarse sample of the output). The far tails of a
+    cell may leave the input; there the exemplar is mirrored, changing the
+    pixel by less than 0.01 per such cell (``info.exact_sources`` tells
+    whether it happened).
 
     The method fails, as the paper says, on tiling patterns (bricks, weaves)
     and on textures with large objects or cracks: random patches break them.
