@@ -8,11 +8,15 @@ the shared layer and the tools are submodules: :mod:`texsynth.neighborhood`,
 
 from . import data, io, metrics, nearest, neighborhood, pyramid, testing
 from .heeger_bergen import heeger_bergen
+from .patchwork import patchwork, patchwork_transfer, patchwork_video
 
 __version__ = "0.1.0"
 
 __all__ = [
     "heeger_bergen",
+    "patchwork",
+    "patchwork_video",
+    "patchwork_transfer",
     "data",
     "io",
     "metrics",

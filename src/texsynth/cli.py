@@ -64,6 +64,15 @@ class Method:
 
 #: Every method of the command, in the order ``texsynth list`` shows them.
 METHODS: dict[str, Method] = {
+    "patchwork": Method("patchwork:patchwork",
+                        "Harrison 2002: Voronoi patchwork with invisible joins (fast, tileable)"),
+    "patchwork-video": Method("patchwork:patchwork_video",
+                              "Harrison 2002: seamlessly looping video texture from a frame sequence",
+                              inputs="frames", output="frames"),
+    "patchwork-transfer": Method("patchwork:patchwork_transfer",
+                                 "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
+                                 "pattern is repeated to the texture's channels)",
+                                 inputs="pair", size=None),
     "heeger-bergen": Method("heeger_bergen:heeger_bergen",
                             "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)"),
 }
@@ -148,12 +157,14 @@ def _add_method_parser(sub, name, method):
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     params = inspect.signature(func).parameters
     for pname, param in params.items():
-        if param.kind is not inspect.Parameter.KEYWORD_ONLY or pname in _ALWAYS_SKIPPED or pname in method.skip:
+        if pname not in _option_names(method, params):
             continue
         flag = "--" + pname.replace("_", "-")
         desc = help_text.get(pname, "")
         default = param.default
-        if pname in method.files:
+        if default is inspect.Parameter.empty:
+            parser.add_argument(flag, dest=pname, type=_parse_value, required=True, help=desc)
+        elif pname in method.files:
             parser.add_argument(flag, dest=pname, metavar="PATH", help=f"image file. {desc}")
         elif isinstance(default, bool):
             parser.add_argument(flag, dest=pname, action=argparse.BooleanOptionalAction, default=default,
@@ -163,6 +174,37 @@ def _add_method_parser(sub, name, method):
                                 help=f"{desc} (default: {default!r})")
     parser.set_defaults(_method=name)
     return parser
+
+
+def _option_names(method, params):
+    """Parameters shown as --options: keyword-only ones, and positional ones after the inputs and size."""
+    consumed = {"image": 1, "images": 1, "frames": 1, "pair": 2, "none": 0}[method.inputs] + bool(method.size)
+    names = []
+    for position, (pname, param) in enumerate(params.items()):
+        if pname in _ALWAYS_SKIPPED or pname in method.skip:
+            continue
+        if param.kind is inspect.Parameter.KEYWORD_ONLY or (
+                param.kind is inspect.Parameter.POSITIONAL_OR_KEYWORD and position >= consumed):
+            names.append(pname)
+    return names
+
+
+def _match_channels(first, second):
+    """On the command line a grey image paired with a colour one is repeated to the colour one's channels."""
+    import numpy as np
+
+    def channels(image):
+        return 1 if image.ndim == 2 else image.shape[-1]
+
+    def widen(image, c):
+        grey = image if image.ndim == 2 else image[..., 0]
+        return np.repeat(grey[..., None], c, axis=-1)
+
+    if channels(first) == 1 and channels(second) > 1:
+        first = widen(first, channels(second))
+    elif channels(second) == 1 and channels(first) > 1:
+        second = widen(second, channels(first))
+    return first, second
 
 
 def _load_inputs(method, paths):
@@ -207,15 +249,16 @@ def _run_method(args):
     if out.exists() and not args.overwrite:
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
     inputs = _load_inputs(method, paths)
+    if method.inputs == "pair":
+        inputs = _match_channels(*inputs)
     params = inspect.signature(func).parameters
     kwargs = {}
-    for pname in params:
-        if hasattr(args, pname) and pname not in {"inputs", "output", "size"}:
-            value = getattr(args, pname)
-            if pname in method.files and value is not None:
-                value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
-            if value is not params[pname].default or pname in method.files:
-                kwargs[pname] = value
+    for pname in _option_names(method, params):
+        value = getattr(args, pname)
+        if pname in method.files and value is not None:
+            value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
+        if value is not params[pname].default:
+            kwargs[pname] = value
     if "rng" in params:
         kwargs["rng"] = args.seed
     if "progress" in params:

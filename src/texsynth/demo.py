@@ -43,10 +43,22 @@ def _heeger_bergen(exemplar, seed):
     return heeger_bergen(exemplar, (192, 192), rng=seed)
 
 
+def _patchwork(grid_spacing):
+    def make(exemplar, seed):
+        from .patchwork import patchwork
+
+        return patchwork(exemplar, (256, 256), grid_spacing=grid_spacing, tileable=True, rng=seed)
+
+    return make
+
+
 def _entries():
     """The gallery, in display order."""
     hb = "Heeger & Bergen, SIGGRAPH 1995 (doi:10.1145/218380.218446)"
+    pw = "Harrison, WSCG 2002 (patchwork texture synthesis)"
     return [
+        Entry("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", pw, "water", _patchwork(64)),
+        Entry("patchwork_bread", "Harrison patchwork, tileable (grid 24, f = 6)", pw, "bread", _patchwork(24)),
         Entry("heeger_bergen_metal", "Heeger-Bergen: stochastic texture (works)", hb, "metal", _heeger_bergen),
         Entry("heeger_bergen_bread", "Heeger-Bergen: colour by PCA (works)", hb, "bread", _heeger_bergen),
         Entry("heeger_bergen_text", "Heeger-Bergen: structured texture (fails: no letters)", hb, "text",
