@@ -270,6 +270,9 @@ class _Exemplar:
         self.view = all_patches(image, size)  # (Ny, Nx, w, w, C), a view
         ok = all_patches(valid[..., None].astype(np.float64), size).min(axis=(2, 3, 4)) > 0.5
         self.corner = np.argwhere(ok)  # top-left corners of patches free of masked pixels
+        self.build_seconds = 0.0
+        if len(self.corner) == 0:
+            return
         self.g = gaussian_falloff(size) if falloff else np.ones((size, size))
         self.weights = _feature_weights(self.g, image.shape[-1], mu)
         self.eps2 = _EPS_RMS**2 * float(self.weights.sum())
@@ -377,10 +380,10 @@ def _solve_gradient_system(data_w, rhs_data, wx, gx, wy, gy, mu, wrap, x0):
     return x
 
 
-def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0):
+def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None):
     """x <- argmin_x sum_p ω_p ρ_p(x) + λ E_c(x): eq. 1 (and eq. 2) minimised over x."""
     z = ex.patches(zidx)
-    mean, wd = accumulate(z, centers, shape, patch_weights=omega, pixel_weights=ex.g, mode=mode)
+    mean, wd = accumulate(z, centers, shape, patch_weights=omega, pixel_weights=ex.g if g is None else g, mode=mode)
     data_w = wd.copy()
     rhs = wd[..., None] * mean
     if constraint is not None:  # eq. 2: the weighted average with the targets (Section 4)
@@ -487,10 +490,16 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
         record["mse"].append(float(rho.mean()) / values)
         record["stage"].append(len(record["stages"]))
 
+    g0 = None
     if x is None:  # bootstrap: z_p^0 <- random neighbourhood in Z
         zidx = rng.integers(len(ex), size=len(centers))
         omega = np.ones(len(centers))
         rho = None
+        # The first x is assembled from these neighbourhoods with a sharp fall-off
+        # (σ = spacing/4), so each pixel comes from the nearest centre: averaging ~16
+        # random neighbourhoods per pixel gives a flat image whose nearest exemplar
+        # neighbourhoods are the flattest ones, and the synthesis collapses onto them.
+        g0 = gaussian_falloff(w, sigma=max(spacing, 1) / 4.0)
     else:
         t1 = time.perf_counter()
         zidx, rho = _m_step(ex, x, centers, mode, None, constraint)
@@ -501,7 +510,7 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
         if rho is not None:  # IRLS weights ω_p (Section 3.1), majorising (ρ + ε²)^{r/2}
             omega = (r / 2.0) * (rho + eps2) ** ((r - 2.0) / 2.0)
         x0 = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
-        x = _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0)
+        x = _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=g0 if it == 0 else None)
         t1 = time.perf_counter()
         new, rho = _m_step(ex, x, centers, mode, zidx, constraint)
         nn += time.perf_counter() - t1
@@ -826,6 +835,8 @@ def _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, fal
                 key = (level, w)
                 if key not in cache:
                     cache[key] = _Exemplar(ex_pyr[level], valid_pyr[level], w, params["mu"], falloff, method, rng)
+                if len(cache[key]) == 0:  # exemplar_mask leaves nothing at this level: skip it
+                    continue
                 x = _run_stage(cache[key], x, out_shapes[level], level, params, cons_pyr[level], rng, record, bar)
     finally:
         bar.close()
