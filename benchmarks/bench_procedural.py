@@ -95,12 +95,20 @@ def main():
     rows.append(("2-D 8 octaves", "texsynth turbulence f64",
                  best_of(lambda: turbulence((n, n), frequency=freq, octaves=8, rng=0), rep)))
     coords2 = np.indices((n, n)).reshape(2, -1).astype(np.float32)
+    # arbitrary points (no grid structure to exploit): 1M random 2-D points
+    scatter = np.random.default_rng(0).uniform(0, freq, (n * n, 2))
+    rows.append(("2-D 1M points", "texsynth perlin(points) f64",
+                 best_of(lambda: perlin(points=scatter, rng=0), max(1, rep // 2))))
+    rows.append(("2-D 1M points", "texsynth perlin(points) f32",
+                 best_of(lambda: perlin(points=scatter, rng=0, dtype=np.float32), max(1, rep // 2))))
     if "pyfastnoiselite" in found:
         fnl = found["pyfastnoiselite"]
         gen = fnl.FastNoiseLite(0)
         gen.noise_type = fnl.NoiseType.NoiseType_Perlin
         gen.frequency = freq / n
         rows.append(("2-D 1 octave", "pyfastnoiselite", best_of(lambda: gen.gen_from_coords(coords2), rep)))
+        scatter32 = np.ascontiguousarray(scatter.T * (n / freq), dtype=np.float32)
+        rows.append(("2-D 1M points", "pyfastnoiselite", best_of(lambda: gen.gen_from_coords(scatter32), rep)))
         gen8 = fnl.FastNoiseLite(0)
         gen8.noise_type = fnl.NoiseType.NoiseType_Perlin
         gen8.frequency = freq / n
@@ -171,6 +179,8 @@ def main():
               ("2-D 1 octave", "pyfastnoiselite"), 3.0, "<=")
     ratio_row("1-oct perlin f64 / pyfastnoiselite 1-oct", ("2-D 1 octave", "texsynth perlin f64"),
               ("2-D 1 octave", "pyfastnoiselite"), 3.0, "<=")
+    ratio_row("1M scattered points perlin f32 / pyfastnoiselite (no target)",
+              ("2-D 1M points", "texsynth perlin(points) f32"), ("2-D 1M points", "pyfastnoiselite"), np.inf, "<=")
     ratio_row("3-D 128^3 perlin f32 / pyfastnoiselite", ("3-D 128^3", "texsynth perlin f32"),
               ("3-D 128^3", "pyfastnoiselite"), 3.0, "<=")
     print("\nabsolute targets")

@@ -240,32 +240,37 @@ def _lattice_gradients(perm, lattice, period, dtype):
 def _noise_points(points, perm, period, fade, dtype, gradients=None):
     """Perlin noise at ``points`` (N, d) in lattice units, columns (x, y[, z]).
 
-    ``gradients`` (16, 3) can replace Perlin's table (the benchmark uses the
-    ``noise`` package's variant to cross-check against it).
+    ``gradients`` (16, 3) can replace the gradient table (the benchmark uses
+    the ``noise`` package's variant to cross-check against it).
     """
     n, ndim = points.shape
     per = period or (None,) * ndim
     if gradients is None:
         gradients = _gradient_table(ndim)
+    tables = [np.ascontiguousarray(gradients[:, a], dtype=dtype) for a in range(ndim)]
     cell = np.floor(points)
-    frac = (points - cell).astype(dtype)  # position inside the cell, in [0, 1)
-    cell = cell.astype(np.int64)
-    weights = fade(frac)
+    frac = (points - cell).astype(dtype).T  # (d, N): position inside the cell, in [0, 1)
+    cell = cell.astype(np.intp).T
+    w1 = fade(frac)  # interpolation weights of the upper corner ...
+    w0 = 1 - w1  # ... and of the lower corner, per axis
+    corners = [[_wrap(cell[a], per[a]), _wrap(cell[a] + 1, per[a])] for a in range(ndim)]
+    px = [np.take(perm, c) for c in corners[0]]  # P[x], P[x + 1]
     out = np.zeros(n, dtype=dtype)
+    wavelet = np.empty(n, dtype=dtype)
     # Sum over the 2^d corners c of  prod_a w_a(c_a) * g_c . (x - c)  -- the
     # multilinear interpolation of the corner wavelets, written as a sum.
     for corner in np.ndindex(*(2,) * ndim):
-        idx = [_wrap(cell[:, a] + corner[a], per[a]) for a in range(ndim)]
-        h = perm[idx[0]]
-        h = perm[h + idx[1]]
-        h = perm[h + idx[2]] if ndim == 3 else perm[h]
-        grad = gradients[h & 15]
-        wavelet = np.zeros(n, dtype=dtype)
-        weight = np.ones(n, dtype=dtype)
-        for a in range(ndim):
-            wavelet += grad[:, a].astype(dtype) * (frac[:, a] - corner[a])
-            weight *= weights[:, a] if corner[a] else 1 - weights[:, a]
-        out += weight * wavelet
+        h = np.take(perm, px[corner[0]] + corners[1][corner[1]])  # P[P[x] + y]
+        h = np.take(perm, h + corners[2][corner[2]]) if ndim == 3 else np.take(perm, h)
+        h &= 15
+        weight = w1[0] if corner[0] else w0[0]
+        for a in range(1, ndim):
+            weight = weight * (w1[a] if corner[a] else w0[a])
+        np.multiply(np.take(tables[0], h), frac[0] - corner[0], out=wavelet)
+        for a in range(1, ndim):
+            wavelet += np.take(tables[a], h) * (frac[a] - corner[a])
+        wavelet *= weight
+        out += wavelet
     return out
 
 
