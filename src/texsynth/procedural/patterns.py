@@ -379,6 +379,18 @@ def _unit_coords(shape, dtype):
     return grids
 
 
+def _sine_transfer(turb, strength, base_phase, colormap, default, return_info):
+    """color(t), t = (1 + sin(base_phase + strength * turbulence)) / 2, computed in place in ``turb``."""
+    phase = turb
+    phase *= turb.dtype.type(strength)
+    phase += base_phase.astype(turb.dtype, copy=False)
+    field = np.sin(phase, out=phase)
+    field += 1
+    field *= 0.5
+    image = apply_colormap(field, colormap, default=default)
+    return (image, field) if return_info else image
+
+
 def marble(shape, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None, colormap=None, period=None,
            fade="quintic", rng=None, dtype=np.float64, return_info=False):
     """Marble: layers ``sin(x)`` bent by turbulence, through a colour transfer function.
@@ -448,14 +460,7 @@ def marble(shape, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None
     strength = check_positive_float(turbulence_strength, "turbulence_strength", allow_zero=True)
     turb = turbulence(shape, frequency=frequency, octaves=octaves, period=period, fade=fade, rng=rng, dtype=dtype)
     x = _unit_coords(turb.shape, turb.dtype)[-1]
-    phase = turb
-    phase *= turb.dtype.type(strength)
-    phase += turb.dtype.type(2 * np.pi * veins) * x
-    field = np.sin(phase, out=phase)
-    field += 1
-    field *= 0.5
-    image = apply_colormap(field, colormap, default=MARBLE_COLORS)
-    return (image, field) if return_info else image
+    return _sine_transfer(turb, strength, 2 * np.pi * veins * x, colormap, MARBLE_COLORS, return_info)
 
 
 def wood(shape, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, center=None, colormap=None,
@@ -527,11 +532,4 @@ def wood(shape, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None,
     y0 = turb.dtype.type(center[0] * (shp[-2] - 1) / n)
     x0 = turb.dtype.type(center[1] * (shp[-1] - 1) / n)
     radius = np.sqrt((y - y0) ** 2 + (x - x0) ** 2)
-    phase = turb
-    phase *= turb.dtype.type(strength)
-    phase += turb.dtype.type(2 * np.pi * rings) * radius
-    field = np.sin(phase, out=phase)
-    field += 1
-    field *= 0.5
-    image = apply_colormap(field, colormap, default=WOOD_COLORS)
-    return (image, field) if return_info else image
+    return _sine_transfer(turb, strength, 2 * np.pi * rings * radius, colormap, WOOD_COLORS, return_info)
