@@ -1,6 +1,6 @@
 """
 Portilla-Simoncelli synthesis: the paper's classic cases, convergence, colour
-===========================================================================
+=============================================================================
 
 Portilla & Simoncelli (IJCV 2000) describe a texture by joint statistics of a
 complex steerable pyramid (marginals, autocorrelations of low-pass images and
@@ -113,7 +113,7 @@ plt.close(fig)
 
 # %%
 # Linear interpolation of statistics (what Ruiters et al. build on)
-# ----------------------------------------------------------------
+# -----------------------------------------------------------------
 a = load_image(TEXTURES / "lcv/metal.pgm")[:128, :128]
 b = load_image(TEXTURES / "lcv/reptil_skin.pgm")[:128, :128]
 stats_a, stats_b = ps_statistics(a), ps_statistics(b)

@@ -8,7 +8,7 @@ This module follows the authors' MATLAB ``textureSynth`` (textureAnalysis.m /
 textureSynthesis.m), written from the paper and that code's structure.
 
 The statistics (the paper's section 3; :class:`PSStatistics`)
-------------------------------------------------------------
+-------------------------------------------------------------
 With ``z_{s,k}`` the complex (analytic) band of scale ``s`` and orientation
 ``k``, ``l_s`` the low-pass image of scale ``s`` (the partial reconstruction
 of the pyramid from scale ``s`` down, sampled at that scale's resolution) and
@@ -35,7 +35,7 @@ so statistics measured on an image of one size can be imposed on an image of
 another size.
 
 Synthesis (the paper's section 4; :func:`ps_step`)
--------------------------------------------------
+--------------------------------------------------
 One iteration, as textureSynthesis.m orders it: decompose the current image;
 impose the autocorrelation, skewness and kurtosis on the coarsest low-pass
 image; then from coarse to fine, at every scale: impose the magnitudes'
