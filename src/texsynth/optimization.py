@@ -850,7 +850,7 @@ def _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, fal
 
 def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16, 8), levels=3,
                     frame_sizes=None, grid_spacing=0.25, irls_exponent=0.8, max_iterations=5, tolerance=5e-3,
-                    frame_iterations=3, gradient_weight=0.0, constraint_weight=1.0, tileable=False,
+                    frame_iterations=3, gradient_weight=0.0, constraint_weight=10.0, tileable=False,
                     first_frame=None, falloff=True, method="auto", rng=None, progress=False,
                     return_info=False):
     """Animate a texture along a flow field (Kwatra et al. 2005, Section 4.1).
@@ -884,7 +884,9 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
         EM iterations per size for frames 2..L (default 3).
     constraint_weight : float
         ``λ`` of the flow term: how strongly a frame keeps the warped previous
-        frame (default 1).
+        frame (default 10; the paper gives no value). Measured on pebbles
+        translated by 3 px per frame: λ = 1 changes a frame by a third of
+        the change to unrelated texture (flicker), λ = 10 by 2 %.
     tileable : bool
         Periodic frames: the warp wraps around, so every pixel has a target.
         Otherwise pixels that flow in from outside the frame are
