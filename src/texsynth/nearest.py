@@ -62,13 +62,18 @@ __all__ = ["PatchIndex", "nearest", "METHODS"]
 #: Valid values of ``method``.
 METHODS = ("auto", "exact", "kdtree", "tsvq")
 
-# "auto" picks "exact" while the brute-force work N * M * D stays below this
-# many multiply-adds per query batch ... see PatchIndex Notes for the measurement.
-_AUTO_EXACT_MAX_N = 20_000
+# "auto" picks "exact" up to this many indexed vectors, "kdtree" above: the
+# measured crossover of build + query time (benchmarks/bench_nearest.py
+# --crossover, M = N / 2 queries) is N ~ 2000-5000 for 27- to 147-D patches.
+_AUTO_EXACT_MAX_N = 5_000
 
 _DEFAULT_MEMORY_BUDGET = 256 * 2**20
 # preferred size of one brute-force distance block (bytes)
 _CACHE_BLOCK = 16 * 2**20
+# TSVQ defaults of Kwatra et al. 2005, Sec. 3: k-means with k = 4 per node,
+# leaves below 1 % of the vectors (but at least this many)
+_TSVQ_BRANCHING = 4
+_TSVQ_MIN_LEAF = 16
 # Lloyd iterations per tree node of the TSVQ build
 _LLOYD_ITERATIONS = 5
 
@@ -253,7 +258,7 @@ class _KDTree:
 
     def query(self, queries, k):
         n = self.vectors.shape[0]
-        kk = min(n, self.candidates if self.candidates is not None else max(2 * k, k + 4))
+        kk = min(n, self.candidates if self.candidates is not None else max(2 * k, _KD_CANDIDATES))
         kk = max(kk, k)
         _, cand = self.tree.query(self._project(queries), k=kk)
         cand = np.asarray(cand, dtype=np.int64).reshape(queries.shape[0], kk)
@@ -440,6 +445,9 @@ def _lloyd(x, n_clusters, rng, n_iter=_LLOYD_ITERATIONS):
     return labels, centers
 
 
+# default kd-tree candidates re-ranked exactly (with k=1, recall@1 on real
+# 147-D patches: 5 -> 0.89, 16 -> 0.98, 32 -> 0.99; see the benchmark)
+_KD_CANDIDATES = 16
 # PCA basis from at most this many vectors (SVD cost ~ sample * D^2).
 _PCA_SAMPLE = 20_000
 # default PCA dimension: enough for this fraction of the variance, within the bounds
@@ -478,12 +486,18 @@ class PatchIndex:
         explain 98 % of the variance, kept within [8, 24] (and <= D).
     leaf_size : int, optional
         ``"kdtree"``: cKDTree leaf size (default 16). ``"tsvq"``: largest leaf
-        of the vector-quantization tree (default 64).
+        of the vector-quantization tree; default ``max(16, ceil(N / 100))``,
+        the 1 % of Kwatra et al. [2]_, Section 3.
     branching : int, optional
-        ``"tsvq"`` only: children per tree node (default 8).
+        ``"tsvq"`` only: children (k-means clusters) per tree node; default 4
+        as in Kwatra et al. [2]_, Section 3.
     candidates : int, optional
         ``"kdtree"`` only: candidates fetched from the tree and re-ranked
-        exactly. Default ``max(2 k, k + 4)``.
+        exactly. Default ``max(2 k, 16)``.
+    beams : int, optional
+        ``"tsvq"`` only: nodes kept per tree level during the descent. The
+        default 1 is the greedy descent of Wei & Levoy [1]_; 4 roughly
+        doubles recall@1 for about twice the query time (see Notes).
     memory_budget : int
         Bytes allowed for one block of brute-force distances (and for the
         temporary differences of the exact re-ranking). Default 256 MiB.
@@ -514,7 +528,32 @@ class PatchIndex:
     than the true nearest distance, and the exact backend returns the true k
     nearest neighbours.
 
-    ``"auto"`` uses ``"exact"`` when ``N <= 20000`` and ``"kdtree"`` above.
+    Measured on real 7x7 colour patches (147-D; benchmarks/bench_nearest.py,
+    recall@1 = fraction of queries given their exact nearest neighbour,
+    distance ratio = returned / exact squared distance):
+
+    ========================  ==========  ===============
+    backend                   recall@1    distance ratio
+    ========================  ==========  ===============
+    exact                     1           1
+    kdtree (default)          ~0.98       ~1.001
+    tsvq (greedy, default)    0.3 - 0.6   1.06 - 1.2
+    tsvq, beams=4             0.7 - 0.85  1.01 - 1.04
+    random index (baseline)   1 / N       6 - 90
+    ========================  ==========  ===============
+
+    ``"auto"`` uses ``"exact"`` when ``N <= 5000`` and ``"kdtree"`` above:
+    the measured crossover of build + query time with ``M = N / 2`` queries
+    lies at N ~ 2000 (27-D) to ~5000 (147-D) on a 2-core VM; below it the
+    exact answer costs no more than the approximate one. For many calls with
+    a handful of queries each (scanline synthesis), build once and pick the
+    backend explicitly.
+
+    TSVQ: each node's vectors are clustered by k-means (k-means++ seeding
+    and 5 Lloyd iterations, the generalised Lloyd algorithm of Wei & Levoy
+    [1]_, Section 4) into ``branching`` children, recursively, until a node
+    holds at most ``leaf_size`` vectors; a query follows the nearest child
+    codeword down to a leaf and searches the leaf exactly.
 
     References
     ----------
@@ -593,8 +632,10 @@ class PatchIndex:
                 vectors, n_components, leaf_size or 16, candidates, memory_budget, rng
             )
         else:
+            if leaf_size is None:  # Kwatra et al. 2005, Sec. 3: stop below 1 % of the vectors
+                leaf_size = max(_TSVQ_MIN_LEAF, -(-self.n // 100))
             self._backend = _TSVQ(
-                vectors, leaf_size or 64, branching or 8, beams or 1, memory_budget, rng
+                vectors, leaf_size, branching or _TSVQ_BRANCHING, beams or 1, memory_budget, rng
             )
 
     def __repr__(self):
