@@ -402,3 +402,15 @@ def test_auto_resolves_by_size():
     rng = np.random.default_rng(0)
     big = PatchIndex(rng.random((30_000, 4)), rng=0)
     assert big.method == "kdtree"
+
+
+def test_tsvq_small_leaves_fall_back_to_exact():
+    # leaves of <= 2 vectors cannot supply k=4 candidates: those queries are answered
+    # by the exact search, so the result equals the exact one
+    v = patches("jcjohnson/bumpy.png", 3, ((0, 9), (0, 9)))  # 49 x 27
+    q = patches("jcjohnson/bumpy.png", 3, ((20, 26), (20, 26)))
+    index = PatchIndex(v, method="tsvq", leaf_size=2, rng=1)
+    idx, d2 = index.query(q, k=4)
+    ex_i, ex_d = PatchIndex(v, method="exact").query(q, k=4)
+    np.testing.assert_array_equal(idx, ex_i)
+    np.testing.assert_array_equal(d2, ex_d)

@@ -175,7 +175,7 @@ def _best_k_of_pairs(n_rows, rows, cols, d2, k):
     """
     order = np.lexsort((cols, d2, rows))
     counts = np.bincount(rows, minlength=n_rows)
-    starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    starts = np.cumsum(counts) - counts
     take = order[(starts[:, None] + np.arange(k)[None, :]).ravel()]
     return cols[take].reshape(n_rows, k).astype(np.int64), d2[take].reshape(n_rows, k)
 
