@@ -10,13 +10,16 @@ returned index is the exact nearest neighbour, ties counted as hits when the
 distance is equal) and the mean distance ratio (returned / exact nearest
 squared distance, over queries with a non-zero exact distance).
 
+Run with a single BLAS thread on a shared machine: an oversubscribed
+multi-threaded OpenBLAS slows every GEMM (ours and scikit-learn's) by up to 10x.
+
 scikit-learn's tree searches are exact but slow in 147-D; they are timed on the
 first ``--tree-queries`` queries and the time is scaled to the full query set
 (marked "*").
 
 Usage::
 
-    python benchmarks/bench_nearest.py            # full run (a few minutes)
+    OPENBLAS_NUM_THREADS=1 python benchmarks/bench_nearest.py   # full run (a few minutes)
     python benchmarks/bench_nearest.py --quick    # smaller sets
     python benchmarks/bench_nearest.py --crossover  # exact vs kdtree vs N (for method="auto")
 """
@@ -88,7 +91,7 @@ def run(quick, tree_queries):
             ("texsynth exact", dict(method="exact")),
             ("texsynth exact float32", dict(method="exact", _f32=True)),
             ("texsynth kdtree (default)", dict(method="kdtree")),
-            ("texsynth kdtree candidates=16", dict(method="kdtree", candidates=16)),
+            ("texsynth kdtree candidates=5", dict(method="kdtree", candidates=5)),
             ("texsynth kdtree candidates=32", dict(method="kdtree", candidates=32)),
             ("texsynth tsvq (greedy)", dict(method="tsvq")),
             ("texsynth tsvq beams=4", dict(method="tsvq", beams=4)),

@@ -105,7 +105,7 @@ def test_weights_are_honoured():
     v = rng.random((200, 9))
     q = rng.random((30, 9))
     w = np.array([0.0, 1.0, 2.0, 0.5, 0.0, 3.0, 1.0, 0.1, 4.0])
-    for method in ("exact", "kdtree"):
+    for method in ("exact", "kdtree", "tsvq"):
         idx, d2 = PatchIndex(v, weights=w, method=method, rng=0).query(q, k=4)
         explicit = (((q[:, None, :] - v[idx]) ** 2) * w).sum(axis=-1)
         np.testing.assert_allclose(d2, explicit, rtol=1e-12)

@@ -289,6 +289,7 @@ class _TSVQ:
         self.beams = beams
         self.leaf_size = leaf_size
         self._exact = None
+        self.sq_norms = np.einsum("ij,ij->i", vectors, vectors)
         n = vectors.shape[0]
         order = np.arange(n)
         centers, starts, ends, kids = [vectors.mean(axis=0)], [0], [n], [[]]
@@ -377,8 +378,8 @@ class _TSVQ:
             stop = first[j + 1] if j + 1 < len(first) else pairs.shape[0]
             qi = pairs[start:stop] // leaves.shape[1]
             members = self.order[self.starts[leaf] : self.ends[leaf]]
-            v = self.vectors[members]
-            d = np.einsum("ij,ij->i", v, v)[None, :] - 2.0 * (queries[qi] @ v.T)
+            # ||v||^2 - 2 q.v ranks the leaf's vectors like ||q - v||^2
+            d = self.sq_norms[members][None, :] - 2.0 * (queries[qi] @ self.vectors[members].T)
             kk = min(k, members.shape[0])
             best = np.argpartition(d, kk - 1, axis=1)[:, :kk] if kk < members.shape[0] else np.arange(kk)[None, :]
             cand[start:stop, :kk] = members[best]
