@@ -235,7 +235,10 @@ def _correspondences(t1, t2, size, channel_weights, k, rng):
         view = all_patches(dst.image, size)  # every neighbourhood of the other texture
         vecs = view.reshape(-1, size * size * view.shape[-1]).astype(np.float32)
         weights = np.tile(channel_weights, size * size)
-        index = PatchIndex(vecs, weights=weights, method="kdtree", rng=rng)
+        # "auto": exact search up to 20000 neighbourhoods, PCA + kd-tree above (the
+        # paper's choice); building the kd-tree's PCA costs more than exact search
+        # on small sets (16 s vs 0.07 s measured for 1600 x 324 on the loaded 2-core VM)
+        index = PatchIndex(vecs, weights=weights, method="auto", rng=rng)
         q = all_patches(src.image, size)[src.corners[:, 0], src.corners[:, 1]]
         idx, _ = index.query(q.reshape(len(q), -1).astype(np.float32), k=k)
         other = np.stack(np.unravel_index(idx.ravel(), view.shape[:2]), 1)
@@ -415,8 +418,7 @@ class _PatchSet:
         self.patches = patches
         self.size = patches.shape[1]
         self.weights = np.tile(channel_weights, self.size * self.size)
-        self.index = PatchIndex(patches.reshape(len(patches), -1), weights=self.weights,
-                                method="kdtree" if len(patches) > 2000 else "exact", rng=rng)
+        self.index = PatchIndex(patches.reshape(len(patches), -1), weights=self.weights, method="auto", rng=rng)
 
     def query(self, x, centers):
         q = extract(x, centers, self.size, mode="wrap").reshape(len(centers), -1).astype(np.float32)
@@ -650,8 +652,9 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     Notes
     -----
     Correspondences use ``||W_C (N_i^(1) - N_j^(2))||_2`` over colour and
-    distance channels (Section 4.1), searched in both directions with a
-    PCA + kd-tree index. Each pair is colour-adjusted to the alpha-
+    distance channels (Section 4.1), searched in both directions through
+    :class:`texsynth.nearest.PatchIndex` (``method="auto"``: exact up to
+    20000 neighbourhoods, the paper's PCA + kd-tree above). Each pair is colour-adjusted to the alpha-
     interpolated means and deviations, TPS-RPM (eq. 1) gives ``theta_12``
     and ``theta_21`` from the same correspondences, and
 
