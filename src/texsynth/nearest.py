@@ -542,19 +542,22 @@ class PatchIndex:
     than the true nearest distance, and the exact backend returns the true k
     nearest neighbours.
 
-    Measured on real 7x7 colour patches (147-D; benchmarks/bench_nearest.py,
-    recall@1 = fraction of queries given their exact nearest neighbour,
-    distance ratio = returned / exact squared distance):
+    Measured on real 7x7 patches (benchmarks/bench_nearest.py and
+    tests/test_nearest.py; 5 000-50 000 indexed vectors of 49-D grey and
+    147-D colour patches, queries from another image region; recall@1 =
+    fraction of queries given their exact nearest neighbour, distance ratio =
+    mean returned / exact squared distance):
 
-    ========================  ==========  ===============
-    backend                   recall@1    distance ratio
-    ========================  ==========  ===============
-    exact                     1           1
-    kdtree (default)          ~0.98       ~1.001
-    tsvq (greedy, default)    0.3 - 0.6   1.06 - 1.2
-    tsvq, beams=4             0.7 - 0.85  1.01 - 1.04
-    random index (baseline)   1 / N       6 - 90
-    ========================  ==========  ===============
+    ========================  ===========  ===============
+    backend                   recall@1     distance ratio
+    ========================  ===========  ===============
+    exact                     1            1
+    kdtree (default)          0.94 - 1.0   1.000 - 1.003
+    kdtree, eps=0             0.98 - 1.0   1.000 - 1.001
+    tsvq (greedy, default)    0.30 - 0.69  1.06 - 1.35
+    tsvq, beams=4             0.67 - 0.94  1.01 - 1.05
+    random index (baseline)   ~1 / N       6.5 - 94
+    ========================  ===========  ===============
 
     ``"auto"`` uses ``"exact"`` when ``N <= 5000`` and ``"kdtree"`` above:
     the measured crossover of build + query time with ``M = N / 2`` queries
