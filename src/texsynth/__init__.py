@@ -6,14 +6,19 @@ the shared layer and the tools are submodules: :mod:`texsynth.neighborhood`,
 :mod:`texsynth.testing`, :mod:`texsynth.io`, :mod:`texsynth.data`.
 """
 
-from . import data, io, metrics, nearest, neighborhood, pyramid, testing
+from . import data, io, metrics, nearest, neighborhood, procedural, pyramid, testing
 from .heeger_bergen import heeger_bergen
+from .portilla_simoncelli import interpolate_statistics, portilla_simoncelli, ps_statistics, ps_step
 from .patchwork import patchwork, patchwork_transfer, patchwork_video
 
 __version__ = "0.1.0"
 
 __all__ = [
     "heeger_bergen",
+    "portilla_simoncelli",
+    "ps_statistics",
+    "ps_step",
+    "interpolate_statistics",
     "patchwork",
     "patchwork_video",
     "patchwork_transfer",
@@ -22,6 +27,7 @@ __all__ = [
     "metrics",
     "nearest",
     "neighborhood",
+    "procedural",
     "pyramid",
     "testing",
     "__version__",

@@ -19,7 +19,7 @@ import importlib
 import inspect
 import re
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 __all__ = ["main", "METHODS", "Method"]
@@ -55,7 +55,17 @@ class Method:
     size: str | None = "size"
     files: tuple = ()
     skip: tuple = ()
-    extra: dict = field(default_factory=dict)
+    values: str = "unit"
+
+    def to_unit(self, result):
+        """Map the function's values to [0, 1] for saving: "unit" (already), "signed" ([-1, 1]) or "positive"."""
+        import numpy as np
+
+        if self.values == "signed":
+            return np.clip((result + 1.0) / 2.0, 0.0, 1.0)
+        if self.values == "positive":
+            return result / max(float(result.max()), 1e-12)
+        return result
 
     def function(self):
         module, name = self.target.split(":")
@@ -75,6 +85,24 @@ METHODS: dict[str, Method] = {
                                  inputs="pair", size=None),
     "heeger-bergen": Method("heeger_bergen:heeger_bergen",
                             "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)"),
+    "portilla-simoncelli": Method("portilla_simoncelli:portilla_simoncelli",
+                                  "Portilla-Simoncelli 2000: joint wavelet statistics by iterated projections"),
+    "perlin": Method("procedural:perlin", "Perlin gradient noise (2-D image, or 3-D volume with --size WxHxD)",
+                     inputs="none", size="shape", skip=("points", "offset", "dtype"), values="signed"),
+    "turbulence": Method("procedural:turbulence", "Perlin turbulence: sum of |noise| octaves to the band limit",
+                         inputs="none", size="shape", skip=("points", "offset", "dtype"), values="positive"),
+    "fbm": Method("procedural:fbm", "fractional Brownian motion: signed sum of noise octaves",
+                  inputs="none", size="shape", skip=("points", "offset", "dtype"), values="signed"),
+    "marble": Method("procedural:marble", "Perlin marble: sin(x + turbulence) through a colour map (2-D or 3-D)",
+                     inputs="none", size="shape", skip=("dtype",)),
+    "wood": Method("procedural:wood", "wood rings: sin(radius + turbulence) through a colour map (2-D or 3-D)",
+                   inputs="none", size="shape", skip=("dtype",)),
+    "reaction-diffusion": Method("procedural:reaction_diffusion",
+                                 "Turk 1991 reaction-diffusion spots (two chemicals, periodic)",
+                                 inputs="none", size="shape", skip=("dtype", "record_every")),
+    "gray-scott": Method("procedural:gray_scott",
+                         "Gray-Scott reaction-diffusion presets: spots, stripes, mazes, coral, mitosis, holes",
+                         inputs="none", size="shape", skip=("dtype", "record_every", "seeds")),
 }
 
 _ALWAYS_SKIPPED = {"rng", "progress", "return_info"}
@@ -223,7 +251,8 @@ def _write(method, result, output, overwrite):
     if method.output == "frames":
         save_frames(out, result, overwrite=overwrite)
         return [out]
-    if method.output == "volume":
+    if method.output == "volume" or (method.inputs == "none" and np.ndim(result) >= 3
+                                     and (np.ndim(result) == 4 or np.shape(result)[-1] > 4)):
         npy = out.with_suffix(".npy")
         save_image(npy, result, overwrite=overwrite)
         written = [npy]
@@ -275,6 +304,7 @@ def _run_method(args):
     result = func(*positional, **kwargs)
     if isinstance(result, tuple):
         result = result[0]
+    result = method.to_unit(result)
     return _write(method, result, args.output, args.overwrite)
 
 

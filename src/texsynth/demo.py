@@ -52,17 +52,46 @@ def _patchwork(grid_spacing):
     return make
 
 
+def _portilla_simoncelli(exemplar, seed):
+    from .portilla_simoncelli import portilla_simoncelli
+
+    return portilla_simoncelli(exemplar, (128, 128), iterations=30, rng=seed)
+
+
+def _procedural(name, **options):
+    def make(exemplar, seed):
+        from . import procedural
+
+        return getattr(procedural, name)((192, 192), rng=seed, **options)
+
+    return make
+
+
 def _entries():
     """The gallery, in display order."""
     hb = "Heeger & Bergen, SIGGRAPH 1995 (doi:10.1145/218380.218446)"
     pw = "Harrison, WSCG 2002 (patchwork texture synthesis)"
+    ps = "Portilla & Simoncelli, IJCV 2000 (doi:10.1023/A:1026553619983)"
+    perlin = "Perlin, SIGGRAPH 1985 / 2002 (doi:10.1145/325165.325247)"
     return [
+        Entry("marble", "Perlin marble: sin(x + turbulence) through a colour map", perlin, None,
+              _procedural("marble")),
+        Entry("wood", "Solid wood rings: sin(radius + turbulence)", perlin, None, _procedural("wood")),
+        Entry("reaction_diffusion", "Turk reaction-diffusion spots", "Turk, SIGGRAPH 1991 (doi:10.1145/127719.122749)",
+              None, _procedural("reaction_diffusion", steps=6000)),
+        Entry("gray_scott_mazes", "Gray-Scott reaction-diffusion, 'mazes' preset",
+              "Pearson, Science 1993 (doi:10.1126/science.261.5118.189)", None,
+              _procedural("gray_scott", preset="mazes", steps=6000)),
         Entry("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", pw, "water", _patchwork(64)),
         Entry("patchwork_bread", "Harrison patchwork, tileable (grid 24, f = 6)", pw, "bread", _patchwork(24)),
         Entry("heeger_bergen_metal", "Heeger-Bergen: stochastic texture (works)", hb, "metal", _heeger_bergen),
         Entry("heeger_bergen_bread", "Heeger-Bergen: colour by PCA (works)", hb, "bread", _heeger_bergen),
         Entry("heeger_bergen_text", "Heeger-Bergen: structured texture (fails: no letters)", hb, "text",
               _heeger_bergen),
+        Entry("portilla_simoncelli_reptile", "Portilla-Simoncelli: structured texture", ps, "reptile",
+              _portilla_simoncelli),
+        Entry("portilla_simoncelli_text", "Portilla-Simoncelli: text (letter-like strokes, no words)", ps, "text",
+              _portilla_simoncelli),
     ]
 
 
