@@ -1,6 +1,6 @@
 """
 Flow-guided texture animation (Kwatra et al. 2005, Section 4.1, Figures 1 and 7)
-===============================================================================
+================================================================================
 
 A texture animated along a flow field. Frame 1 is an ordinary synthesis;
 every next frame starts from the previous one warped along the flow and is

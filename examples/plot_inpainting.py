@@ -1,6 +1,6 @@
 """
 Hole filling with soft constraints (Kwatra et al. 2005, Section 4)
-=================================================================
+==================================================================
 
 ``embark/bricks.png`` has a round hole in its alpha channel. Texture
 optimization fills it: the known pixels are soft constraints (eq. 2,

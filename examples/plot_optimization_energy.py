@@ -1,6 +1,6 @@
 """
 Texture energy per iteration (Kwatra et al. 2005, Figure 3)
-==========================================================
+===========================================================
 
 The energy of eq. 1 after every EM iteration, the stages (resolution level,
 neighbourhood size) concatenated in synthesis order. Within a stage the

@@ -1,6 +1,6 @@
 """
 Patchwork cell shapes for f = 2, 6 and 20 (Harrison 2002, Figure 2)
-=====================================================================
+===================================================================
 
 The same jittered grid of points ``p_i`` (grid spacing 32) with three border
 sharpnesses ``f`` of eq. 1. Top row: each cell has a colour, and each pixel

@@ -1,6 +1,6 @@
 """
 Patchwork joins: sharp, feathered and standard-deviation controlled (Harrison 2002, Figure 1)
-==============================================================================================
+=============================================================================================
 
 Two patches of a real texture (water, ``embark/1.jpg``) are joined three ways,
 with the weights of eq. 1 (``w_i = d(x, p_i)^-f``, two points ``p_1`` left and

@@ -5,7 +5,7 @@ Perlin noise, turbulence and fBm
 The lecture slides "Perlin's Noise", "Turbulence Function" and "Synthesis of
 Turbulence (1D/2D)": gradient noise on an integer lattice (zero at every
 lattice point, band-limited around the lattice frequency), its tileable
-variant, and the octave sums turbulence = sum |noise(2^i x)| / 2^i (truncated
+variant, and the octave sums ``turbulence = sum |noise(2^i x)| / 2^i`` (truncated
 at the pixel size) and fBm.
 
 Figures (examples/output/):

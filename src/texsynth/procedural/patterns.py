@@ -3,13 +3,13 @@
 The lecture slides "Turbulence Function", "Marble Texture Function" and
 "Solid Textures" are the specification:
 
-- turbulence(x) = sum_{i=0..k} |noise(2^i x)| / 2^i, the sum truncated at the
+- ``turbulence(x) = sum_{i=0..k} |noise(2^i x)| / 2^i``, the sum truncated at the
   band limit: the last octave is the one whose lattice spacing is still at
   least one pixel (the slide: stop when 1/2^(k+1) is smaller than a pixel);
   its power spectrum falls off as 1/f;
-- fBm, the signed sum sum_i gain^i noise(lacunarity^i x) (Brownian motion has
+- fBm, the signed sum ``sum_i gain^i noise(lacunarity^i x)`` (Brownian motion has
   a 1/f^2 spectrum), normalised by sum_i gain^i;
-- marble(x, y, z) = marble_color(sin(x + turbulence(x, y, z))): alternating
+- ``marble(x, y, z) = marble_color(sin(x + turbulence(x, y, z)))``: alternating
   layers bent by turbulence, coloured by a transfer function;
 - wood: rings sin(radius) around a trunk axis, bent by turbulence (Peachey's
   and Perlin's solid texture of 1985).
