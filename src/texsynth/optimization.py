@@ -850,8 +850,8 @@ def _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, fal
 
 def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16, 8), levels=3,
                     frame_sizes=None, grid_spacing=0.25, irls_exponent=0.8, max_iterations=5, tolerance=5e-3,
-                    frame_iterations=3, gradient_weight=0.0, constraint_weight=10.0, tileable=False,
-                    first_frame=None, falloff=True, method="auto", rng=None, progress=False,
+                    frame_iterations=3, gradient_weight=0.0, constraint_weight=3.0, tileable=False,
+                    first_frame=None, warp_order=3, falloff=True, method="auto", rng=None, progress=False,
                     return_info=False):
     """Animate a texture along a flow field (Kwatra et al. 2005, Section 4.1).
 
@@ -884,15 +884,20 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
         EM iterations per size for frames 2..L (default 3).
     constraint_weight : float
         ``λ`` of the flow term: how strongly a frame keeps the warped previous
-        frame (default 10; the paper gives no value). Measured on pebbles
-        translated by 3 px per frame: λ = 1 changes a frame by a third of
-        the change to unrelated texture (flicker), λ = 10 by 2 %.
+        frame (default 3; the paper gives no value). Measured on 96 x 96
+        bricks rotating 0.06 rad per frame, 8 frames: the mean squared change
+        against the warped previous frame is 3.0e-4, 1.5e-4 and 0.7e-4 for
+        λ = 1, 3, 10 (flicker falls), while the texture energy of the last
+        frame rises from 6.2e-4 to 6.7e-4 and 8.2e-4 (blur accumulates).
     tileable : bool
         Periodic frames: the warp wraps around, so every pixel has a target.
         Otherwise pixels that flow in from outside the frame are
         unconstrained and synthesised freely.
     first_frame : array_like, optional
         Use this ``(H, W[, C])`` image as frame 1 instead of synthesising it.
+    warp_order : int
+        Spline order of the warp (default 3, cubic): a bilinear warp blurs a
+        little at every frame and the blur accumulates over the sequence.
     rng, progress, return_info
         As in :func:`optimize_texture` (progress counts frames).
 
@@ -941,6 +946,7 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     sizes = _check_sizes(neighborhood_sizes)
     fsizes = sizes[-2:] if frame_sizes is None else _check_sizes(frame_sizes)
     frame_iterations = check_positive_int(frame_iterations, "frame_iterations")
+    warp_order = check_positive_int(warp_order, "warp_order", minimum=0)
     ex, grey, shape, _, levels, valid, _, _, params = _prepare(
         exemplar, shape, sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance,
         gradient_weight, constraint_weight, None, None, None, None, method)
@@ -967,7 +973,7 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
         for i in range(seq.shape[0]):
             t0 = time.perf_counter()
             # eq. 3 as eq. 2: the previous frame warped along f_i is target and initialisation
-            warped, ok = warp(x, seq[i], mode="wrap" if tileable else "nearest", return_valid=True)
+            warped, ok = warp(x, seq[i], mode="wrap" if tileable else "nearest", order=warp_order, return_valid=True)
             constraint = (ok.astype(np.float64), warped, lam)
             x, finfo = _synthesize(ex, valid, shape, fsizes, 1, constraint, warped, frame_params, falloff, method,
                                    rng, False, cache, f"frame {i + 2}")
