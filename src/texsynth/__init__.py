@@ -6,8 +6,9 @@ the shared layer and the tools are submodules: :mod:`texsynth.neighborhood`,
 :mod:`texsynth.testing`, :mod:`texsynth.io`, :mod:`texsynth.data`.
 """
 
-from . import data, io, metrics, nearest, neighborhood, procedural, pyramid, testing
+from . import data, io, metrics, nearest, neighborhood, procedural, pyramid, testing, tps
 from .heeger_bergen import heeger_bergen
+from .interpolation import interpolate_textures
 from .portilla_simoncelli import interpolate_statistics, portilla_simoncelli, ps_statistics, ps_step
 from .patchwork import patchwork, patchwork_transfer, patchwork_video
 
@@ -15,6 +16,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "heeger_bergen",
+    "interpolate_textures",
     "portilla_simoncelli",
     "ps_statistics",
     "ps_step",
@@ -30,5 +32,6 @@ __all__ = [
     "procedural",
     "pyramid",
     "testing",
+    "tps",
     "__version__",
 ]

@@ -43,7 +43,11 @@ class Method:
         Name of the function's size argument (``"size"``, ``"shape"``) if it
         takes one positionally after the inputs.
     files : tuple of str
-        Keyword parameters whose value on the command line is an image path.
+        Parameters whose value on the command line may be an image path
+        (numbers and other literals pass through).
+    ramps : tuple of str
+        Parameters for which the word ``ramp`` means a left-to-right ramp
+        from 0 to 1 at the output size (a transition strip).
     skip : tuple of str
         Keyword parameters not exposed (arrays, callables).
     """
@@ -56,6 +60,7 @@ class Method:
     files: tuple = ()
     skip: tuple = ()
     values: str = "unit"
+    ramps: tuple = ()
 
     def to_unit(self, result):
         """Map the function's values to [0, 1] for saving: "unit" (already), "signed" ([-1, 1]) or "positive"."""
@@ -83,6 +88,9 @@ METHODS: dict[str, Method] = {
                                  "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
                                  "pattern is repeated to the texture's channels)",
                                  inputs="pair", size=None),
+    "interpolate": Method("interpolation:interpolate_textures",
+                          "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --alpha ramp | --alpha map.png)",
+                          inputs="pair", skip=("features", "rpm_options"), files=("alpha",), ramps=("alpha",)),
     "heeger-bergen": Method("heeger_bergen:heeger_bergen",
                             "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)"),
     "portilla-simoncelli": Method("portilla_simoncelli:portilla_simoncelli",
@@ -204,12 +212,20 @@ def _add_method_parser(sub, name, method):
     return parser
 
 
+def _ramp(shape):
+    import numpy as np
+
+    return np.broadcast_to(np.linspace(0.0, 1.0, shape[1]), tuple(shape[:2])).copy()
+
+
 def _option_names(method, params):
     """Parameters shown as --options: keyword-only ones, and positional ones after the inputs and size."""
-    consumed = {"image": 1, "images": 1, "frames": 1, "pair": 2, "none": 0}[method.inputs] + bool(method.size)
+    consumed = {"image": 1, "images": 1, "frames": 1, "pair": 2, "none": 0}[method.inputs]
+    if method.size and params[method.size].kind is not inspect.Parameter.KEYWORD_ONLY:
+        consumed += 1
     names = []
     for position, (pname, param) in enumerate(params.items()):
-        if pname in _ALWAYS_SKIPPED or pname in method.skip:
+        if pname in _ALWAYS_SKIPPED or pname in method.skip or pname == method.size:
             continue
         if param.kind is inspect.Parameter.KEYWORD_ONLY or (
                 param.kind is inspect.Parameter.POSITIONAL_OR_KEYWORD and position >= consumed):
@@ -282,12 +298,6 @@ def _run_method(args):
         inputs = _match_channels(*inputs)
     params = inspect.signature(func).parameters
     kwargs = {}
-    for pname in _option_names(method, params):
-        value = getattr(args, pname)
-        if pname in method.files and value is not None:
-            value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
-        if value is not params[pname].default:
-            kwargs[pname] = value
     if "rng" in params:
         kwargs["rng"] = args.seed
     if "progress" in params:
@@ -300,7 +310,18 @@ def _run_method(args):
             size = inputs[0].shape[:2] if method.inputs != "frames" else inputs[0].shape[1:3]
         else:
             raise CommandError("--size is required for this method")
-        positional.append(size)
+        if params[method.size].kind is inspect.Parameter.KEYWORD_ONLY:
+            kwargs[method.size] = size
+        else:
+            positional.append(size)
+    for pname in _option_names(method, params):
+        value = getattr(args, pname)
+        if pname in method.ramps and value == "ramp":
+            value = _ramp(size if method.size else inputs[0].shape[:2])
+        elif pname in method.files and isinstance(value, str):
+            value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
+        if value is not params[pname].default:
+            kwargs[pname] = value
     result = func(*positional, **kwargs)
     if isinstance(result, tuple):
         result = result[0]
