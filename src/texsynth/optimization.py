@@ -415,7 +415,15 @@ def _m_step(ex, x, centers, mode, zidx, constraint):
     an approximate index can never make the step worse than keeping ``z_p``.
     """
     q = _features(extract(x, centers, ex.size, mode=mode), ex.mu).astype(np.float64, copy=False)
-    cand = ex.index.query(q.astype(np.float32), k=1)[0][:, 0]
+    sel = np.zeros(0, dtype=np.int64)  # neighbourhoods that touch constrained pixels
+    if constraint is not None:
+        m, t, lam = constraint
+        mp = extract(m[..., None], centers, ex.size, mode=mode)[..., 0]  # (N, w, w)
+        sel = np.flatnonzero(mp.reshape(len(centers), -1).max(axis=1) > 0)
+    free = np.setdiff1d(np.arange(len(centers)), sel)
+    cand = np.zeros(len(centers), dtype=np.int64) if zidx is None else zidx.copy()
+    if free.size:
+        cand[free] = ex.index.query(q[free].astype(np.float32), k=1)[0][:, 0]
     rho_new = _weighted_sq(q, _features(ex.patches(cand), ex.mu), ex.weights)
     if zidx is None:
         new, rho = cand, rho_new
@@ -423,11 +431,6 @@ def _m_step(ex, x, centers, mode, zidx, constraint):
         rho_old = _weighted_sq(q, _features(ex.patches(zidx), ex.mu), ex.weights)
         better = rho_new < rho_old
         new, rho = np.where(better, cand, zidx), np.where(better, rho_new, rho_old)
-    if constraint is None:
-        return new, rho
-    m, t, lam = constraint
-    mp = extract(m[..., None], centers, ex.size, mode=mode)[..., 0]  # (N, w, w)
-    sel = np.flatnonzero(mp.reshape(len(centers), -1).max(axis=1) > 0)
     if sel.size == 0:
         return new, rho
     # Algorithm 2: minimise ||x_p - v||^2 + λ E_c(y) = ρ(x_p, v) + λ sum_k m_k (v_k - x^c_k)^2 over v.
@@ -442,7 +445,9 @@ def _m_step(ex, x, centers, mode, zidx, constraint):
     # the constraint is on values only: the query keeps x_p's own differences
     qb = np.concatenate([blended, q[sel, blended.shape[1]:]], axis=1)
     k = min(_CONSTRAINED_CANDIDATES, len(ex))
-    cands = np.concatenate([ex.index.query(qb.astype(np.float32), k=k)[0], new[sel, None]], axis=1)
+    cands = ex.index.query(qb.astype(np.float32), k=k)[0]
+    if zidx is not None:  # the current z_p competes too (ties keep it)
+        cands = np.concatenate([cands, zidx[sel, None]], axis=1)
     lm_flat = np.broadcast_to(lm, xp.shape).reshape(len(sel), -1)
     tflat = tp.reshape(len(sel), -1)
     scores = np.empty(cands.shape)
@@ -452,8 +457,8 @@ def _m_step(ex, x, centers, mode, zidx, constraint):
         rhos[:, j] = _weighted_sq(q[sel], _features(v, ex.mu), ex.weights)
         diff = v.reshape(len(sel), -1) - tflat
         scores[:, j] = rhos[:, j] + np.einsum("ij,ij->i", lm_flat * diff, diff)
-    # ties (the current z_p is the last column) keep the current z_p
-    best = cands.shape[1] - 1 - np.argmin(scores[:, ::-1], axis=1)
+    # ties keep the current z_p (the last column) or the nearer candidate
+    best = cands.shape[1] - 1 - np.argmin(scores[:, ::-1], axis=1) if zidx is not None else np.argmin(scores, axis=1)
     new = new.copy()
     rho = rho.copy()
     new[sel] = cands[np.arange(len(sel)), best]
