@@ -55,7 +55,7 @@ from ._validate import (
     with_channels,
 )
 from .nearest import PatchIndex
-from .neighborhood import accumulate, all_patches, extract
+from .neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
 from .portilla_simoncelli import interpolate_statistics, ps_statistics, ps_step
 from .tps import tps_rpm
 
@@ -215,17 +215,23 @@ class _Texture:
     corners: np.ndarray  # (M, 2) top-left corners of the capped neighbourhood set
     mean: np.ndarray
     std: np.ndarray
+    stride: int = 1  # spacing of the capped corners
 
 
 def _prepare_texture(colour, feature, size, max_neighborhoods):
-    img = np.concatenate([colour, _distance_channel(feature, size)[..., None]], axis=-1)
+    # the distance channel is scaled to the colours' mean deviation, so that W_C = 1
+    # weighs features like one colour channel (unscaled, its range [0, 1] dwarfs the
+    # colour variation and the search matches mortar lines while ignoring colour)
+    dist = _distance_channel(feature, size)
+    dist = dist / max(dist.std(), 1e-6) * colour.reshape(-1, colour.shape[-1]).std(0).mean()
+    img = np.concatenate([colour, dist[..., None]], axis=-1)
     ny, nx = colour.shape[0] - size + 1, colour.shape[1] - size + 1
     stride = max(1, int(np.ceil(np.sqrt(ny * nx / max_neighborhoods))))
     rr, cc = np.meshgrid(np.arange(0, ny, stride), np.arange(0, nx, stride), indexing="ij")
     corners = np.stack([rr.ravel(), cc.ravel()], 1)
     mean = colour.reshape(-1, colour.shape[-1]).mean(0)
     std = colour.reshape(-1, colour.shape[-1]).std(0) + 1e-6
-    return _Texture(img, feature, corners, mean, std)
+    return _Texture(img, feature, corners, mean, std, stride)
 
 
 def _correspondences(t1, t2, size, channel_weights, k, rng):
@@ -261,12 +267,18 @@ def _feature_points(feature, corners, size, max_points, rng):
     return points, valid
 
 
-def _warps(t1, t2, c1, c2, size, max_points, rng, rpm_options):
-    """theta_12 and theta_21 per pair by TPS-RPM; pairs with < 3 feature points keep the identity."""
+def _warps(t1, t2, c1, c2, size, max_points, rng, rpm_options, margin=0):
+    """theta_12 and theta_21 per pair by TPS-RPM, evaluated on the patch grid grown by ``margin``.
+
+    Returns ``(fwd, bwd, grid, ok)`` with ``(B, s + 2 margin, s + 2 margin, 2)`` warps of
+    patch-local coordinates; pairs with < 3 feature points keep the identity.
+    """
     p1, v1 = _feature_points(t1.feature, c1, size, max_points, rng)
     p2, v2 = _feature_points(t2.feature, c2, size, max_points, rng)
     ok = (v1.sum(1) >= 3) & (v2.sum(1) >= 3)
-    grid = np.stack(np.meshgrid(np.arange(size), np.arange(size), indexing="ij"), -1).reshape(-1, 2).astype(float)
+    n = size + 2 * margin
+    ax = np.arange(n, dtype=float) - margin
+    grid = np.stack(np.meshgrid(ax, ax, indexing="ij"), -1).reshape(-1, 2)
     fwd = np.broadcast_to(grid, (len(c1),) + grid.shape).copy()
     bwd = fwd.copy()
     if ok.any():
@@ -274,7 +286,8 @@ def _warps(t1, t2, c1, c2, size, max_points, rng, rpm_options):
         res = tps_rpm(p1[ok], p2[ok], x_weights=v1[ok], y_weights=v2[ok], **rpm_options)
         fwd[ok] = res.forward(np.broadcast_to(grid, (ok.sum(),) + grid.shape))
         bwd[ok] = res.backward(np.broadcast_to(grid, (ok.sum(),) + grid.shape))
-    return fwd, bwd, grid, ok
+    shape = (len(c1), n, n, 2)
+    return fwd.reshape(shape), bwd.reshape(shape), grid.reshape(n, n, 2), ok
 
 
 def _sample(image, corners, coords):
@@ -288,7 +301,10 @@ def _sample(image, corners, coords):
 
 
 def _blend_pairs(t1, t2, c1, c2, fwd, bwd, grid, alpha, feature_weight):
-    """N'(x) = (1 - a) N1(theta'_21(x)) + a N2(theta'_12(x)) and its dissimilarity."""
+    """N'(x) = (1 - a) N1(theta'_21(x)) + a N2(theta'_12(x)) and its dissimilarity.
+
+    ``fwd``, ``bwd`` and ``grid`` are ``(B, P, 2)`` patch-local coordinates.
+    """
     th21 = alpha * bwd + (1.0 - alpha) * grid  # theta'_21 = a theta_21 + (1 - a) I
     th12 = (1.0 - alpha) * fwd + alpha * grid  # theta'_12 = (1 - a) theta_12 + a I
     n1 = _sample(t1.image, c1, th21)
@@ -300,7 +316,7 @@ def _blend_pairs(t1, t2, c1, c2, fwd, bwd, grid, alpha, feature_weight):
     n2[..., :-1] = (n2[..., :-1] - t2.mean) / t2.std * std + mean
     blended = (1.0 - alpha) * n1 + alpha * n2
     # similarity: warped distance channels and normalized cross-correlation of the colours
-    dist = np.sqrt(np.mean((n1[..., -1] - n2[..., -1]) ** 2, axis=1))
+    dist = np.sqrt(np.mean((n1[..., -1] - n2[..., -1]) ** 2, axis=1)) / max(float(t1.image[..., -1].std()), 1e-6)
     a = n1[..., :-1].reshape(len(n1), -1)
     b = n2[..., :-1].reshape(len(n2), -1)
     a = a - a.mean(1, keepdims=True)
@@ -310,24 +326,64 @@ def _blend_pairs(t1, t2, c1, c2, fwd, bwd, grid, alpha, feature_weight):
     return np.clip(blended, 0.0, None), dissimilarity
 
 
+def _shifts(t1, t2, pairs, n_alphas, max_set_size):
+    """Offsets (dr, dc) of the shifted copies of each kept pair (see :func:`_interpolated_set`)."""
+    stride = max(t1.stride, t2.stride)
+    per_axis = int(np.clip(np.floor(np.sqrt(max_set_size / max(pairs * n_alphas, 1))), 1, stride))
+    d = np.arange(per_axis) * stride // per_axis - stride // 2 if per_axis > 1 else np.zeros(1, int)
+    dr, dc = np.meshgrid(d, d, indexing="ij")
+    return np.stack([dr.ravel(), dc.ravel()], 1), stride // 2 + 1
+
+
 def _interpolated_set(t1, t2, size, alphas, params, rng, info):
-    """InterpolateNeighborhoods of Pseudocode 1 for every alpha in ``alphas``: (M, s, s, C+1[+1])."""
+    """InterpolateNeighborhoods of Pseudocode 1 for every alpha in ``alphas``: (M, s, s, C+1[+1]).
+
+    The pairs come from capped corners (``max_neighborhoods``, a stride), so on their
+    own they cover only one neighbourhood position in ``stride**2``: texture
+    optimization from such a set cannot place an element at most offsets and
+    breaks it up. Each kept pair is therefore also used shifted by up to the
+    stride, ``(c1 + d, c2 + d)`` with the *same* warp evaluated at ``x + d``
+    (the spatially coherent assignment the paper mentions in Section 4.4); at
+    alpha = 0 this gives exactly the neighbourhoods of I1 around the kept pairs.
+    ``max_set_size`` caps the result.
+    """
     t0 = time.perf_counter()
     c1, c2 = _correspondences(t1, t2, size, params["channel_weights"], params["k"], rng)
     info.add("correspondences", t0)
     t0 = time.perf_counter()
+    margin = max(t1.stride, t2.stride) // 2 + 1
     if params["colour_only"]:
-        grid = np.stack(np.meshgrid(np.arange(size), np.arange(size), indexing="ij"), -1).reshape(-1, 2) * 1.0
+        n = size + 2 * margin
+        ax = np.arange(n, dtype=float) - margin
+        grid = np.stack(np.meshgrid(ax, ax, indexing="ij"), -1)
         fwd = bwd = np.broadcast_to(grid, (len(c1),) + grid.shape)
     else:
-        fwd, bwd, grid, _ = _warps(t1, t2, c1, c2, size, params["max_feature_points"], rng, params["rpm"])
+        fwd, bwd, grid, _ = _warps(t1, t2, c1, c2, size, params["max_feature_points"], rng, params["rpm"], margin)
     info.add("tps_rpm", t0)
     t0 = time.perf_counter()
+    win = (slice(None), slice(margin, margin + size), slice(margin, margin + size))
+    flat = lambda w: w.reshape(w.shape[0], -1, 2)  # noqa: E731
+    g = np.broadcast_to(grid, fwd.shape)
+    ny1, nx1 = t1.image.shape[0] - size, t1.image.shape[1] - size
+    ny2, nx2 = t2.image.shape[0] - size, t2.image.shape[1] - size
     out = []
     for alpha in alphas:
-        patches, dis = _blend_pairs(t1, t2, c1, c2, fwd, bwd, grid, alpha, params["feature_weight"])
-        keep = dis <= np.quantile(dis, params["keep_fraction"])  # keep the best fraction (50 %)
-        patches = patches[keep].reshape(-1, size, size, patches.shape[-1]).astype(np.float32)
+        _, dis = _blend_pairs(t1, t2, c1, c2, flat(fwd[win]), flat(bwd[win]), flat(g[win]), alpha,
+                              params["feature_weight"])
+        keep = np.flatnonzero(dis <= np.quantile(dis, params["keep_fraction"]))  # keep the best half
+        offsets, _ = _shifts(t1, t2, len(keep), len(alphas), params["max_set_size"])
+        patches = []
+        for dr, dc in offsets:
+            k1, k2 = c1[keep] + [dr, dc], c2[keep] + [dr, dc]
+            inside = ((k1 >= 0).all(1) & (k1[:, 0] <= ny1) & (k1[:, 1] <= nx1)
+                      & (k2 >= 0).all(1) & (k2[:, 0] <= ny2) & (k2[:, 1] <= nx2))
+            sel = keep[inside]
+            w = (sel, slice(margin + dr, margin + dr + size), slice(margin + dc, margin + dc + size))
+            # sampled at the original corners: N1(c1 + theta'_21(x + d)), N2(c2 + theta'_12(x + d))
+            p, _ = _blend_pairs(t1, t2, c1[sel], c2[sel], flat(fwd[w]), flat(bwd[w]), flat(g[w]), alpha,
+                                params["feature_weight"])
+            patches.append(p)
+        patches = np.concatenate(patches).reshape(-1, size, size, t1.image.shape[-1]).astype(np.float32)
         if len(alphas) > 1:
             patches = np.concatenate([patches, np.full(patches.shape[:-1] + (1,), alpha, np.float32)], -1)
         out.append(patches)
@@ -338,7 +394,7 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
 
 def interpolate_neighborhoods(a, b, alpha, size, *, features=None, resolution=1, distance_weight=1.0, k=1,
                               keep_fraction=0.5, feature_weight=0.5, max_feature_points=24,
-                              max_neighborhoods=1024, rpm_options=None, rng=None):
+                              max_neighborhoods=1024, max_set_size=16384, rpm_options=None, rng=None):
     """The interpolated neighbourhood set ``N'`` for one (r, s) (Sections 4.1-4.2).
 
     Parameters are those of :func:`interpolate_textures`; ``alpha`` is a
@@ -353,7 +409,7 @@ def interpolate_neighborhoods(a, b, alpha, size, *, features=None, resolution=1,
     ((7, 7, 2), 'float32')
     """
     p = _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, max_feature_points,
-                max_neighborhoods, rpm_options)
+                max_neighborhoods, max_set_size, rpm_options)
     alpha = check_in_range(alpha, "alpha", 0.0, 1.0)
     rng = as_rng(rng)
     t1, t2 = _stage_textures(p, resolution, size)
@@ -374,7 +430,7 @@ def _stage_textures(p, r, size):
 
 
 def _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, max_feature_points,
-            max_neighborhoods, rpm_options):
+            max_neighborhoods, max_set_size, rpm_options):
     a, grey_a = with_channels(as_image(a, "a", min_size=8))
     b, grey_b = with_channels(as_image(b, "b", min_size=8))
     if a.shape[-1] != b.shape[-1]:
@@ -402,6 +458,7 @@ def _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, m
         feature_weight=check_in_range(feature_weight, "feature_weight", 0.0, 1.0),
         max_feature_points=check_positive_int(max_feature_points, "max_feature_points", 3),
         max_neighborhoods=check_positive_int(max_neighborhoods, "max_neighborhoods"),
+        max_set_size=check_positive_int(max_set_size, "max_set_size"),
         rpm=dict(_RPM_DEFAULTS, **(rpm_options or {})),
     )
 
@@ -424,6 +481,23 @@ class _PatchSet:
         q = extract(x, centers, self.size, mode="wrap").reshape(len(centers), -1).astype(np.float32)
         idx, d2 = self.index.query(q, k=1)
         return idx[:, 0], d2[:, 0] / self.weights.sum()
+
+
+def _bootstrap(patches, shape, spacing, rng):
+    """Initial image: random neighbourhoods of ``N'`` on the regular grid, each pixel from its nearest centre.
+
+    The paper initialises with noise; the nearest neighbourhoods of noise (or
+    of an average of many random patches) are the flattest ones, and the
+    synthesis collapses onto them (horizontal streaks, lost elements). A
+    random tiling of ``N'`` (Kwatra et al.'s bootstrap, sharp fall-off
+    ``sigma = spacing / 4``) is noise at the scale of the grid cells but keeps
+    the patches' contrast.
+    """
+    centres = grid_centers(shape, patches.shape[1], spacing, mode="wrap")
+    z = patches[rng.integers(0, len(patches), len(centres))].astype(np.float64)
+    x, _ = accumulate(z, centres, shape, pixel_weights=gaussian_falloff(patches.shape[1], sigma=spacing / 4.0),
+                      mode="wrap")
+    return x
 
 
 def _irregular_centres(x, nset, spacing, candidate_stride):
@@ -502,12 +576,13 @@ def _mean_shift_update(z, centres, weights, shape, bandwidth, iterations, n_colo
     pixel towards the densest mode of the values pasted there with a Gaussian
     kernel of width ``bandwidth`` on the colour channels.
     """
-    x, _ = accumulate(z, centres, shape, patch_weights=weights, mode="wrap")
+    g = gaussian_falloff(z.shape[1])  # Kwatra et al.'s Gaussian fall-off of each neighbourhood
+    x, _ = accumulate(z, centres, shape, patch_weights=weights, pixel_weights=g, mode="wrap")
     for _ in range(iterations):
         here = extract(x, centres, z.shape[1], mode="wrap")
         d2 = ((z[..., :n_colour] - here[..., :n_colour]) ** 2).sum(-1)
         k = np.exp(-d2 / (2.0 * bandwidth**2))
-        x, wsum = accumulate(z, centres, shape, patch_weights=weights, pixel_weights=k, mode="wrap")
+        x, wsum = accumulate(z, centres, shape, patch_weights=weights, pixel_weights=k * g, mode="wrap")
     return x
 
 
@@ -547,7 +622,7 @@ class _Statistics:
 # --------------------------------------------------------------------------- public
 def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 33), (2, 17), (1, 17)),
                          iterations=10, distance_weight=1.0, k=1, keep_fraction=0.5, feature_weight=0.5,
-                         max_feature_points=24, max_neighborhoods=1024, alpha_steps=20, alpha_weight=4.0,
+                         max_feature_points=24, max_neighborhoods=1024, max_set_size=16384, alpha_steps=20, alpha_weight=4.0,
                          statistics_bands=5, grid_spacing=0.25, candidate_stride=2, relaxation_radius=2,
                          spring_weight=0.002, mean_shift_bandwidth=0.1, statistics=True, rpm_options=None,
                          rng=None, progress=False, return_info=False):
@@ -698,7 +773,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     """
     info = InterpolationInfo()
     p = _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, max_feature_points,
-                max_neighborhoods, rpm_options)
+                max_neighborhoods, max_set_size, rpm_options)
     info.colour_only = p["colour_only"]
     rng = as_rng(rng)
     alpha_map = None
@@ -747,9 +822,9 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         nset = _PatchSet(patches, channel_weights, rng)
         amap = None if alpha_map is None else ndimage.zoom(alpha_map, (shape[0] / out_shape[0], shape[1] / out_shape[1]),
                                                            order=1)[: shape[0], : shape[1]]
-        if x is None:  # initialise with noise: random pixels of the interpolated set
-            flat = patches[..., : n_colour + 1].reshape(-1, n_colour + 1)
-            x = flat[rng.integers(0, len(flat), shape[0] * shape[1])].reshape(shape + (n_colour + 1,)).astype(np.float64)
+        spacing = max(1, int(round(grid_spacing * s)))
+        if x is None:
+            x = _bootstrap(patches[..., : n_colour + 1], shape, spacing, rng)
         elif x.shape[:2] != shape:
             x = ndimage.zoom(x, (shape[0] / x.shape[0], shape[1] / x.shape[1], 1), order=1)
         if amap is not None:
@@ -759,7 +834,6 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         stats = _Statistics(_downsample(p["a"], r), _downsample(p["b"], r),
                             alphas if alpha_map is None else np.linspace(0, 1, bands), shape) if statistics else None
         info.add("statistics", t0)
-        spacing = max(1, int(round(grid_spacing * s)))
         energies = []
         for _ in range(iterations):
             t0 = time.perf_counter()
