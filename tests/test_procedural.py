@@ -15,6 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 from scipy.stats import ks_2samp
+from skimage.morphology import skeletonize
 
 from texsynth.procedural import (
     GRAY_SCOTT_PRESETS,
@@ -31,7 +32,7 @@ from texsynth.procedural import (
 )
 from texsynth.procedural.noise import _GRADIENTS, _GRADIENTS_2D, _permutation
 from texsynth.procedural.patterns import _OCTAVE_SHIFT
-from texsynth.procedural.reaction_diffusion import _PeriodicGrid
+from texsynth.procedural.reaction_diffusion import _PeriodicGrid, meinhardt_stripes
 
 
 # --------------------------------------------------------------------------
@@ -370,7 +371,7 @@ def test_colormaps():
 def test_periodic_laplacian_matches_roll(shape):
     rng = np.random.default_rng(0)
     a, b = rng.random(shape), rng.random(shape)
-    grid = _PeriodicGrid(a, b, np.dtype(np.float64))
+    grid = _PeriodicGrid([a, b], np.dtype(np.float64))
     diff = np.array([0.1, 0.2]).reshape(2, 1, 1)
     lap = grid.linear_part(diff, 4 * diff)
     for c, d, x in [(0, 0.1, a), (1, 0.2, b)]:
@@ -411,6 +412,60 @@ def test_turk_spots_form():
     # the default colours put the spots (low b) dark
     lum = img.mean(axis=-1)
     assert lum[b < 1].mean() < lum[b > 5].mean()
+
+
+def _pieces(field):
+    """Pattern phase of a field: its pieces on the torus and their mean skeleton length (px).
+
+    The pattern phase is the minority side of the mid-range threshold (Turk's
+    spots are low b in a high-b background; the stripes' high-b bands cover a
+    little less than half the area).
+    """
+    mask = field > (field.min() + field.max()) / 2
+    if mask.mean() > 0.5:
+        mask = ~mask
+    n = _count_spots(mask)
+    return n, skeletonize(mask).sum() / n
+
+
+def test_turk_stripes_vs_spots():
+    # Same equations, same start, same seed; only the preset differs. 64^2
+    # after 4000 steps (seeds 0-2): "spots" 36-39 pieces whose skeletons are
+    # 2-4 px long (round blobs, period 8.7 px); "stripes" (Da/Db = 15) 1-3
+    # pieces with 130-420 px of skeleton each (a labyrinth, period 9.4 px).
+    _, spots = reaction_diffusion((64, 64), steps=4000, pattern="spots", rng=0, return_info=True)
+    _, stripes = reaction_diffusion((64, 64), steps=4000, pattern="stripes", rng=0, return_info=True)
+    n_spots, len_spots = _pieces(spots.concentrations["b"])
+    n_stripes, len_stripes = _pieces(stripes.concentrations["b"])
+    assert n_spots >= 20 and len_spots < 8, (n_spots, len_spots)  # short skeletons: isolated spots
+    # a stripe piece runs over several periods (> 60 px, 6 periods)
+    assert n_stripes <= 8 and len_stripes > 60, (n_stripes, len_stripes)
+    b = stripes.concentrations["b"]
+    assert b.min() >= 0 and np.isfinite(b).all() and np.ptp(b) > 5
+    assert stripes.parameters["Da"] / stripes.parameters["Db"] >= 10
+    # Turk's clamp b >= 0 holds b at 0 on 23-24 % of the area here (8 % for spots)
+    assert (b == 0).mean() > 0.15
+
+
+def test_meinhardt_stripes():
+    # Turk's spots.c stripe system at 64^2: after 2000 steps (seeds 0-2) 4-7
+    # pieces of a with 72-138 px of skeleton each (period 7.1 px; isolated
+    # spots would have < 10 px); a and b fill complementary bands
+    # (correlation -0.999 to -1.0).
+    img, info = meinhardt_stripes((64, 64), steps=2000, rng=0, return_info=True)
+    a, b = info.concentrations["a"], info.concentrations["b"]
+    n, length = _pieces(a)
+    assert n <= 10 and length > 40, (n, length)
+    assert np.corrcoef(a.ravel(), b.ravel())[0, 1] < -0.9  # two mutually exclusive activators
+    assert img.shape == (64, 64, 3) and 0 <= img.min() and img.max() <= 1
+    lum = img.mean(axis=-1)
+    assert lum[a > np.median(a)].mean() < lum[a < np.median(a)].mean()  # stripes of a dark
+    # start: the uniform steady state a = p2 / (2 p1) = 0.75, perturbed only by r_ij = 1 +- 0.01
+    _, early = meinhardt_stripes((16, 16), steps=1, rng=0, dtype=np.float64, return_info=True)
+    np.testing.assert_allclose(early.concentrations["a"], 0.75, atol=1e-3)
+    assert np.all(np.abs(early.beta - 1) <= 0.01)
+    again = meinhardt_stripes((16, 16), steps=50, rng=4)
+    assert np.array_equal(again, meinhardt_stripes((16, 16), steps=50, rng=4))
 
 
 def test_turk_reproducible_frames_and_beta():
@@ -497,7 +552,11 @@ def test_stability_bound():
     (lambda: marble((8, 8), veins=-1), "veins"),
     (lambda: wood((8, 8), center=(1, 2, 3)), "center"),
     (lambda: reaction_diffusion((8, 8), steps=0), "steps"),
-    (lambda: reaction_diffusion((8, 8), pattern="stripes"), "gray_scott"),
+    (lambda: reaction_diffusion((8, 8), pattern="zebra"), "pattern must be one of"),
+    (lambda: meinhardt_stripes((8, 8), steps=0), "steps"),
+    (lambda: meinhardt_stripes((8, 8), steps=1, p1=0), "p1"),
+    (lambda: meinhardt_stripes((8, 8), steps=1, diff2=0.3), "diff2=0.3 .* unstable"),
+    (lambda: meinhardt_stripes((8, 8), steps=1, arand=-1), "arand"),
     (lambda: reaction_diffusion((8, 8), steps=1, s=-1), "s must"),
     (lambda: reaction_diffusion((8, 8), steps=1, cascade=[(1,)]), "cascade"),
     (lambda: reaction_diffusion((8, 8), steps=1, record_every=0), "record_every"),

@@ -1,4 +1,4 @@
-"""Reaction-diffusion textures: Turk's two-chemical system and Gray-Scott.
+"""Reaction-diffusion textures: Turk's two-chemical system, Meinhardt's stripes, Gray-Scott.
 
 Turk 1991 (the slide "Reaction Diffusion Based Method") grows spots with
 Turing's two-chemical system, discretised on a grid of cells ``(i, j)``:
@@ -7,8 +7,26 @@ Turing's two-chemical system, discretised on a grid of cells ``(i, j)``:
     (2)  Delta b_ij = s (a_ij b_ij - b_ij - beta_ij) + D_b (b_i+1,j + b_i-1,j + b_i,j+1 + b_i,j-1 - 4 b_ij)
 
 with ``beta_ij`` random around 12, starting from the uniform steady state
-``a = b = 4``; ``b`` is clamped at 0. The Gray-Scott model (Pearson 1993),
-the common modern alternative, is
+``a = b = 4``; ``b`` is clamped at 0. Linearised at ``a = b = 4`` (b is the
+self-enhancing chemical, a the fast-diffusing substrate), the uniform state is
+Turing-unstable only if ``D_a / D_b > 4``; Turk's spot rates (1/8, 1/32) sit
+exactly at that threshold. Far above it (``D_a / D_b >= 10``) the same
+equations make labyrinthine stripes (``pattern="stripes"``).
+
+Turk's own stripes (his 1991 program ``spots.c``, option ``-x``) come from a
+different system, Meinhardt's five-chemical "two-species balance" [4]_:
+two mutually exclusive activators a and b, a common inhibitor c, and two
+diffusing messengers d and e that let each activator support the other one
+at a distance:
+
+    (5)  Delta a = 0.01 r_ij a^2 e / c - p1 a + D1 lap(a)
+    (6)  Delta b = 0.01 b^2 d / c      - p1 b + D1 lap(b)
+    (7)  Delta c = 0.01 r_ij a^2 e + 0.01 b^2 d - p2 c
+    (8)  Delta d = p3 (a - d) + D2 lap(d)
+    (9)  Delta e = p3 (b - e) + D2 lap(e)
+
+with ``r_ij`` random around 1 (:func:`meinhardt_stripes`). The Gray-Scott
+model (Pearson 1993), the common modern alternative, is
 
     (3)  du/dt = D_u lap(u) - u v^2 + F (1 - u)
     (4)  dv/dt = D_v lap(v) + u v^2 - (F + k) v
@@ -30,6 +48,14 @@ References
 .. [3] W. H. Press, S. A. Teukolsky, W. T. Vetterling, B. P. Flannery,
    Numerical Recipes, 3rd ed. (2007), section 20.2, "Diffusive initial value
    problems" (stability of the forward-time centred-space scheme).
+.. [4] H. Meinhardt, Models of Biological Pattern Formation, Academic Press,
+   1982 (stripes by a two-species balance), as implemented by G. Turk in
+   ``spots.c`` (1991), the program accompanying [1]_.
+.. [5] M. G. Malheiros, H. Fensterseifer, M. Walter, "Pattern formation
+   through minimalist biologically inspired cellular simulation", Graphics
+   Interface 2017; experiment file ``basic-spots/spots-03-v-spots.pex`` of
+   https://github.com/mgmalheiros/pattern-explorer (Turk's two-chemical
+   equations with D_a = 0.15, D_b = 0.01, s = 0.01 give a "labyrinth").
 """
 
 from __future__ import annotations
@@ -46,6 +72,7 @@ from .patterns import apply_colormap
 __all__ = [
     "reaction_diffusion",
     "gray_scott",
+    "meinhardt_stripes",
     "TURK_PRESETS",
     "GRAY_SCOTT_PRESETS",
     "ReactionDiffusionInfo",
@@ -65,11 +92,20 @@ TURK_PRESETS = {
     # A wide substrate spread (beta = 12 +- 2): spots of varied size, some
     # fused into short worms (measured on this implementation, 96^2, 8000 steps).
     "irregular": dict(s=1 / 80, Da=1 / 8, Db=1 / 32, beta=12.0, beta_spread=2.0),
+    # Labyrinthine stripes: the same equations far above the Turing threshold
+    # D_a / D_b = 4. D_a = 0.15, D_b = 0.01 (ratio 15) are Malheiros et al.'s
+    # labyrinth rates (GI 2017); s = 1/200 instead of their 1/100 widens the
+    # stripes to a period of about 9 px, close to the spacing of "spots".
+    # Our sweep (128^2, Turk's start a = b = 4, beta = 12 +- 0.1): ratio 4
+    # spots, 6-8 spots and worms, >= 10 labyrinths; without the clamp b >= 0
+    # every run diverged.
+    "stripes": dict(s=1 / 200, Da=0.15, Db=0.01, beta=12.0, beta_spread=0.1),
 }
 """Named parameter sets of :func:`reaction_diffusion` (Turk's system).
 
-This two-chemical system makes spots; for stripes and mazes use
-:func:`gray_scott` (``preset="stripes"`` or ``"mazes"``).
+``"stripes"`` gives labyrinthine stripes of the two-chemical system; Turk's
+own stripes came from Meinhardt's five-chemical system,
+:func:`meinhardt_stripes`.
 """
 
 GRAY_SCOTT_PRESETS = {
@@ -138,9 +174,9 @@ def _check_rate(value, name):
 
 
 class _PeriodicGrid:
-    """Two chemicals on a periodic grid, with a fast 5-point Laplacian.
+    """Diffusing chemicals on a periodic grid, with a fast 5-point Laplacian.
 
-    ``inner`` is a C-contiguous (2, H, W) array (both chemicals). The
+    ``inner`` is a C-contiguous (K, H, W) array (the K chemicals). The
     Laplacian is built from whole-array shifted slices: rows above/below as
     slices along axis 1, left/right neighbours as the flat array shifted by
     one element, after which only the first and last columns (where the flat
@@ -149,17 +185,18 @@ class _PeriodicGrid:
     on the interior view of a padded buffer.
     """
 
-    def __init__(self, first, second, dtype):
-        h, w = first.shape
-        self.inner = np.empty((2, h, w), dtype=dtype)
-        self.inner[0] = first
-        self.inner[1] = second
-        self.lap = np.empty((2, h, w), dtype=dtype)
-        self.center = np.empty((2, h, w), dtype=dtype)
+    def __init__(self, fields, dtype):
+        k = len(fields)
+        h, w = fields[0].shape
+        self.inner = np.empty((k, h, w), dtype=dtype)
+        for i, f in enumerate(fields):
+            self.inner[i] = f
+        self.lap = np.empty((k, h, w), dtype=dtype)
+        self.center = np.empty((k, h, w), dtype=dtype)
         self.tmp = np.empty((h, w), dtype=dtype)
 
     def linear_part(self, diffusion, decay):
-        """``self.lap = D * lap(c) - decay * c`` for both chemicals (D, decay: (2, 1, 1)).
+        """``self.lap = D * lap(c) - decay * c`` for every chemical (D, decay: (K, 1, 1)).
 
         ``D lap(c) = D (c_N + c_S + c_E + c_W) - 4 D c``; the ``-4 D c`` and a
         reaction's linear loss ``-decay' c`` are applied in one pass, with
@@ -221,7 +258,7 @@ def _check_record(record_every):
 def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, Db=None, beta=None,
                        beta_spread=None, dt=1.0, cascade=None, colormap=None, record_every=None, rng=None,
                        dtype=np.float32, progress=False, return_info=False):
-    """Turk's reaction-diffusion texture: spots from Turing's two-chemical system.
+    """Turk's reaction-diffusion texture: spots or stripes from Turing's two-chemical system.
 
     Parameters
     ----------
@@ -229,15 +266,20 @@ def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, 
         Grid size ``(H, W)``; the result tiles (periodic boundary).
     steps : int, default 10000
         Time steps. With the "spots" preset the spots have formed after about
-        4,000-6,000 steps and then only shift slightly (measured at 128^2,
-        ``examples/plot_reaction_diffusion.py``).
-    pattern : {"spots", "small-spots", "large-spots", "irregular"}, default "spots"
+        4,000-6,000 steps and then only shift slightly; "stripes" has joined
+        into a labyrinth after about 3,000-6,000 steps and then slowly
+        straightens (measured at 128^2, ``examples/plot_reaction_diffusion.py``).
+    pattern : {"spots", "small-spots", "large-spots", "irregular", "stripes"}, default "spots"
         Preset of :data:`TURK_PRESETS` supplying the parameters not given.
-        (Stripes are not a pattern of this system: see :func:`gray_scott`.)
+        "stripes" (``D_a / D_b = 15``) gives labyrinthine stripes; Turk's own
+        stripes used Meinhardt's system, :func:`meinhardt_stripes`.
     s : float, optional
-        Reaction rate; it sets the spot size (larger s, smaller spots).
+        Reaction rate; it sets the pattern scale (larger s, smaller spots or
+        narrower stripes).
     Da, Db : float, optional
-        Diffusion rates of a and b (per step, grid spacing 1).
+        Diffusion rates of a and b (per step, grid spacing 1). The ratio
+        decides the pattern: 4 (Turk's spots) is the linear Turing threshold,
+        spots appear near it, labyrinthine stripes from about 10 on.
     beta : float, optional
         Mean of the random substrate ``beta_ij`` (12 in Turk's system).
     beta_spread : float, optional
@@ -289,10 +331,24 @@ def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, 
     faster than ``b`` (Turing's condition) the perturbations grow into spots
     of a characteristic size.
 
+    Linearising (1)-(2) at ``a = b = 4`` gives the Jacobian
+    ``s [[-4, -4], [4, 3]]``; a Fourier mode of Laplacian eigenvalue ``-q``
+    grows when ``Da Db q^2 - s (3 Da - 4 Db) q + 4 s^2 < 0`` for some q,
+    i.e. when ``3 r - 4 > 4 sqrt(r)`` with ``r = Da / Db``: ``r > 4``.
+    Turk's spot rates (r = 4) lie on the threshold, where spots form; well
+    above it the stripe (labyrinth) state wins. Measured at 128^2 after
+    8,000 steps (s = 0.01, D_b = 0.01, Turk's start): r = 4 gave 442 separate
+    spots, r = 6 and 8 a mix of spots and short worms (349 and 226 pieces),
+    r = 10 to 20 labyrinths (16-135 connected pieces). The clamp
+    ``b >= 0`` is essential: without it every run of the sweep diverged.
+
     References
     ----------
     .. [1] G. Turk, "Generating textures on arbitrary surfaces using
        reaction-diffusion", SIGGRAPH 1991. https://doi.org/10.1145/122718.122749
+    .. [2] M. G. Malheiros, H. Fensterseifer, M. Walter, "Pattern formation
+       through minimalist biologically inspired cellular simulation", Graphics
+       Interface 2017 (the labyrinth rates of the "stripes" preset).
 
     Examples
     --------
@@ -308,9 +364,7 @@ def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, 
     size = as_size(shape, "shape", 2)
     steps = check_positive_int(steps, "steps")
     if pattern not in TURK_PRESETS:
-        hint = "; Turk's two-chemical system makes spots, use gray_scott(preset='stripes') for stripes" \
-            if pattern == "stripes" else ""
-        raise ValueError(f"pattern must be one of {sorted(TURK_PRESETS)}, got {pattern!r}{hint}")
+        raise ValueError(f"pattern must be one of {sorted(TURK_PRESETS)}, got {pattern!r}")
     params = dict(TURK_PRESETS[pattern])
     for name, value in dict(s=s, Da=Da, Db=Db, beta=beta, beta_spread=beta_spread).items():
         if value is not None:
@@ -329,7 +383,7 @@ def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, 
     gen = as_rng(rng)
 
     beta_ij = params["beta"] + gen.uniform(-params["beta_spread"], params["beta_spread"], size)
-    grid = _PeriodicGrid(np.full(size, 4.0), np.full(size, 4.0), dt_)
+    grid = _PeriodicGrid([np.full(size, 4.0), np.full(size, 4.0)], dt_)
     a, b = grid.inner[0], grid.inner[1]
     diffusion = np.array([params["Da"], params["Db"]], dtype=dt_).reshape(2, 1, 1) * dt_.type(dt)
     frozen = None
@@ -372,6 +426,132 @@ def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, 
         parameters=params,
         frames=np.concatenate(all_frames) if all_frames else None,
         beta=beta_ij,
+    )
+    return image, info
+
+
+def meinhardt_stripes(shape, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.009, diff2=0.2, arand=0.02,
+                      colormap=None, record_every=None, rng=None, dtype=np.float32, progress=False,
+                      return_info=False):
+    """Turk's stripes: Meinhardt's five-chemical two-species balance.
+
+    Parameters
+    ----------
+    shape : int or (int, int)
+        Grid size ``(H, W)``; periodic boundary (the result tiles).
+    steps : int, default 4000
+        Time steps (dt = 1, as Turk). Stripes have joined into a labyrinth of
+        period about 7 px after 2,000 steps at 128^2; the system never
+        settles: later on, single bursts of ``a`` (up to 4x the stripe
+        height) appear and fade, re-routing stripes around them (measured
+        to 16,000 steps, float32 and float64 alike).
+    p1, p2, p3 : float, default 0.04, 0.06, 0.04
+        Decay rate of the activators a and b, decay rate of their common
+        inhibitor c, and the exchange rate of the messengers d and e.
+    diff1, diff2 : float, default 0.009, 0.2
+        Diffusion rates of a, b and of d, e (c does not diffuse).
+    arand : float, default 0.02
+        ``r_ij`` is uniform in ``1 +- arand / 2``: the random differences in
+        a's autocatalysis that break the symmetry.
+    colormap, record_every, rng, dtype, progress, return_info
+        As in :func:`reaction_diffusion`; the pattern chemical is ``a``
+        (shown dark), frames record ``a``.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        ``(H, W, 3)`` RGB in [0, 1], ``a`` normalised and coloured.
+    info : ReactionDiffusionInfo
+        Only with ``return_info=True``: ``a`` to ``e``, ``r_ij`` (as
+        ``info.beta``), frames.
+
+    Raises
+    ------
+    ValueError
+        Non-positive shape or steps, negative rates, p1 = 0 or p2 = 0 (no
+        steady state), diffusion rates above the stability bound
+        ``4 D <= 1``, or a run that diverges.
+
+    Notes
+    -----
+    Equations (5)-(9) of the module docstring, exactly as Turk's 1991 program
+    ``spots.c`` (routine ``multiplicative_help``, "what Hans Meinhardt calls a
+    two-species balance") with his parameters ``do_stripes``. Start: the
+    uniform steady state ``a = b = d = e = p2 / (2 p1)``,
+    ``c = 0.02 a^3 / p2``. a and b exclude each other locally (both feed the
+    inhibitor c) but support each other at a distance (b makes d, which
+    feeds a's autocatalysis, and vice versa), so bands of a alternate with
+    bands of b. Forward Euler, 5-point periodic Laplacian.
+
+    References
+    ----------
+    .. [1] H. Meinhardt, Models of Biological Pattern Formation, Academic
+       Press, 1982.
+    .. [2] G. Turk, "Generating textures on arbitrary surfaces using
+       reaction-diffusion", SIGGRAPH 1991, and its program ``spots.c``
+       ("The stripe-formation system is described in the book: Models of
+       Biological Pattern Formation, Hans Meinhardt").
+       https://doi.org/10.1145/122718.122749
+
+    Examples
+    --------
+    >>> from texsynth.procedural.reaction_diffusion import meinhardt_stripes
+    >>> img, info = meinhardt_stripes((24, 24), steps=100, rng=0, return_info=True)
+    >>> img.shape, sorted(info.concentrations)
+    ((24, 24, 3), ['a', 'b', 'c', 'd', 'e'])
+    """
+    size = as_size(shape, "shape", 2)
+    steps = check_positive_int(steps, "steps")
+    p1 = check_positive_float(p1, "p1")
+    p2 = check_positive_float(p2, "p2")
+    p3 = _check_rate(p3, "p3")
+    diff1 = _check_rate(diff1, "diff1")
+    diff2 = _check_rate(diff2, "diff2")
+    arand = _check_rate(arand, "arand")
+    _check_stable(1.0, {"diff1": diff1, "diff2": diff2})
+    record_every = _check_record(record_every)
+    dt_ = _check_dtype(dtype)
+    gen = as_rng(rng)
+
+    a0 = p2 / (2 * p1)  # semi-stable equilibrium (Turk's semi_equilibria)
+    r_ij = (1 + gen.uniform(-0.5 * arand, 0.5 * arand, size)).astype(dt_)
+    grid = _PeriodicGrid([np.full(size, a0)] * 4, dt_)  # a, b, d, e diffuse
+    a, b, d, e = grid.inner
+    c = np.full(size, 0.02 * a0 ** 3 / p2, dtype=dt_)
+    diffusion = np.array([diff1, diff1, diff2, diff2], dtype=dt_).reshape(4, 1, 1)
+    decay = (4 * diffusion + np.array([p1, p1, p3, p3], dtype=dt_).reshape(4, 1, 1)).astype(dt_)
+    buffers = np.empty((2,) + size, dtype=dt_)
+    p2_, p3_ = dt_.type(p2), dt_.type(p3)
+
+    def step():
+        fa, fb = buffers
+        lap = grid.linear_part(diffusion, decay)  # D lap(x) - p x
+        np.multiply(a, a, out=fa)
+        fa *= e
+        fa *= r_ij
+        fa *= 0.01  # 0.01 r a^2 e
+        np.multiply(b, b, out=fb)
+        fb *= d
+        fb *= 0.01  # 0.01 b^2 d
+        lap[0] += fa / c  # eq. (5)
+        lap[1] += fb / c  # eq. (6)
+        lap[2] += p3_ * a  # eq. (8): p3 (a - d) + D2 lap(d)
+        lap[3] += p3_ * b  # eq. (9)
+        fa += fb
+        fa -= p2_ * c  # eq. (7), from the old c
+        grid.inner += lap
+        np.add(c, fa, out=c)  # c += eq. (7)
+
+    frames = _run(grid, step, steps, progress, "meinhardt-stripes", record_every, 0)
+    image = _colour(a, colormap)  # high a dark (the default colours put high values dark)
+    if not return_info:
+        return image
+    info = ReactionDiffusionInfo(
+        concentrations={"a": a.copy(), "b": b.copy(), "c": c.copy(), "d": d.copy(), "e": e.copy()},
+        steps=steps,
+        parameters=dict(p1=p1, p2=p2, p3=p3, diff1=diff1, diff2=diff2, arand=arand, dt=1.0),
+        frames=frames,
+        beta=r_ij,
     )
     return image, info
 
@@ -464,7 +644,7 @@ def gray_scott(shape, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.
     u += 0.01 * gen.standard_normal(size)
     v += 0.01 * gen.standard_normal(size)
     np.clip(v, 0, None, out=v)
-    grid = _PeriodicGrid(u, v, dt_)
+    grid = _PeriodicGrid([u, v], dt_)
     uu, vv = grid.inner[0], grid.inner[1]
     diffusion = np.array([Du, Dv], dtype=dt_).reshape(2, 1, 1) * dt_.type(dt)
     # linear terms: -4 Du u - F u ; -4 Dv v - (F + k) v    constant: + F (for u)
