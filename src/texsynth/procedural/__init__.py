@@ -20,6 +20,7 @@ from .reaction_diffusion import (
     TURK_PRESETS,
     ReactionDiffusionInfo,
     gray_scott,
+    meinhardt_stripes,
     reaction_diffusion,
     stability_limit,
 )
@@ -32,6 +33,7 @@ __all__ = [
     "wood",
     "reaction_diffusion",
     "gray_scott",
+    "meinhardt_stripes",
     "apply_colormap",
     "band_limit_octaves",
     "stability_limit",
