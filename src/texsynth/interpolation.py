@@ -370,7 +370,11 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
     for alpha in alphas:
         _, dis = _blend_pairs(t1, t2, c1, c2, flat(fwd[win]), flat(bwd[win]), flat(g[win]), alpha,
                               params["feature_weight"])
-        keep = np.flatnonzero(dis <= np.quantile(dis, params["keep_fraction"]))  # keep the best half
+        # keep the best fraction (the paper's 50 %) at alpha = 0.5; the filter removes pairs whose
+        # blend would ghost, and a blend ghosts in proportion to min(alpha, 1 - alpha): at the
+        # ends N' is the whole neighbourhood set of I1 (resp. I2), as in texture optimization
+        fraction = 1.0 - (1.0 - params["keep_fraction"]) * 2.0 * min(alpha, 1.0 - alpha)
+        keep = np.flatnonzero(dis <= np.quantile(dis, fraction))
         offsets, _ = _shifts(t1, t2, len(keep), len(alphas), params["max_set_size"])
         patches = []
         for dr, dc in offsets:
@@ -836,6 +840,14 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         info.add("statistics", t0)
         energies = []
         for _ in range(iterations):
+            if stats is not None:
+                # Section 4.5, one Portilla-Simoncelli step per iteration, taken *before* the
+                # patch step: the step restores fine detail and contrast that the next search
+                # then finds in N', and the patch step removes its colour fringes and broken
+                # features (taken after it, as listed in Pseudocode 1, they stay in the output)
+                t0 = time.perf_counter()
+                x[..., :n_colour] = np.clip(stats.step(x[..., :n_colour], amap), 0.0, 1.0)
+                info.add("statistics", t0)
             t0 = time.perf_counter()
             centres, idx, err = _irregular_centres(x, nset, spacing, min(candidate_stride, spacing))
             z = patches[idx].astype(np.float64)
@@ -847,10 +859,6 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
             x = _mean_shift_update(z, centres, weights, shape, bandwidth, 3, n_colour)
             energies.append(float(err.mean()))
             info.add("synthesis", t0)
-            if stats is not None:
-                t0 = time.perf_counter()
-                x[..., :n_colour] = stats.step(x[..., :n_colour], amap)
-                info.add("statistics", t0)
             x[..., :n_colour] = np.clip(x[..., :n_colour], 0.0, 1.0)
             step += 1
             bar(step, {"stage": (r, s), "energy": energies[-1]})
