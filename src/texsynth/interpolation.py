@@ -223,7 +223,7 @@ def linear_blend(a, b, alpha):
 def _feature_map(features, image, index):
     name = f"features[{index}]"
     if features is None:
-        return edge_feature_map(image)
+        return ridge_feature_map(image)
     f = np.asarray(features)
     if f.ndim == 3 and f.shape[-1] == 1:
         f = f[..., 0]
@@ -433,8 +433,13 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
         patches = []
         for dr, dc in offsets:
             k1, k2 = c1[keep] + [dr, dc], c2[keep] + [dr, dc]
-            inside = ((k1 >= 0).all(1) & (k1[:, 0] <= ny1) & (k1[:, 1] <= nx1)
-                      & (k2 >= 0).all(1) & (k2[:, 0] <= ny2) & (k2[:, 1] <= nx2))
+            # a shifted copy must stay inside the texture(s) it takes pixels from (weight > 0);
+            # warped samples that leave a texture are mirrored (map_coordinates)
+            inside = np.ones(len(keep), bool)
+            if alpha < 1.0:
+                inside &= (k1 >= 0).all(1) & (k1[:, 0] <= ny1) & (k1[:, 1] <= nx1)
+            if alpha > 0.0:
+                inside &= (k2 >= 0).all(1) & (k2[:, 0] <= ny2) & (k2[:, 1] <= nx2)
             sel = keep[inside]
             w = (sel, slice(margin + dr, margin + dr + size), slice(margin + dc, margin + dc + size))
             # sampled at the original corners: N1(c1 + theta'_21(x + d)), N2(c2 + theta'_12(x + d))
