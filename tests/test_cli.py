@@ -87,3 +87,21 @@ def test_method_errors_exit_2_without_traceback(tmp_path, capsys):
     assert "--overwrite" in capsys.readouterr().err
     assert load_image(existing).max() == 0.0
     assert run(name, str(src), "-o", str(tmp_path / "o.png"), "--size", "0x3") == 2
+
+
+def test_flow_and_ramp_values(tmp_path):
+    flow = cli.parse_flow("sink:1.5", (8, 10))
+    assert flow.shape == (8, 10, 2) and np.abs(flow).max() > 0
+    with pytest.raises(cli.CommandError, match="KIND:AMOUNT"):
+        cli.parse_flow("swirl:1", (8, 10))
+    ramp = cli._ramp((3, 5))
+    assert ramp.shape == (3, 5) and ramp[0, 0] == 0.0 and ramp[-1, -1] == 1.0
+
+
+def test_procedural_command_writes_an_image_and_a_volume(tmp_path):
+    assert run("marble", "-o", str(tmp_path / "m.png"), "--size", "40x24", "--seed", "1") == 0
+    assert load_image(tmp_path / "m.png").shape == (24, 40, 3)
+    assert run("perlin", "-o", str(tmp_path / "v.npy"), "--size", "8x6x4", "--seed", "1") == 0
+    volume = np.load(tmp_path / "v.npy")
+    assert volume.shape == (4, 6, 8) and 0 <= volume.min() and volume.max() <= 1  # [-1, 1] noise mapped to [0, 1]
+    assert (tmp_path / "v_slice_z.png").exists()

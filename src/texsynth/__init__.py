@@ -6,15 +6,18 @@ the shared layer and the tools are submodules: :mod:`texsynth.neighborhood`,
 :mod:`texsynth.testing`, :mod:`texsynth.io`, :mod:`texsynth.data`.
 """
 
-from . import data, io, metrics, nearest, neighborhood, procedural, pyramid, testing, tps
+from . import data, flows, io, metrics, nearest, neighborhood, procedural, pyramid, testing, tps
 from .heeger_bergen import heeger_bergen
 from .interpolation import interpolate_textures
+from .optimization import animate_texture, optimize_texture
 from .portilla_simoncelli import interpolate_statistics, portilla_simoncelli, ps_statistics, ps_step
 from .patchwork import patchwork, patchwork_transfer, patchwork_video
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "optimize_texture",
+    "animate_texture",
     "heeger_bergen",
     "interpolate_textures",
     "portilla_simoncelli",
@@ -25,6 +28,7 @@ __all__ = [
     "patchwork_video",
     "patchwork_transfer",
     "data",
+    "flows",
     "io",
     "metrics",
     "nearest",

@@ -48,6 +48,9 @@ class Method:
     ramps : tuple of str
         Parameters for which the word ``ramp`` means a left-to-right ramp
         from 0 to 1 at the output size (a transition strip).
+    flow : str or None
+        Parameter that takes a flow field, given on the command line as
+        ``KIND:AMOUNT`` (see :func:`parse_flow`) at the ``--size`` of the output.
     skip : tuple of str
         Keyword parameters not exposed (arrays, callables).
     """
@@ -61,6 +64,7 @@ class Method:
     skip: tuple = ()
     values: str = "unit"
     ramps: tuple = ()
+    flow: str | None = None
 
     def to_unit(self, result):
         """Map the function's values to [0, 1] for saving: "unit" (already), "signed" ([-1, 1]) or "positive"."""
@@ -88,6 +92,12 @@ METHODS: dict[str, Method] = {
                                  "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
                                  "pattern is repeated to the texture's channels)",
                                  inputs="pair", size=None),
+    "optimize": Method("optimization:optimize_texture",
+                       "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling",
+                       files=("mask", "target", "init", "exemplar_mask")),
+    "animate": Method("optimization:animate_texture",
+                      "Kwatra 2005: flow-guided animation, e.g. --flows sink:1.5 --frames 16 --size 128",
+                      output="frames", size=None, flow="flows", files=("first_frame",)),
     "interpolate": Method("interpolation:interpolate_textures",
                           "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --alpha ramp | --alpha map.png)",
                           inputs="pair", skip=("features", "rpm_options"), files=("alpha",), ramps=("alpha",)),
@@ -189,7 +199,7 @@ def _add_method_parser(sub, name, method):
         what = "input image" if method.inputs == "image" else "input frames: a GIF, video or folder of images"
         parser.add_argument("inputs", nargs=1, metavar="INPUT", help=what)
     parser.add_argument("-o", "--output", required=True, help="output file (or folder for frames)")
-    if method.size:
+    if method.size or method.flow:
         parser.add_argument("--size", help="output size WIDTHxHEIGHT (WxHxD for volumes); default: the input's")
     parser.add_argument("--seed", type=int, default=None, help="random seed (same seed, same output)")
     parser.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
@@ -213,6 +223,29 @@ def _add_method_parser(sub, name, method):
                                 help=f"{desc} (default: {default!r})")
     parser.set_defaults(_method=name)
     return parser
+
+
+def parse_flow(text, shape):
+    """``KIND:AMOUNT`` to a flow field of the given shape (texsynth.flows).
+
+    KIND is ``sink``, ``source``, ``vortex`` (AMOUNT: speed in pixels per
+    frame), ``rotation`` (radians per frame) or ``translation`` (AMOUNT: one
+    number for a horizontal shift, or ``(dx, dy)``).
+
+    >>> parse_flow("translation:(1, 0)", (4, 6)).shape
+    (4, 6, 2)
+    """
+    from . import flows
+
+    kinds = {"sink": flows.sink, "source": flows.source, "vortex": flows.vortex, "rotation": flows.rotation,
+             "translation": flows.translation}
+    kind, _, amount = str(text).partition(":")
+    if kind not in kinds or not amount:
+        raise CommandError(f"--flows must be KIND:AMOUNT with KIND one of {', '.join(kinds)}, got {text!r}")
+    value = _parse_value(amount)
+    if kind == "translation" and not isinstance(value, tuple):
+        value = (value, 0.0)
+    return kinds[kind](tuple(shape), value)
 
 
 def _ramp(shape):
@@ -319,7 +352,11 @@ def _run_method(args):
             positional.append(size)
     for pname in _option_names(method, params):
         value = getattr(args, pname)
-        if pname in method.ramps and value == "ramp":
+        if pname == method.flow:
+            if not args.size:
+                raise CommandError("--size is required for an animation (the flow field's size)")
+            value = parse_flow(value, parse_size(args.size))
+        elif pname in method.ramps and value == "ramp":
             value = _ramp(size if method.size else inputs[0].shape[:2])
         elif pname in method.files and isinstance(value, str):
             value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]

@@ -67,6 +67,12 @@ def _procedural(name, **options):
     return make
 
 
+def _optimize(exemplar, seed):
+    from .optimization import optimize_texture
+
+    return optimize_texture(exemplar, (128, 128), rng=seed)
+
+
 def _entries():
     """The gallery, in display order."""
     hb = "Heeger & Bergen, SIGGRAPH 1995 (doi:10.1145/218380.218446)"
@@ -85,6 +91,8 @@ def _entries():
         Entry("gray_scott_mazes", "Gray-Scott reaction-diffusion, 'mazes' preset",
               "Pearson, Science 1993 (doi:10.1126/science.261.5118.189)", None,
               _procedural("gray_scott", preset="mazes", steps=6000)),
+        Entry("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
+              "Kwatra et al., SIGGRAPH 2005 (doi:10.1145/1073204.1073263)", "bread", _optimize),
         Entry("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", pw, "water", _patchwork(64)),
         Entry("patchwork_bread", "Harrison patchwork, tileable (grid 24, f = 6)", pw, "bread", _patchwork(24)),
         Entry("heeger_bergen_metal", "Heeger-Bergen: stochastic texture (works)", hb, "metal", _heeger_bergen),
