@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from texsynth.interpolation import edge_feature_map, interpolate_textures, linear_blend, transition_alpha_map
+from texsynth.interpolation import interpolate_textures, linear_blend, transition_alpha_map
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -26,8 +26,7 @@ OUT.mkdir(exist_ok=True)
 
 a = load_image(TEXTURES / "rohitrango" / "t1.png")[:80, :80, :3]  # brick
 b = load_image(TEXTURES / "rohitrango" / "t7.png")[:80, :80, :3]  # slate wall
-features = (edge_feature_map(a), edge_feature_map(b))
-options = dict(features=features, stages=((2, 17), (1, 9)), iterations=3, alpha_steps=6, statistics_bands=3,
+options = dict(stages=((2, 17), (1, 17), (1, 9)), iterations=4, alpha_steps=6, statistics_bands=3,
                max_neighborhoods=300, rng=0)
 
 strip_map = transition_alpha_map((64, 256))

@@ -705,9 +705,11 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         Output size for a scalar ``alpha``; default the size of ``a``.
     features : (array_like, array_like), optional
         Binary feature maps ``(F1, F2)`` of the two textures' sizes (the
-        paper uses hand-made maps of edges, ridges, cracks). Default: Canny
-        edge maps (:func:`edge_feature_map`), which the paper found
-        "not very satisfactory" for many images. An empty map falls back to
+        paper uses hand-made maps of edges, ridges, cracks). Default: the
+        centre lines of ridges and valleys (:func:`ridge_feature_map`),
+        which mark mortar joints and grooves as single lines; Canny edges
+        (:func:`edge_feature_map`, the paper's "not very satisfactory"
+        detector) are the alternative. An empty map falls back to
         colour-only correspondences with identity warps (with a warning).
     stages : sequence of (int, int)
         Coarse-to-fine ``(r, s)``: downsampling factor and neighbourhood size;
@@ -721,8 +723,11 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     k : int
         Corresponding neighbourhoods per neighbourhood (1 in the paper).
     keep_fraction : float
-        Fraction of interpolated neighbourhoods kept, the best by similarity
-        (0.5 in the paper).
+        Fraction of interpolated neighbourhoods kept at ``alpha = 0.5``, the
+        best by similarity (0.5 in the paper). Towards the ends the fraction
+        rises linearly to 1 (``1 - (1 - keep_fraction) 2 min(alpha, 1 -
+        alpha)``): a blend ghosts in proportion to the smaller weight, and
+        at alpha = 0 or 1 the set is then all neighbourhoods of one input.
     feature_weight : float
         Relative weight of the warped distance channels against the colour
         normalized cross-correlation in the similarity (in [0, 1]).
@@ -735,7 +740,13 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         (a regular stride, default 1024 per texture and stage). The search
         itself is over every neighbourhood of the other texture; the cap
         bounds the number of TPS-RPM problems (at most ``2 k
-        max_neighborhoods`` per stage) at the cost of a less complete ``N'``.
+        max_neighborhoods`` per stage). Each kept pair is reused shifted by
+        up to the stride with the same warp (see ``max_set_size``), so the
+        cap costs variety of the warps, not coverage of positions.
+    max_set_size : int
+        Cap on the size of ``N'`` per stage (all alphas together): the
+        number of shifted copies per kept pair is reduced to stay below it.
+        Larger sets cost search time in every iteration.
     alpha_steps : int
         Alphas (equidistant) with interpolated patches for a distribution
         map (20 in the paper).
@@ -811,6 +822,19 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     are capped, and candidate centres use a stride of 2. The distance
     channel is synthesized with the colour (so the output's features are
     matched too) and dropped at the end.
+
+    Departures for quality, each measured (see the docs page): the
+    synthesis starts from a random tiling of ``N'`` rather than noise (the
+    nearest neighbourhoods of noise are the flattest ones and the result
+    collapsed onto horizontal streaks); the distance channel is scaled to
+    the colours' deviation (unscaled it dominated the search and the
+    colours averaged to grey); each kept pair is reused at shifted
+    positions (otherwise ``N'`` held one position in ``stride**2`` and
+    elements broke up); the keep fraction depends on alpha (above); the
+    overlapping patches carry Kwatra et al.'s Gaussian fall-off; and the
+    Portilla-Simoncelli step comes *before* the patch step of each
+    iteration (after it, as listed in Pseudocode 1, its colour fringes and
+    broken lines stayed in the output). The output is periodic.
 
     References
     ----------
