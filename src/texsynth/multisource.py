@@ -77,7 +77,7 @@ def _one_blas_thread():
 
 # "auto" search for the order-independent variant: exact brute force while the
 # number of (query, candidate) pairs of one pass stays below this, kd-tree above.
-_AUTO_EXACT_PAIRS = 4e8
+_AUTO_EXACT_PAIRS = 2e8
 # Relative tolerance of "E stops falling" (eq. 1 alternation).
 _STOP_TOLERANCE = 1e-9
 # Volume slices whose neighbourhoods are gathered at once (bounds memory).
@@ -623,9 +623,11 @@ def _solve_all(flat, tabs, a_flat, queries, key, iterations):
     # Several sources: Wei's alternation from each source's direct solution; keep the lowest E.
     energy[multi] = np.inf
     n_iter[multi] = 0
-    for start_tab, start_a, start_k in zip(tabs, a_flat, ks):
-        sel = multi[start_a[multi] > 0]
-        cur_p = start_tab["pixels"][start_k[sel]]
+    # A volume (every voxel has all views) starts once, from the previous pass.
+    starts = [(None, None, None)] if len(flat.shape) and tabs[0]["src"].axis is not None else list(zip(tabs, a_flat, ks))
+    for start_tab, start_a, start_k in starts:
+        sel = multi if start_tab is None else multi[start_a[multi] > 0]
+        cur_p = flat[sel].copy() if start_tab is None else start_tab["pixels"][start_k[sel]]
         cur_e = np.full(len(sel), np.inf)
         cur_k = [k[sel] for k in ks]
         cur_nd = [nd[sel] for nd in nds]
