@@ -1,0 +1,62 @@
+"""Speed of Wei-Levoy pixel synthesis, Wei mixtures and solid textures (prints a table).
+
+Targets (issue 7): single source 64x64 -> 200x200 <= 5 s; two-source mixture
+128x128 <= 15 s; solid 64^3 from a 64x64 exemplar <= 60 s. Also the speed-up of
+approximate (kd-tree) over exact search and its effect on texture energy.
+
+Run: /work/venv/bin/python benchmarks/bench_multisource.py [--quick]
+"""
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from texsynth.io import load_image
+from texsynth.metrics import noise_baseline, texture_energy
+from texsynth.multisource import mix_textures, synthesize_pixels, synthesize_solid
+
+TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
+
+
+def load(name, step=1):
+    img = load_image(TEXTURES / name)
+    img = img[..., :3] if img.ndim == 3 else img
+    return img[: 64 * step : step, : 64 * step : step]
+
+
+def timed(fn):
+    start = time.perf_counter()
+    out = fn()
+    return out, time.perf_counter() - start
+
+
+def main(quick=False):
+    pebbles = load("rohitrango/t4.png")
+    brick, gravel = load("skimage/brick.png", 4), load("skimage/gravel.png", 4)
+    rows = []
+    noise = texture_energy(noise_baseline(pebbles, 200, rng=0), pebbles)
+    for order, search in [("scanline", "exact"), ("scanline", "kdtree"), ("independent", "exact"), ("independent", "kdtree")]:
+        size = 200 if not (quick or (order == "scanline" and search == "kdtree")) else 64
+        out, sec = timed(lambda: synthesize_pixels(pebbles, size, order=order, search=search, rng=0))
+        rows.append((f"pixels 64->{size} {order}", search, sec, texture_energy(out, pebbles), noise))
+    ramp = np.tile(np.linspace(0, 1, 128), (128, 1))
+    noise_b = texture_energy(noise_baseline(brick, 128, rng=0), brick)
+    for order, search in [("scanline", "exact"), ("independent", "exact"), ("independent", "kdtree")]:
+        out, sec = timed(lambda: mix_textures([brick, gravel], 128, weights=[1 - ramp, ramp], order=order, search=search, rng=0))
+        rows.append((f"mix 2x64 -> 128 ramp {order}", search, sec, texture_energy(out[:, :32], brick), noise_b))
+    n = 32 if quick else 64
+    bread = load("jcjohnson/bread.png")
+    noise_s = texture_energy(noise_baseline(bread, n, rng=0), bread)
+    for search in ["kdtree"] + (["exact"] if quick else []):
+        vol, sec = timed(lambda: synthesize_solid(bread, n, search=search, rng=0))
+        e = np.mean([texture_energy(s, bread) for s in (vol[n // 2], vol[:, n // 2], vol[:, :, n // 2])])
+        rows.append((f"solid 64 -> {n}^3", search, sec, e, noise_s))
+    print(f"{'case':38s} {'search':8s} {'seconds':>8s} {'energy':>8s} {'noise':>8s}")
+    for case, search, sec, e, nz in rows:
+        print(f"{case:38s} {search:8s} {sec:8.2f} {e:8.4f} {nz:8.4f}")
+
+
+if __name__ == "__main__":
+    main(quick="--quick" in sys.argv)
