@@ -732,7 +732,14 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         in both steps (Section 3.1). Default True.
     method : {"auto", "exact", "kdtree", "tsvq"}
         Nearest-neighbour backend of the M-step
-        (:class:`texsynth.nearest.PatchIndex`).
+        (:class:`texsynth.nearest.PatchIndex`), chosen per (level, size)
+        stage. ``"auto"`` (default) searches exactly when the exemplar
+        level holds at most 5000 neighbourhoods (the coarse levels) and uses
+        the PCA kd-tree above (full resolution): for a 128 x 128 colour
+        exemplar and a 256 x 256 output about 2x faster than ``"exact"``
+        with the same texture energy within 1-4 % (see Notes). The M-step
+        never accepts a worse ``z_p``, so an approximate backend cannot
+        raise the energy.
     rng : None, int or numpy.random.Generator
         Seeds the random initial neighbourhoods (and approximate indexes).
     progress : bool or callable
