@@ -209,7 +209,7 @@ def _add_method_parser(sub, name, method):
         if pname not in _option_names(method, params):
             continue
         flag = "--" + pname.replace("_", "-")
-        desc = help_text.get(pname, "")
+        desc = help_text.get(pname, "").replace("%", "%%")  # argparse %-formats help strings
         default = param.default
         if default is inspect.Parameter.empty:
             parser.add_argument(flag, dest=pname, type=_parse_value, required=True, help=desc)
