@@ -105,3 +105,44 @@ def test_procedural_command_writes_an_image_and_a_volume(tmp_path):
     volume = np.load(tmp_path / "v.npy")
     assert volume.shape == (4, 6, 8) and 0 <= volume.min() and volume.max() <= 1  # [-1, 1] noise mapped to [0, 1]
     assert (tmp_path / "v_slice_z.png").exists()
+
+
+def test_parse_weights_ramp_and_files(tmp_path):
+    for n in (2, 3):
+        weights = cli.parse_weights("ramp", n, (4, 9))
+        # a partition of unity: the first input alone at the left edge, the last alone at the right
+        np.testing.assert_allclose(sum(weights), 1.0)
+        assert weights[0][0, 0] == 1.0 and weights[-1][0, -1] == 1.0
+    assert cli.parse_weights("equal", 2, (4, 9)) is None
+    m = save_image(tmp_path / "m.png", np.tile(np.linspace(0, 1, 9), (4, 1)))
+    first, second = cli.parse_weights(str(m), 2, (4, 9))
+    np.testing.assert_allclose(first + second, 1.0)
+    assert second[0, -1] == 1.0 and first[0, 0] == 1.0
+    with pytest.raises(cli.CommandError, match="--weights"):
+        cli.parse_weights(str(m), 3, (4, 9))
+
+
+def test_mix_ramp_goes_from_the_first_input_to_the_second(tmp_path):
+    from texsynth.metrics import texture_energy
+
+    a, b = data.load("bread")[:40, :40], data.load("brick")[:40, :40]
+    pa, pb = save_image(tmp_path / "a.png", a), save_image(tmp_path / "b.png", b)
+    out = tmp_path / "mix.png"
+    assert run("mix", str(pa), str(pb), "-o", str(out), "--size", "96x32", "--weights", "ramp", "--seed", "0") == 0
+    mix = load_image(out)
+    assert mix.shape == (32, 96, 3)
+    left, right = mix[:, :24], mix[:, -24:]
+    # each end is made of its own source: nearer (in patch energy) to it than to the other source
+    assert texture_energy(left, a) < texture_energy(left, b)
+    assert texture_energy(right, b) < texture_energy(right, a)
+
+
+def test_pixels_and_solid_commands(tmp_path):
+    src = save_image(tmp_path / "wood.png", data.load("wood")[:24, :24])
+    assert run("pixels", str(src), "-o", str(tmp_path / "p.png"), "--size", "40x32", "--seed", "0") == 0
+    assert load_image(tmp_path / "p.png").shape == (32, 40, 3)
+    assert run("solid", str(src), "-o", str(tmp_path / "s.png"), "--size", "20", "--seed", "0") == 0
+    volume = np.load(tmp_path / "s.npy")
+    assert volume.shape == (20, 20, 20, 3)  # one number: a cube
+    for axis in "zyx":
+        assert load_image(tmp_path / f"s_slice_{axis}.png").shape == (20, 20, 3)

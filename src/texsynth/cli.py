@@ -51,6 +51,9 @@ class Method:
     flow : str or None
         Parameter that takes a flow field, given on the command line as
         ``KIND:AMOUNT`` (see :func:`parse_flow`) at the ``--size`` of the output.
+    mixing : str or None
+        Parameter that takes one weight per input, given on the command line
+        as ``equal``, ``ramp`` or image files (see :func:`parse_weights`).
     skip : tuple of str
         Keyword parameters not exposed (arrays, callables).
     """
@@ -65,6 +68,7 @@ class Method:
     values: str = "unit"
     ramps: tuple = ()
     flow: str | None = None
+    mixing: str | None = None
 
     def to_unit(self, result):
         """Map the function's values to [0, 1] for saving: "unit" (already), "signed" ([-1, 1]) or "positive"."""
@@ -92,6 +96,14 @@ METHODS: dict[str, Method] = {
                                  "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
                                  "pattern is repeated to the texture's channels)",
                                  inputs="pair", size=None),
+    "pixels": Method("multisource:synthesize_pixels",
+                     "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)"),
+    "mix": Method("multisource:mix_textures",
+                  "Wei 2002: mixture of two or more textures (--weights equal | ramp | w1.png,w2.png)",
+                  inputs="images", mixing="weights"),
+    "solid": Method("multisource:synthesize_solid",
+                    "Wei 2002: solid texture from 1-3 views along z, y, x (.npy volume plus PNG slices)",
+                    inputs="images", output="volume", size="shape"),
     "optimize": Method("optimization:optimize_texture",
                        "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling",
                        files=("mask", "target", "init", "exemplar_mask")),
@@ -211,7 +223,12 @@ def _add_method_parser(sub, name, method):
         flag = "--" + pname.replace("_", "-")
         desc = help_text.get(pname, "").replace("%", "%%")  # argparse %-formats help strings
         default = param.default
-        if default is inspect.Parameter.empty:
+        if pname == method.mixing:
+            parser.add_argument(flag, dest=pname, default="equal",
+                                help="one weight per input: 'equal', 'ramp' (first input at the left edge to the "
+                                     "last at the right) or grey weight images, comma-separated (one per input, "
+                                     "or one file m for two inputs: weights 1-m and m) (default: 'equal')")
+        elif default is inspect.Parameter.empty:
             parser.add_argument(flag, dest=pname, type=_parse_value, required=True, help=desc)
         elif pname in method.files:
             parser.add_argument(flag, dest=pname, metavar="PATH", help=f"image file. {desc}")
@@ -252,6 +269,38 @@ def _ramp(shape):
     import numpy as np
 
     return np.broadcast_to(np.linspace(0.0, 1.0, shape[1]), tuple(shape[:2])).copy()
+
+
+def parse_weights(text, n, shape):
+    """``--weights`` to one weight per input: ``equal``, ``ramp`` or comma-separated image files.
+
+    ``equal`` gives every input the weight 1. ``ramp`` goes from the first
+    input at the left edge to the last at the right edge (piecewise-linear
+    hat functions; for two inputs the weights ``1 - t`` and ``t``). Files
+    are grey weight images of the output size: one per input, or a single
+    one ``m`` for two inputs (weights ``1 - m`` and ``m``).
+
+    >>> [w.round(2).tolist() for w in parse_weights("ramp", 3, (1, 5))]
+    [[[1.0, 0.5, 0.0, 0.0, 0.0]], [[0.0, 0.5, 1.0, 0.5, 0.0]], [[0.0, 0.0, 0.0, 0.5, 1.0]]]
+    """
+    import numpy as np
+
+    from .io import load_image
+
+    if text in (None, "equal"):
+        return None
+    if text == "ramp":
+        t = _ramp(shape) * (n - 1)
+        return [np.clip(1.0 - np.abs(t - i), 0.0, 1.0) for i in range(n)]
+    paths = str(text).split(",")
+    if len(paths) not in {n, 1} or (len(paths) == 1 and n != 2):
+        raise CommandError(f"--weights needs 'equal', 'ramp', one image file per input ({n}) "
+                           f"or, for two inputs, one file; got {text!r}")
+    maps = []
+    for path in paths:
+        image = load_image(path)
+        maps.append(image if image.ndim == 2 else image[..., :3].mean(axis=-1))
+    return [1.0 - maps[0], maps[0]] if len(paths) == 1 else maps
 
 
 def _option_names(method, params):
@@ -346,13 +395,17 @@ def _run_method(args):
             size = inputs[0].shape[:2] if method.inputs != "frames" else inputs[0].shape[1:3]
         else:
             raise CommandError("--size is required for this method")
+        if method.output == "volume" and len(size) == 2:  # a volume as deep as it is high
+            size = (size[0],) + tuple(size)
         if params[method.size].kind is inspect.Parameter.KEYWORD_ONLY:
             kwargs[method.size] = size
         else:
             positional.append(size)
     for pname in _option_names(method, params):
         value = getattr(args, pname)
-        if pname == method.flow:
+        if pname == method.mixing:
+            value = parse_weights(value, len(inputs), size)
+        elif pname == method.flow:
             if not args.size:
                 raise CommandError("--size is required for an animation (the flow field's size)")
             value = parse_flow(value, parse_size(args.size))
