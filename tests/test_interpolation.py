@@ -132,8 +132,14 @@ def test_same_seed_same_output_and_grey(pair):
     a, b = pair
     kw = dict(SMALL, iterations=1)
     x = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics=False, **kw)
-    y = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics=False, **kw)
+    seen = []
+    y = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics=False,
+                             progress=lambda step, total, info: seen.append((step, total, info["stage"])), **kw)
     assert x.shape == (48, 48) and np.array_equal(x, y)
+    # one report per (stage, iteration), counting up to the announced total
+    stages = SMALL.get("stages", ((2, 33), (2, 17), (1, 17)))
+    assert [s[:2] for s in seen] == [(i + 1, len(stages)) for i in range(len(stages))]
+    assert [s[2] for s in seen] == [tuple(st) for st in stages]
 
 
 # --------------------------------------------------------------------------- bad input

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
+from ._progress import Progress
 from ._validate import (
     as_image,
     as_rng,
@@ -893,60 +894,56 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     channel_weights = p["channel_weights"]
     if alpha_map is not None:
         channel_weights = np.append(channel_weights, alpha_weight)
-    bar = _progress(progress, len(stages) * iterations)
-
-    x = None
-    step = 0
-    for r, s in stages:
-        shape = (max(1, out_shape[0] // r), max(1, out_shape[1] // r))
-        if min(shape) < s:
-            raise ValueError(f"output {out_shape} at resolution 1/{r} is smaller than the neighbourhood {s}; "
-                             f"pass a larger size or smaller stages")
-        t1, t2 = _stage_textures(p, r, s)
-        patches = _interpolated_set(t1, t2, s, alphas, p, rng, info)
-        info.kept.append(len(patches))
-        t0 = time.perf_counter()
-        nset = _PatchSet(patches, channel_weights, rng)
-        amap = None if alpha_map is None else ndimage.zoom(alpha_map, (shape[0] / out_shape[0], shape[1] / out_shape[1]),
-                                                           order=1)[: shape[0], : shape[1]]
-        spacing = max(1, int(round(grid_spacing * s)))
-        if x is None:
-            x = _bootstrap(patches[..., : n_colour + 1], shape, spacing, rng)
-        elif x.shape[:2] != shape:
-            x = ndimage.zoom(x, (shape[0] / x.shape[0], shape[1] / x.shape[1], 1), order=1)
-        if amap is not None:
-            x = np.concatenate([x[..., : n_colour + 1], amap[..., None]], -1)
-        info.add("synthesis", t0)
-        t0 = time.perf_counter()
-        stats = _Statistics(_downsample(p["a"], r), _downsample(p["b"], r),
-                            alphas if alpha_map is None else np.linspace(0, 1, bands), shape) if statistics else None
-        info.add("statistics", t0)
-        energies = []
-        for _ in range(iterations):
-            if stats is not None:
-                # Section 4.5, one Portilla-Simoncelli step per iteration, taken *before* the
-                # patch step: the step restores fine detail and contrast that the next search
-                # then finds in N', and the patch step removes its colour fringes and broken
-                # features (taken after it, as listed in Pseudocode 1, they stay in the output)
-                t0 = time.perf_counter()
-                x[..., :n_colour] = np.clip(stats.step(x[..., :n_colour], amap), 0.0, 1.0)
-                info.add("statistics", t0)
+    with Progress(progress, len(stages) * iterations, "interpolate") as bar:
+        x = None
+        for r, s in stages:
+            shape = (max(1, out_shape[0] // r), max(1, out_shape[1] // r))
+            if min(shape) < s:
+                raise ValueError(f"output {out_shape} at resolution 1/{r} is smaller than the neighbourhood {s}; "
+                                 f"pass a larger size or smaller stages")
+            t1, t2 = _stage_textures(p, r, s)
+            patches = _interpolated_set(t1, t2, s, alphas, p, rng, info)
+            info.kept.append(len(patches))
             t0 = time.perf_counter()
-            centres, idx, err = _irregular_centres(x, nset, spacing, min(candidate_stride, spacing))
-            z = patches[idx].astype(np.float64)
+            nset = _PatchSet(patches, channel_weights, rng)
+            amap = None if alpha_map is None else ndimage.zoom(alpha_map, (shape[0] / out_shape[0], shape[1] / out_shape[1]),
+                                                               order=1)[: shape[0], : shape[1]]
+            spacing = max(1, int(round(grid_spacing * s)))
+            if x is None:
+                x = _bootstrap(patches[..., : n_colour + 1], shape, spacing, rng)
+            elif x.shape[:2] != shape:
+                x = ndimage.zoom(x, (shape[0] / x.shape[0], shape[1] / x.shape[1], 1), order=1)
             if amap is not None:
-                z[..., -1] = extract(x, centres, s, mode="wrap")[..., -1]  # the map is enforced, not replaced
-            weights = (err + _EPS) ** ((_IRLS_EXPONENT - 2.0) / 2.0)  # IRLS (Kwatra et al. 2005)
-            if relaxation_radius > 0:
-                centres = _relax(centres, z, weights, shape, relaxation_radius, spring_weight, max_sweeps=5)
-            x = _mean_shift_update(z, centres, weights, shape, bandwidth, 3, n_colour)
-            energies.append(float(err.mean()))
+                x = np.concatenate([x[..., : n_colour + 1], amap[..., None]], -1)
             info.add("synthesis", t0)
-            x[..., :n_colour] = np.clip(x[..., :n_colour], 0.0, 1.0)
-            step += 1
-            bar(step, {"stage": (r, s), "energy": energies[-1]})
-        info.energy.append(energies)
-    bar(None, None)
+            t0 = time.perf_counter()
+            stats = _Statistics(_downsample(p["a"], r), _downsample(p["b"], r),
+                                alphas if alpha_map is None else np.linspace(0, 1, bands), shape) if statistics else None
+            info.add("statistics", t0)
+            energies = []
+            for _ in range(iterations):
+                if stats is not None:
+                    # Section 4.5, one Portilla-Simoncelli step per iteration, taken *before* the
+                    # patch step: the step restores fine detail and contrast that the next search
+                    # then finds in N', and the patch step removes its colour fringes and broken
+                    # features (taken after it, as listed in Pseudocode 1, they stay in the output)
+                    t0 = time.perf_counter()
+                    x[..., :n_colour] = np.clip(stats.step(x[..., :n_colour], amap), 0.0, 1.0)
+                    info.add("statistics", t0)
+                t0 = time.perf_counter()
+                centres, idx, err = _irregular_centres(x, nset, spacing, min(candidate_stride, spacing))
+                z = patches[idx].astype(np.float64)
+                if amap is not None:
+                    z[..., -1] = extract(x, centres, s, mode="wrap")[..., -1]  # the map is enforced, not replaced
+                weights = (err + _EPS) ** ((_IRLS_EXPONENT - 2.0) / 2.0)  # IRLS (Kwatra et al. 2005)
+                if relaxation_radius > 0:
+                    centres = _relax(centres, z, weights, shape, relaxation_radius, spring_weight, max_sweeps=5)
+                x = _mean_shift_update(z, centres, weights, shape, bandwidth, 3, n_colour)
+                energies.append(float(err.mean()))
+                info.add("synthesis", t0)
+                x[..., :n_colour] = np.clip(x[..., :n_colour], 0.0, 1.0)
+                bar.advance({"stage": (r, s), "energy": energies[-1]})
+            info.energy.append(energies)
     if x.shape[:2] != out_shape:
         x = ndimage.zoom(x, (out_shape[0] / x.shape[0], out_shape[1] / x.shape[1], 1), order=1)
     out = np.clip(x[..., :n_colour], 0.0, 1.0).astype(p["a"].dtype)
@@ -962,21 +959,3 @@ def _check_stages(stages):
     if not stages or any(r < 1 or s < 3 for r, s in stages):
         raise ValueError(f"stages need r >= 1 and s >= 3, got {stages}")
     return stages
-
-
-def _progress(progress, total):
-    if callable(progress):
-        return lambda step, info: progress(step, total, info) if step is not None else None
-    if progress:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=total, desc="interpolate")
-
-        def update(step, info):
-            if step is None:
-                bar.close()
-            else:
-                bar.update(1)
-
-        return update
-    return lambda step, info: None
