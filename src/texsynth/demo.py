@@ -73,6 +73,29 @@ def _optimize(exemplar, seed):
     return optimize_texture(exemplar, (128, 128), rng=seed)
 
 
+def _pixels(exemplar, seed):
+    from .multisource import synthesize_pixels
+
+    return synthesize_pixels(exemplar[:64, :64], (160, 160), rng=seed)
+
+
+def _mixture(exemplar, seed):
+    import numpy as np
+
+    from .multisource import mix_textures
+
+    ramp = np.broadcast_to(np.linspace(0.0, 1.0, 192), (96, 192))
+    other = data.load("bread")[:64, :64]
+    return mix_textures([exemplar[:64, :64], other], (96, 192), weights=[1.0 - ramp, ramp], rng=seed)
+
+
+def _interpolate(exemplar, seed):
+    from .interpolation import interpolate_textures
+
+    other = data.load("bumpy")[:64, :64]
+    return interpolate_textures(exemplar[:64, :64], other, 0.5, size=(64, 64), stages=((2, 17), (1, 17)), rng=seed)
+
+
 def _entries():
     """The gallery, in display order."""
     hb = "Heeger & Bergen, SIGGRAPH 1995 (doi:10.1145/218380.218446)"
@@ -91,8 +114,15 @@ def _entries():
         Entry("gray_scott_mazes", "Gray-Scott reaction-diffusion, 'mazes' preset",
               "Pearson, Science 1993 (doi:10.1126/science.261.5118.189)", None,
               _procedural("gray_scott", preset="mazes", steps=6000)),
+        Entry("pixels_bread", "Wei-Levoy pixel synthesis (scanline, 3 levels, causal 5x5 neighbourhoods)",
+              "Wei & Levoy, SIGGRAPH 2000 (doi:10.1145/344779.345009)", "bread", _pixels),
+        Entry("mix_brick_bread", "Wei texture mixture, ramp weights: brick (left) turning into bread (right)",
+              "Wei, SIGGRAPH 2002 sketch (texture synthesis from multiple sources)", "brick", _mixture),
         Entry("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
               "Kwatra et al., SIGGRAPH 2005 (doi:10.1145/1073204.1073263)", "bread", _optimize),
+        Entry("interpolate_brick_bumpy", "Ruiters texture interpolation, alpha = 0.5: brick halfway to bumpy plaster "
+              "(small: 64x64, stages (2, 17), (1, 17))",
+              "Ruiters, Schnabel & Klein, CGF 2010 (doi:10.1111/j.1467-8659.2010.01739.x)", "brick", _interpolate),
         Entry("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", pw, "water", _patchwork(64)),
         Entry("patchwork_bread", "Harrison patchwork, tileable (grid 24, f = 6)", pw, "bread", _patchwork(24)),
         Entry("heeger_bergen_metal", "Heeger-Bergen: stochastic texture (works)", hb, "metal", _heeger_bergen),
