@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from texsynth.flows import flow_sequence, rotation, sink, source, translation, vortex, warp
+from texsynth.flows import flow_sequence, rotation, sink, source, translation, vortex, warp, warp_coordinates
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -123,3 +123,51 @@ def test_bad_warp_input(metal):
         vortex((8, 8), 1.0, radius=0.0)
     with pytest.raises(ValueError, match="speed"):
         sink((8, 8), -1.0)
+
+
+# --------------------------------------------------------------------------- correspondence warp
+def _copy_field(h, w, offsets):
+    """Correspondence of an image pasted from a few copies: left half from offsets[0], right from [1]."""
+    rows, cols = np.meshgrid(np.arange(h, dtype=float), np.arange(w, dtype=float), indexing="ij")
+    grid = np.stack([rows, cols], axis=-1)
+    off = np.where((cols < w // 2)[..., None], np.array(offsets[0], float), np.array(offsets[1], float))
+    return grid + off, grid
+
+
+@settings(max_examples=25, deadline=None)
+@given(dy=st.floats(-3, 3), dx=st.floats(-3, 3))
+def test_warp_coordinates_moves_a_copy_exactly(dy, dx):
+    # inside one copy the correspondence is a translation: carrying it along any
+    # (sub-pixel) translation must give exactly "source position + offset", not a
+    # rounded or interpolated one
+    coords, grid = _copy_field(16, 20, [(30.0, 40.0), (30.0, 40.0)])
+    out, valid = warp_coordinates(coords, translation((16, 20), (dy, dx)), return_valid=True)
+    want = grid - [dy, dx] + [30.0, 40.0]
+    np.testing.assert_allclose(out[valid], want[valid], atol=1e-9)
+    assert valid[4:12, 4:16].all()
+
+
+def test_warp_coordinates_never_averages_across_a_seam():
+    # two unrelated copies side by side: every warped position must belong to one of
+    # them (offset 0 -> (30, 40) or (70, 5)); warping the field like an image
+    # (bilinear) invents positions between the two copies at the seam
+    coords, grid = _copy_field(12, 16, [(30.0, 40.0), (70.0, 5.0)])
+    flow = translation((12, 16), (0.0, 0.5))
+    src = grid - [0.0, 0.5]
+    offset = warp_coordinates(coords, flow) - src
+    is_a = np.all(np.abs(offset - [30.0, 40.0]) < 1e-9, axis=-1)
+    is_b = np.all(np.abs(offset - [70.0, 5.0]) < 1e-9, axis=-1)
+    assert np.all(is_a | is_b)
+    blurred = np.stack([warp(coords[..., k] / 100.0, flow, mode="nearest") * 100.0 for k in range(2)], -1) - src
+    near_a = np.all(np.abs(blurred - [30.0, 40.0]) < 1e-6, axis=-1)
+    near_b = np.all(np.abs(blurred - [70.0, 5.0]) < 1e-6, axis=-1)
+    assert not np.all(near_a | near_b)  # the colour warp does mix them: the test can tell
+
+
+def test_bad_warp_coordinates_input():
+    with pytest.raises(ValueError, match="coords"):
+        warp_coordinates(np.zeros((4, 4)), translation((4, 4), (0, 1)))
+    with pytest.raises(ValueError, match="flow"):
+        warp_coordinates(np.zeros((4, 4, 2)), translation((4, 5), (0, 1)))
+    with pytest.raises(ValueError, match="mode"):
+        warp_coordinates(np.zeros((4, 4, 2)), translation((4, 4), (0, 1)), mode="mirror")
