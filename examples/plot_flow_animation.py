@@ -53,7 +53,8 @@ def report(name, video, seconds):
     keys = (1, 8, 16)
     energy = [metrics.texture_energy(video[k - 1], exemplar) for k in keys]
     sharp = [sharpness(video[k - 1]) / sharpness(video[0]) for k in keys]
-    flicker = np.mean([np.mean(np.abs(video[i + 1] - flows.warp(video[i], rot, mode="nearest", order=3))[16:112, 16:112])
+    inner = (slice(16, 112), slice(16, 112))
+    flicker = np.mean([np.mean(np.abs(video[i + 1] - flows.warp(video[i], rot, mode="nearest", order=3))[inner])
                        for i in range(frames - 1)])
     print(f"{name}: {seconds:.2f} s per frame; texture energy frames {keys}: "
           + ", ".join(f"{e:.5f}" for e in energy) + "; sharpness " + ", ".join(f"{v:.2f}" for v in sharp)
