@@ -73,6 +73,17 @@ def _optimize(exemplar, seed):
     return optimize_texture(exemplar, (128, 128), rng=seed)
 
 
+def _animate(exemplar, seed):
+    import numpy as np
+
+    from . import flows
+    from .optimization import animate_texture
+
+    frames = animate_texture(exemplar[:96, :96], flows.rotation((96, 96), 0.06), frames=8, rng=seed)
+    gap = np.ones((96, 4, frames.shape[-1]))
+    return np.concatenate([frames[0], gap, frames[3], gap, frames[7]], axis=1)
+
+
 def _pixels(exemplar, seed):
     from .multisource import synthesize_pixels
 
@@ -120,6 +131,9 @@ def _entries():
               "Wei, SIGGRAPH 2002 sketch (texture synthesis from multiple sources)", "brick", _mixture),
         Entry("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
               "Kwatra et al., SIGGRAPH 2005 (doi:10.1145/1073204.1073263)", "bread", _optimize),
+        Entry("animate_bumpy", "Kwatra flow-guided animation, rotation 0.06 rad/frame: frames 1, 4 and 8 "
+              "(elements follow the flow; they soften over the frames)",
+              "Kwatra et al., SIGGRAPH 2005, Section 4.1", "bumpy", _animate),
         Entry("interpolate_brick_bumpy", "Ruiters texture interpolation, alpha = 0.5: brick halfway to bumpy plaster "
               "(small: 64x64, stages (2, 17), (1, 17))",
               "Ruiters, Schnabel & Klein, CGF 2010 (doi:10.1111/j.1467-8659.2010.01739.x)", "brick", _interpolate),
