@@ -4,9 +4,11 @@ Targets (issue 7): single source 64x64 -> 200x200 <= 5 s; two-source mixture
 128x128 <= 15 s; solid 64^3 from a 64x64 exemplar <= 60 s. Also the speed-up of
 approximate (kd-tree) over exact search and its effect on texture energy.
 
-Run: /work/venv/bin/python benchmarks/bench_multisource.py [--quick]
+Run: /work/venv/bin/python benchmarks/bench_multisource.py [--quick] [--solid]
+(--quick: smaller outputs; --solid: only the solid-texture rows.)
 """
 
+import os
 import sys
 import time
 from pathlib import Path
@@ -32,31 +34,54 @@ def timed(fn):
     return out, time.perf_counter() - start
 
 
-def main(quick=False):
+def pixel_rows(quick):
     pebbles = load("rohitrango/t4.png")
-    brick, gravel = load("skimage/brick.png", 4), load("skimage/gravel.png", 4)
-    rows = []
     noise = texture_energy(noise_baseline(pebbles, 200, rng=0), pebbles)
+    rows = []
     for order, search in [("scanline", "exact"), ("scanline", "kdtree"), ("independent", "exact"), ("independent", "kdtree")]:
         size = 200 if not (quick or (order == "scanline" and search == "kdtree")) else 64
         out, sec = timed(lambda: synthesize_pixels(pebbles, size, order=order, search=search, rng=0))
         rows.append((f"pixels 64->{size} {order}", search, sec, texture_energy(out, pebbles), noise))
+    return rows
+
+
+def mix_rows(quick):
+    brick, gravel = load("skimage/brick.png", 4), load("skimage/gravel.png", 4)
     ramp = np.tile(np.linspace(0, 1, 128), (128, 1))
-    noise_b = texture_energy(noise_baseline(brick, 128, rng=0), brick)
+    noise = texture_energy(noise_baseline(brick, 128, rng=0), brick)
+    rows = []
     for order, search in [("scanline", "exact"), ("independent", "exact"), ("independent", "kdtree")]:
         out, sec = timed(lambda: mix_textures([brick, gravel], 128, weights=[1 - ramp, ramp], order=order, search=search, rng=0))
-        rows.append((f"mix 2x64 -> 128 ramp {order}", search, sec, texture_energy(out[:, :32], brick), noise_b))
+        rows.append((f"mix 2x64 -> 128 ramp {order}", search, sec, texture_energy(out[:, :32], brick), noise))
+    return rows
+
+
+def solid_rows(quick):
+    """Solid 64^3 (32^3 with --quick): "auto" (kd-tree at this size), tsvq and exact side by side.
+
+    Energy: mean over the three axis-aligned middle slices of texture_energy against the view.
+    """
     n = 32 if quick else 64
     bread = load("jcjohnson/bread.png")
-    noise_s = texture_energy(noise_baseline(bread, n, rng=0), bread)
-    for search in ["kdtree"] + (["exact"] if quick else []):
-        vol, sec = timed(lambda: synthesize_solid(bread, n, search=search, rng=0))
+    noise = texture_energy(noise_baseline(bread, n, rng=0), bread)
+    rows = []
+    for search in ["auto", "tsvq", "exact"]:
+        (vol, info), sec = timed(lambda: synthesize_solid(bread, n, search=search, rng=0, return_info=True))
         e = np.mean([texture_energy(s, bread) for s in (vol[n // 2], vol[:, n // 2], vol[:, :, n // 2])])
-        rows.append((f"solid 64 -> {n}^3", search, sec, e, noise_s))
-    print(f"{'case':38s} {'search':8s} {'seconds':>8s} {'energy':>8s} {'noise':>8s}")
-    for case, search, sec, e, nz in rows:
-        print(f"{case:38s} {search:8s} {sec:8.2f} {e:8.4f} {nz:8.4f}")
+        rows.append((f"solid 64 -> {n}^3", info.search if search != "auto" else f"auto={info.search}", sec, e, noise))
+    exact = rows[-1][2]
+    return [row + (f"{exact / row[2]:.1f}x",) for row in rows]
+
+
+def main(quick=False, solid_only=False):
+    load_before = os.getloadavg()
+    rows = [] if solid_only else pixel_rows(quick) + mix_rows(quick)
+    rows += solid_rows(quick)
+    print(f"load average (1, 5, 15 min) before: {load_before}, after: {os.getloadavg()}")
+    print(f"{'case':38s} {'search':12s} {'seconds':>8s} {'energy':>8s} {'noise':>8s} {'vs exact':>8s}")
+    for case, search, sec, e, nz, *speedup in rows:
+        print(f"{case:38s} {search:12s} {sec:8.2f} {e:8.4f} {nz:8.4f} {''.join(speedup):>8s}")
 
 
 if __name__ == "__main__":
-    main(quick="--quick" in sys.argv)
+    main(quick="--quick" in sys.argv, solid_only="--solid" in sys.argv)
