@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import RBFInterpolator
 
-from texsynth.tps import ThinPlateSpline, fit_tps, tps_kernel, tps_rpm
+from texsynth.tps import ThinPlateSpline, _solve_or_lstsq, fit_tps, tps_kernel, tps_rpm
 
 
 def smooth_warp(p):
@@ -199,3 +199,44 @@ def test_bad_input():
         tps_rpm(np.random.rand(2, 2), np.random.rand(5, 2))
     with pytest.raises(ValueError, match="batch shape"):
         tps_rpm(np.random.rand(2, 5, 2), np.random.rand(3, 5, 2))
+
+
+def test_singular_systems_in_a_batch_get_least_squares_the_others_lu():
+    # a batch where every third system is singular (a zero row and column, as a padded or
+    # degenerate problem gives): those must get numpy's minimum-norm lstsq solution, the
+    # others the LU solution, without one failure switching the whole batch to lstsq
+    rng = np.random.default_rng(3)
+    systems = rng.normal(size=(12, 7, 7)) + 7 * np.eye(7)
+    systems[::3, 2, :] = 0.0
+    systems[::3, :, 2] = 0.0
+    rhs = rng.normal(size=(12, 7, 2))
+    with pytest.raises(np.linalg.LinAlgError):
+        np.linalg.solve(systems, rhs)
+    out, singular = _solve_or_lstsq(systems, rhs)
+    assert singular.tolist() == [i % 3 == 0 for i in range(12)]
+    # a second solve with that split (as TPS-RPM refits the same control points) gives the same
+    again, _ = _solve_or_lstsq(systems, rhs, singular)
+    np.testing.assert_allclose(again, out, atol=1e-12)
+    # a wrong split is corrected
+    wrong, _ = _solve_or_lstsq(systems, rhs, ~singular)
+    np.testing.assert_allclose(wrong, out, atol=1e-10)
+    for i in range(12):
+        ref = (np.linalg.lstsq(systems[i], rhs[i], rcond=None)[0] if i % 3 == 0
+               else np.linalg.solve(systems[i], rhs[i]))
+        np.testing.assert_allclose(out[i], ref, atol=1e-10)
+
+
+def test_collinear_control_points_in_a_batch():
+    # feature pixels along a straight mortar joint are collinear: their TPS system is singular.
+    # Shifting the line along itself must still be fitted exactly, and the other problem of
+    # the batch must be the same as fitted alone.
+    line = np.stack([np.zeros(6), np.arange(6.0)], 1)  # on the row y = 0
+    rng = np.random.default_rng(4)
+    free = rng.uniform(0, 10, (6, 2))
+    src = np.stack([line, free])
+    dst = src + [[[0.0, 1.5]], [[0.5, -0.5]]]
+    batch = fit_tps(src, dst)
+    np.testing.assert_allclose(batch(src)[0], dst[0], atol=1e-8)
+    np.testing.assert_allclose(batch(src)[1], dst[1], atol=1e-8)
+    q = rng.uniform(0, 10, (5, 2))
+    np.testing.assert_allclose(batch(np.stack([q, q]))[1], fit_tps(free, dst[1])(q), atol=1e-10)
