@@ -95,3 +95,64 @@ def test_grey_frames_get_a_channel_axis(tmp_path):
 def test_load_image_refuses_missing_frames_folder(tmp_path):
     with pytest.raises(ValueError, match="no image files"):
         load_frames(tmp_path)
+
+
+def test_grey_gif_round_trip_keeps_one_channel(tmp_path):
+    frames = np.stack([np.roll(np.linspace(0, 1, 64).reshape(8, 8), t, axis=1) for t in range(3)])
+    back = load_frames(save_frames(tmp_path / "g.gif", frames))
+    assert back.shape == (3, 8, 8, 1)
+
+
+def test_frame_folder_overwrite_never_deletes_other_files(tmp_path):
+    frames = np.zeros((2, 4, 4))
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "input.png").write_bytes(b"the user's own file")
+    with pytest.raises(FileExistsError, match="did not write"):
+        save_frames(out, frames, overwrite=True)
+    assert (out / "input.png").read_bytes() == b"the user's own file"
+    # a folder of earlier frames is replaced whole: three frames become two
+    save_frames(tmp_path / "seq", np.ones((3, 4, 4)))
+    save_frames(tmp_path / "seq", frames, overwrite=True)
+    assert sorted(p.name for p in (tmp_path / "seq").iterdir()) == ["frame_0000.png", "frame_0001.png"]
+    assert load_frames(tmp_path / "seq").max() == 0.0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "seq"]  # no temporary folders left
+
+
+def test_failed_frame_write_keeps_the_old_sequence(tmp_path, monkeypatch):
+    import texsynth.io as tio
+
+    save_frames(tmp_path / "seq", np.ones((2, 4, 4)))
+    calls = []
+
+    def failing_imwrite(target, *args, **kwargs):
+        calls.append(target)
+        if len(calls) == 2:
+            raise OSError("disk full")
+        return real(target, *args, **kwargs)
+
+    real = tio.iio.imwrite
+    monkeypatch.setattr(tio.iio, "imwrite", failing_imwrite)
+    with pytest.raises(OSError, match="disk full"):
+        save_frames(tmp_path / "seq", np.zeros((3, 4, 4)), overwrite=True)
+    monkeypatch.undo()
+    assert load_frames(tmp_path / "seq").min() == 1.0  # the old frames are untouched
+    assert [p.name for p in tmp_path.iterdir()] == ["seq"]  # no temporary folder left
+
+
+def test_video_without_the_extra_says_how_to_get_it(tmp_path, monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: None if name == "imageio_ffmpeg" else real(name))
+    with pytest.raises(ValueError, match=r"texsynth\[video\]"):
+        save_frames(tmp_path / "v.mp4", np.zeros((3, 8, 8)))
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_mp4_round_trip(tmp_path):
+    pytest.importorskip("imageio_ffmpeg")  # in the test extra, so CI runs this
+    frames = np.stack([np.roll(data.load("bumpy")[:32, :32], 2 * t, axis=1) for t in range(6)])
+    back = load_frames(save_frames(tmp_path / "v.mp4", frames, fps=6))
+    assert back.shape == (6, 32, 32, 3)
+    assert np.abs(back - frames).mean() < 0.1  # lossy codec: colours close, not exact

@@ -400,12 +400,19 @@ def test_default_pca_components_follow_variance():
     assert PatchIndex(v, method="kdtree", n_components=5, rng=0)._backend.n_components == 5
 
 
-def test_auto_resolves_by_size():
+def test_auto_resolves_by_size_and_dimension():
     small = PatchIndex(np.zeros((100, 3)))
     assert small.method == "exact"
     rng = np.random.default_rng(0)
     big = PatchIndex(rng.random((30_000, 4)), rng=0)
     assert big.method == "kdtree"
+    # the measured crossover (docs/methods/nearest.md) lies at N ~ 2000 in 27-D and ~ 5000
+    # in 147-D: 3000 vectors are searched exactly in high dimension, by kd-tree in low
+    assert PatchIndex(rng.random((3_000, 147)), rng=0).method == "exact"
+    assert PatchIndex(rng.random((3_000, 27)), rng=0).method == "kdtree"
+    # zero weights drop dimensions before the choice
+    weights = np.r_[np.ones(27), np.zeros(120)]
+    assert PatchIndex(rng.random((3_000, 147)), weights=weights, rng=0).method == "kdtree"
 
 
 def test_tsvq_small_leaves_fall_back_to_exact():

@@ -9,7 +9,9 @@ never half-written. Nothing is overwritten unless ``overwrite=True``.
 
 from __future__ import annotations
 
+import importlib.util
 import os
+import re
 import shutil
 import tempfile
 from pathlib import Path
@@ -155,7 +157,8 @@ def load_frames(path):
     Returns
     -------
     numpy.ndarray
-        ``(T, H, W, C)``; grey frames get ``C == 1``.
+        ``(T, H, W, C)``; grey frames get ``C == 1`` (also from a GIF or video,
+        whose frames are stored as RGB: equal channels are read as grey).
     """
     path = Path(path)
     if path.is_dir():
@@ -175,12 +178,18 @@ def load_frames(path):
             raise ValueError(f"cannot read {str(path)!r} as frames: {exc}{hint}") from None
         if raw.ndim == 2 or (raw.ndim == 3 and path.suffix.lower() != ".gif" and raw.shape[-1] <= 4):
             raw = raw[None]
+        if raw.ndim == 4 and raw.shape[-1] == 3 and _is_grey(raw):
+            raw = raw[..., :1]  # GIF stores grey frames as palette RGB: give back C == 1
         data = as_float_array(raw, f"frames in {path.name}")
     else:
         raise FileNotFoundError(f"path {str(path)!r} does not exist")
     if data.ndim == 3:
         data = data[..., None]
     return data
+
+
+def _is_grey(rgb):
+    return bool(np.array_equal(rgb[..., 0], rgb[..., 1]) and np.array_equal(rgb[..., 0], rgb[..., 2]))
 
 
 def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
@@ -198,7 +207,9 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
     loop : bool
         GIF only: loop forever.
     overwrite : bool
-        Replace an existing file or folder.
+        Replace an existing file, or a folder that holds nothing but the
+        ``frame_NNNN.png`` files of an earlier save (a folder with other files
+        is refused, so a user's files are never deleted).
 
     Returns
     -------
@@ -211,27 +222,57 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
         pixels = pixels[..., 0]
     suffix = path.suffix.lower()
     if suffix == "":
-        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}-", dir=path.parent))
-        try:
-            for t, frame in enumerate(pixels):
-                iio.imwrite(tmp / f"frame_{t:04d}.png", frame)
-            if path.exists():
-                shutil.rmtree(path)
-            os.replace(tmp, path)
-        except BaseException:
-            shutil.rmtree(tmp, ignore_errors=True)
-            raise
+        _write_frame_folder(path, pixels)
         return path
     if suffix == ".gif":
         duration = 1000.0 / float(fps)
         _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=".gif",
                                                     duration=duration, loop=0 if loop else 1))
         return path
+    if importlib.util.find_spec("imageio_ffmpeg") is None:
+        raise ValueError(
+            f"path {str(path)!r}: writing {suffix!r} videos needs the video extra "
+            "(pip install 'texsynth[video]'); or save as .gif or a folder of PNG frames"
+        )
     try:
         _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=suffix, fps=fps))
     except Exception as exc:
-        raise ValueError(
-            f"cannot write {str(path)!r}: {exc}; videos need pip install 'texsynth[video]', "
-            "or save as .gif or a folder of PNG frames"
-        ) from None
+        raise ValueError(f"cannot write {str(path)!r} as a video: {exc}") from None
     return path
+
+
+_FRAME_NAME = re.compile(r"frame_\d{4,}\.png")
+
+
+def _write_frame_folder(path, pixels):
+    """Write ``frame_0000.png``... into a new folder, then swap it in for ``path``.
+
+    An existing folder is replaced only if it holds nothing but frames that
+    :func:`save_frames` wrote, so a user's other files are never deleted.
+    """
+    if path.exists():
+        if not path.is_dir():
+            raise FileExistsError(f"{str(path)!r} is a file; a frame sequence without suffix is a folder")
+        foreign = [p.name for p in path.iterdir() if not _FRAME_NAME.fullmatch(p.name)]
+        if foreign:
+            raise FileExistsError(
+                f"folder {str(path)!r} holds files save_frames did not write ({', '.join(sorted(foreign)[:3])}"
+                f"{', ...' if len(foreign) > 3 else ''}); choose another folder"
+            )
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}-", dir=path.parent))
+    old = None
+    try:
+        for t, frame in enumerate(pixels):
+            iio.imwrite(tmp / f"frame_{t:04d}.png", frame)
+        if path.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{path.name}-old-", dir=path.parent))
+            os.replace(path, old / path.name)
+        os.replace(tmp, path)
+    except BaseException:
+        if old is not None and not path.exists():
+            os.replace(old / path.name, path)
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    finally:
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)

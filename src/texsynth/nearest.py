@@ -64,10 +64,18 @@ __all__ = ["PatchIndex", "nearest", "METHODS"]
 #: Valid values of ``method``.
 METHODS = ("auto", "exact", "kdtree", "tsvq")
 
-# "auto" picks "exact" up to this many indexed vectors, "kdtree" above: the
-# measured crossover of build + query time (benchmarks/bench_nearest.py
-# --crossover, M = N / 2 queries) is N ~ 2000-5000 for 27- to 147-D patches.
-_AUTO_EXACT_MAX_N = 5_000
+# "auto" picks "exact" up to N vectors and "kdtree" above, N depending on the
+# dimension: the measured crossover of build + query time
+# (benchmarks/bench_nearest.py --crossover, M = N / 2 queries) is N ~ 2000 for
+# 27-D and ~5000 for 147-D patches (brute force costs N * D per query, the PCA
+# kd-tree little more in high D); interpolated linearly between, clamped outside.
+_AUTO_CROSSOVER_DIMS = (27, 147)
+_AUTO_CROSSOVER_N = (2_000, 5_000)
+
+
+def _auto_method(n, dim):
+    """``"exact"`` below the measured crossover size for this dimension, else ``"kdtree"``."""
+    return "exact" if n <= np.interp(dim, _AUTO_CROSSOVER_DIMS, _AUTO_CROSSOVER_N) else "kdtree"
 
 _DEFAULT_MEMORY_BUDGET = 256 * 2**20
 # preferred size of one brute-force distance block (bytes), and fewest query rows
@@ -631,10 +639,11 @@ class PatchIndex:
     random index (baseline)   ~1 / N       6.5 - 94
     ========================  ===========  ===============
 
-    ``"auto"`` uses ``"exact"`` when ``N <= 5000`` and ``"kdtree"`` above:
-    the measured crossover of build + query time with ``M = N / 2`` queries
-    lies at N ~ 2000 (27-D) to ~5000 (147-D) on a 2-core VM; below it the
-    exact answer costs no more than the approximate one. For many calls with
+    ``"auto"`` picks by size and dimension: ``"exact"`` when ``N`` is at most
+    the measured crossover of build + query time with ``M = N / 2`` queries,
+    2000 for ``D <= 27`` rising linearly to 5000 for ``D >= 147`` (2-core VM),
+    and ``"kdtree"`` above; below the crossover the exact answer costs no more
+    than the approximate one. For many calls with
     a handful of queries each (scanline synthesis), build once and pick the
     backend explicitly.
 
@@ -714,7 +723,7 @@ class PatchIndex:
             )
 
         if method == "auto":
-            method = "exact" if self.n <= _AUTO_EXACT_MAX_N else "kdtree"
+            method = _auto_method(self.n, vectors.shape[1])
         self.method = method
         self.memory_budget = memory_budget
         if method == "exact":
