@@ -42,6 +42,24 @@ def test_scatter_average_on_a_sparse_valid_grid_reproduces_the_image(brick):
     assert np.abs(out - brick).max() < 1e-12
 
 
+def test_per_patch_pixel_weights_weight_each_patch_pixel(brick):
+    centers = _all_centers(brick.shape[:2])[::7]
+    patches = extract(brick, centers, 5)
+    pixel = np.random.default_rng(1).random((len(centers), 5, 5)) + 0.1
+    out, weight = accumulate(patches, centers, brick.shape[:2], pixel_weights=pixel)
+    covered = weight > 0
+    # an independent loop over patches: sum of weighted values / sum of weights per pixel
+    num = np.zeros(brick.shape)
+    den = np.zeros(brick.shape[:2])
+    for (r, c), patch, wgt in zip(centers, patches, pixel):
+        rows = (r - 2 + np.arange(5)) % brick.shape[0]
+        cols = (c - 2 + np.arange(5)) % brick.shape[1]
+        num[np.ix_(rows, cols)] += patch * wgt[..., None]
+        den[np.ix_(rows, cols)] += wgt
+    assert np.allclose(weight, den)
+    assert np.allclose(out[covered], num[covered] / den[covered, None])
+
+
 def test_accumulate_is_a_weighted_average():
     patches = np.stack([np.zeros((1, 1, 1)), np.ones((1, 1, 1))])
     out, weight = accumulate(patches, [[0, 0], [0, 0]], (1, 2), patch_weights=[1.0, 3.0], mode="valid")
@@ -115,6 +133,10 @@ def test_multilevel_vectors_take_the_parent_under_the_pixel():
     (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (8, 8), patch_weights=[-1.0]), "non-negative"),
     (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (8, 8), pixel_weights=np.ones((2, 2))),
      "pixel_weights"),
+    (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (8, 8), patch_weights=[np.nan]), "finite"),
+    (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (0, 8)), "shape must be positive"),
+    (lambda img: grid_centers((0, 8), 3, 1), "shape must be positive"),
+    (lambda img: grid_centers((8, 8), 3, 0), "spacing must be positive"),
 ])
 def test_bad_input(call, match):
     with pytest.raises((ValueError, TypeError), match=match):
@@ -124,13 +146,17 @@ def test_bad_input(call, match):
 @settings(max_examples=25, deadline=None)
 @given(h=st.integers(1, 12), w=st.integers(1, 12), c=st.integers(1, 4),
        ph=st.integers(1, 6), pw=st.integers(1, 6), mode=st.sampled_from(["wrap", "reflect"]),
-       seed=st.integers(0, 2**16))
-def test_extract_then_accumulate_is_identity_property(h, w, c, ph, pw, mode, seed):
+       seed=st.integers(0, 2**16), dtype=st.sampled_from([np.float64, np.float32, np.uint8]))
+def test_extract_then_accumulate_is_identity_property(h, w, c, ph, pw, mode, seed, dtype):
     img = np.random.default_rng(seed).random((h, w, c))
+    img = (img * 255).astype(dtype) if dtype == np.uint8 else img.astype(dtype)
     if ph > h or pw > w:
         with pytest.raises(ValueError, match="larger than the image"):
             extract(img, [[0, 0]], (ph, pw), mode=mode)
         return
     centers = _all_centers((h, w))
-    out, _ = accumulate(extract(img, centers, (ph, pw), mode=mode), centers, (h, w), mode=mode)
-    assert np.allclose(out, img, atol=1e-12)
+    patches = extract(img, centers, (ph, pw), mode=mode)
+    assert patches.dtype == img.dtype  # extraction copies values, whatever their type
+    out, _ = accumulate(patches, centers, (h, w), mode=mode)
+    assert out.dtype == (np.float32 if dtype == np.float32 else np.float64)
+    assert np.allclose(out, img, atol=1e-5 if dtype == np.float32 else 1e-12)

@@ -118,7 +118,26 @@ def test_gaussian_pyramid_bad_levels():
     with pytest.raises(ValueError, match="spatial axes"):
         downsample(np.zeros((4, 4, 4, 4)))
     with pytest.raises(TypeError, match="floating point"):
-        downsample(np.zeros((4, 4), dtype=np.uint8))
+        downsample(np.zeros((4, 4), dtype=np.int32))
+    # uint8 is scaled to [0, 1] as at every public boundary of texsynth
+    assert gaussian_pyramid(np.full((4, 4), 255, np.uint8), 2)[1].max() == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("call", [
+    lambda a: gaussian_pyramid(a, 2),
+    lambda a: laplacian_pyramid(a, 2),
+    lambda a: SteerablePyramid(a.shape, 1, 4).decompose(a),
+])
+def test_pyramids_refuse_non_finite_and_empty_input(call):
+    bad = np.zeros((8, 8))
+    bad[3, 4] = np.nan
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        call(bad)
+    bad[3, 4] = np.inf
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        call(bad)
+    with pytest.raises(ValueError, match="empty|shape"):
+        call(np.zeros((0, 8)))
 
 
 # ----------------------------------------------------------------------------- steerable pyramid

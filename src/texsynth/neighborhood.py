@@ -31,6 +31,8 @@ import numbers
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
+from ._validate import as_size
+
 __all__ = [
     "MODES",
     "patch_shape",
@@ -209,7 +211,8 @@ def accumulate(patches, centers, shape, *, patch_weights=None, pixel_weights=Non
     Parameters
     ----------
     patches : numpy.ndarray
-        ``(N, h, w, C)``.
+        ``(N, h, w, C)``. Integer or bool patches are averaged in float64, in
+        their own units (no scaling to [0, 1]).
     centers : array_like of int, shape (N, 2)
         Where each patch is centred.
     shape : (int, int)
@@ -225,7 +228,8 @@ def accumulate(patches, centers, shape, *, patch_weights=None, pixel_weights=Non
     Returns
     -------
     image : numpy.ndarray
-        ``(H, W, C)``; pixels that no patch covers (zero total weight) are 0.
+        ``(H, W, C)``, float32 for float32 patches, float64 otherwise; pixels
+        that no patch covers (zero total weight) are 0.
     weight : numpy.ndarray
         ``(H, W)`` total weight per pixel.
 
@@ -242,9 +246,11 @@ def accumulate(patches, centers, shape, *, patch_weights=None, pixel_weights=Non
     patches = np.asarray(patches)
     if patches.ndim != 4:
         raise ValueError(f"patches must have shape (N, h, w, C), got {patches.shape}")
+    if not np.issubdtype(patches.dtype, np.floating):  # an average of integers is not an integer
+        patches = patches.astype(np.float64)
     _check_mode(mode)
     n, h, w, c = patches.shape
-    height, width = shape
+    height, width = as_size(shape, "shape")
     rows, cols = _patch_coords(centers, (h, w), (height, width), mode)
     if rows.shape[0] != n:
         raise ValueError(f"centers holds {rows.shape[0]} positions but patches holds {n}; pass one centre per patch")
@@ -259,8 +265,9 @@ def accumulate(patches, centers, shape, *, patch_weights=None, pixel_weights=Non
         if aw.shape != (n,):
             raise ValueError(f"patch_weights must have shape ({n},), got {aw.shape}")
         weight = weight * aw[:, None, None]
-    if weight.size and weight.min() < 0:
-        raise ValueError("patch_weights and pixel_weights must be non-negative")
+    if weight.size and not (np.isfinite(weight).all() and weight.min() >= 0):
+        raise ValueError("patch_weights and pixel_weights must be finite and non-negative; "
+                         "replace NaN or negative weights (e.g. np.nan_to_num, np.clip)")
     flat = (rows[:, :, None] * width + cols[:, None, :]).ravel()
     total = np.bincount(flat, weights=weight.ravel(), minlength=height * width)
     weighted = (patches * weight[..., None]).reshape(-1, c)
@@ -297,6 +304,7 @@ def grid_centers(shape, size, spacing, *, mode="wrap"):
     [[2, 2], [2, 4], [2, 6]]
     """
     _check_mode(mode)
+    shape = as_size(shape, "shape")
     size = patch_shape(size)
     step = patch_shape(spacing, "spacing")
     axes = []

@@ -84,6 +84,8 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.ndimage import correlate1d
 
+from ._validate import as_float_array
+
 __all__ = [
     "BINOMIAL_KERNEL",
     "downsample",
@@ -123,10 +125,20 @@ def _spatial(image, spatial_dims, name="image"):
             f"{name} must have {spatial_dims} spatial axes {axes} and optionally a trailing channel "
             f"axis for spatial_dims={spatial_dims}, got shape {arr.shape}"
         )
+    if arr.size == 0:
+        raise ValueError(f"{name} is empty (shape {arr.shape}); pass an array with at least one sample")
+    if arr.dtype in (np.uint8, np.uint16, np.bool_):
+        return as_float_array(arr, name)  # scaled to [0, 1] as everywhere in texsynth
     if not np.issubdtype(arr.dtype, np.floating):
-        raise TypeError(f"{name} must be floating point (convert it with texsynth._validate.as_image), "
-                        f"got dtype {arr.dtype}")
+        raise TypeError(f"{name} must be floating point (any range: pyramid bands are signed) or "
+                        f"uint8/uint16/bool, got dtype {arr.dtype}")
+    _check_finite(arr, name)
     return arr
+
+
+def _check_finite(arr, name):
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} contains NaN or infinite values; replace them (e.g. np.nan_to_num) first")
 
 
 def _blur(image, spatial_dims, ndmode, kernel=BINOMIAL_KERNEL):
@@ -578,6 +590,7 @@ class SteerablePyramid:
                              f"build SteerablePyramid(image.shape, ...) for it")
         if not np.isrealobj(image):
             raise TypeError("image must be real")
+        _check_finite(image, "image")
         dtype = np.float32 if image.dtype == np.float32 else np.float64
         grid = self._full if self.is_complex else self._half
         if grid["half"]:
