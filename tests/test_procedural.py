@@ -468,6 +468,45 @@ def test_meinhardt_stripes():
     assert np.array_equal(again, meinhardt_stripes((16, 16), steps=50, rng=4))
 
 
+@pytest.mark.parametrize("pattern", ["spots", "stripes"])
+def test_turk_steps_are_the_slide_equations(pattern):
+    # the lecture slide, transcribed with np.roll (periodic 5-point Laplacian), dt = 1:
+    #   da = s (16 - a b) + Da lap(a);  db = s (a b - b - beta) + Db lap(b);  then b = max(b, 0)
+    steps = 400
+    _, info = reaction_diffusion((20, 24), steps=steps, pattern=pattern, rng=5, dtype=np.float64,
+                                 return_info=True)
+    p = info.parameters
+    s, da_rate, db_rate, beta = p["s"], p["Da"], p["Db"], info.beta
+
+    def lap(x):
+        return np.roll(x, 1, 0) + np.roll(x, -1, 0) + np.roll(x, 1, 1) + np.roll(x, -1, 1) - 4 * x
+
+    a = np.full((20, 24), 4.0)
+    b = np.full((20, 24), 4.0)
+    for _ in range(steps):
+        da = s * (16 - a * b) + da_rate * lap(a)
+        db = s * (a * b - b - beta) + db_rate * lap(b)
+        a, b = a + da, np.maximum(b + db, 0.0)
+    assert np.abs(b - 4).max() > 1e-3  # the pattern has started to grow: the test is not vacuous
+    # float64 both ways; only the order of additions differs
+    np.testing.assert_allclose(info.concentrations["a"], a, atol=1e-9)
+    np.testing.assert_allclose(info.concentrations["b"], b, atol=1e-9)
+
+
+def test_reaction_diffusion_commands_write_images(tmp_path):
+    from texsynth import cli
+    from texsynth.io import load_image
+
+    out = tmp_path / "rd.png"
+    assert cli.main(["reaction-diffusion", "-o", str(out), "--size", "40x24", "--steps", "200",
+                     "--seed", "1", "--no-progress"]) == 0
+    assert load_image(out).shape == (24, 40, 3)
+    assert cli.main(["gray-scott", "-o", str(tmp_path / "gs.png"), "--size", "32x32", "--preset", "mazes",
+                     "--steps", "200", "--seed", "1", "--no-progress"]) == 0
+    assert load_image(tmp_path / "gs.png").shape == (32, 32, 3)
+    assert cli.main(["reaction-diffusion", "-o", str(tmp_path / "x.png"), "--Da", "0.5", "--no-progress"]) == 2
+
+
 def test_turk_reproducible_frames_and_beta():
     img1, i1 = reaction_diffusion((24, 24), steps=300, record_every=100, rng=3, return_info=True)
     img2 = reaction_diffusion((24, 24), steps=300, record_every=100, rng=3)

@@ -110,17 +110,17 @@ def _interpolate(exemplar, seed):
 def _entries():
     """The gallery, in display order."""
     hb = "Heeger & Bergen, SIGGRAPH 1995 (doi:10.1145/218380.218446)"
-    pw = "Harrison, WSCG 2002 (patchwork texture synthesis)"
+    pw = "Harrison, Monash University technical report 2002 (patchwork texture synthesis)"
     ps = "Portilla & Simoncelli, IJCV 2000 (doi:10.1023/A:1026553619983)"
     perlin = "Perlin, SIGGRAPH 1985 / 2002 (doi:10.1145/325165.325247)"
     return [
         Entry("marble", "Perlin marble: sin(x + turbulence) through a colour map", perlin, None,
               _procedural("marble")),
         Entry("wood", "Solid wood rings: sin(radius + turbulence)", perlin, None, _procedural("wood")),
-        Entry("reaction_diffusion", "Turk reaction-diffusion spots", "Turk, SIGGRAPH 1991 (doi:10.1145/127719.122749)",
+        Entry("reaction_diffusion", "Turk reaction-diffusion spots", "Turk, SIGGRAPH 1991 (doi:10.1145/122718.122749)",
               None, _procedural("reaction_diffusion", steps=6000)),
         Entry("reaction_diffusion_stripes", "Turk's two-chemical system far above the Turing threshold: stripes",
-              "Turk, SIGGRAPH 1991 (doi:10.1145/127719.122749)", None,
+              "Turk, SIGGRAPH 1991 (doi:10.1145/122718.122749)", None,
               _procedural("reaction_diffusion", pattern="stripes", steps=10000)),
         Entry("gray_scott_mazes", "Gray-Scott reaction-diffusion, 'mazes' preset",
               "Pearson, Science 1993 (doi:10.1126/science.261.5118.189)", None,
