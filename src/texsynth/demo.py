@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Callable
 
 from . import data
-from .io import save_image
+from .io import _atomic_write, save_image
 
 __all__ = ["Entry", "ENTRIES", "run_demo"]
 
@@ -74,14 +74,11 @@ def _optimize(exemplar, seed):
 
 
 def _animate(exemplar, seed):
-    import numpy as np
-
     from . import flows
     from .optimization import animate_texture
 
     frames = animate_texture(exemplar[:96, :96], flows.rotation((96, 96), 0.06), frames=8, rng=seed)
-    gap = np.ones((96, 4, frames.shape[-1]))
-    return np.concatenate([frames[0], gap, frames[3], gap, frames[7]], axis=1)
+    return _side_by_side([frames[0], frames[3], frames[7]])
 
 
 def _pixels(exemplar, seed):
@@ -107,6 +104,35 @@ def _interpolate(exemplar, seed):
     return interpolate_textures(exemplar[:64, :64], other, 0.5, size=(64, 64), stages=((2, 17), (1, 17)), rng=seed)
 
 
+def _side_by_side(images, gap=4):
+    """Images of one height next to each other, separated by white gaps."""
+    import numpy as np
+
+    white = np.ones((images[0].shape[0], gap) + images[0].shape[2:])
+    parts = [images[0]]
+    for image in images[1:]:
+        parts += [white, image]
+    return np.concatenate(parts, axis=1)
+
+
+def _solid(exemplar, seed):
+    from .multisource import synthesize_solid
+
+    volume = synthesize_solid(exemplar[:64, :64], 32, rng=seed)
+    # three faces of the cube, one per axis: each should look like the exemplar
+    return _side_by_side([volume[0], volume[:, 0], volume[:, :, 0]])
+
+
+def _patchwork_video(exemplar, seed):
+    import numpy as np
+
+    from .patchwork import patchwork_video
+
+    clip = np.stack([exemplar[:128, 4 * t:4 * t + 128] for t in range(16)])  # a window drifting over the photo
+    video = patchwork_video(clip, (128, 128), 12, grid_spacing=32, rng=seed)
+    return _side_by_side([video[0], video[5], video[11]])
+
+
 def _entries():
     """The gallery, in display order."""
     hb = "Heeger & Bergen, SIGGRAPH 1995 (doi:10.1145/218380.218446)"
@@ -129,6 +155,8 @@ def _entries():
               "Wei & Levoy, SIGGRAPH 2000 (doi:10.1145/344779.345009)", "bread", _pixels),
         Entry("mix_brick_bread", "Wei texture mixture, ramp weights: brick (left) turning into bread (right)",
               "Wei, SIGGRAPH 2002 sketch (texture synthesis from multiple sources)", "brick", _mixture),
+        Entry("solid_bread", "Wei solid texture from one 2-D view: three faces of a 32^3 cube (x, y and z slices)",
+              "Wei, SIGGRAPH 2002 sketch (texture synthesis from multiple sources)", "bread", _solid),
         Entry("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
               "Kwatra et al., SIGGRAPH 2005 (doi:10.1145/1073204.1073263)", "bread", _optimize),
         Entry("animate_bumpy", "Kwatra flow-guided animation, rotation 0.06 rad/frame: frames 1, 4 and 8 "
@@ -138,6 +166,9 @@ def _entries():
               "(small: 64x64, stages (2, 17), (1, 17))",
               "Ruiters, Schnabel & Klein, CGF 2010 (doi:10.1111/j.1467-8659.2010.01739.x)", "brick", _interpolate),
         Entry("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", pw, "water", _patchwork(64)),
+        Entry("patchwork_video_water", "Harrison video patchwork: frames 1, 6 and 12 of a looping 12-frame "
+              "video from a 16-frame input clip (the water photograph drifting sideways: no video texture is "
+              "bundled)", pw, "water", _patchwork_video),
         Entry("patchwork_bread", "Harrison patchwork, tileable (grid 24, f = 6)", pw, "bread", _patchwork(24)),
         Entry("heeger_bergen_metal", "Heeger-Bergen: stochastic texture (works)", hb, "metal", _heeger_bergen),
         Entry("heeger_bergen_bread", "Heeger-Bergen: colour by PCA (works)", hb, "bread", _heeger_bergen),
@@ -188,7 +219,8 @@ def run_demo(out="texsynth-demo", *, seed=0, entries=None, log=None):
         if log:
             log(f"{entry.slug:<32} {seconds:6.1f} s")
     index = out / "index.html"
-    index.write_text(_html(rows))
+    page = _html(rows)
+    _atomic_write(index, lambda tmp: Path(tmp).write_text(page, encoding="utf-8"))
     return index
 
 
