@@ -1,6 +1,6 @@
 """Harrison patchwork: speed (O(n) in output pixels) and the weight the neighbour bound omits.
 
-Run: /work/venv/bin/python benchmarks/bench_patchwork.py [--repeat 3]
+Run: python benchmarks/bench_patchwork.py [--repeat 3]   (from the repository root, with texsynth installed)
 
 Targets (issue 4): 1024x1024 colour output in at most 0.5 s; times for 256^2 .. 2048^2 that grow
 linearly; a 128x128x64-frame video in at most 10 s; transfer onto a 512x512 pattern in at most 10 s.
@@ -18,12 +18,14 @@ Exemplar: embark/2.jpg (ink, 400x400 colour); grid 64, f = 6 unless stated.
 """
 
 import argparse
+import importlib
 import time
 from pathlib import Path
 
 import numpy as np
 
-from texsynth import patchwork as pw
+# texsynth.patchwork is the function (exported by texsynth/__init__.py); the module is looked up by name
+pw = importlib.import_module("texsynth.patchwork")
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"

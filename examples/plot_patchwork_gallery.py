@@ -50,14 +50,13 @@ good = [
     ("jcjohnson/bread.png", "bread", 24),
     ("lcv/metal.pgm", "metal", 48),
 ]
-fig, axes = plt.subplots(2, len(good), figsize=(3.1 * len(good), 6.6))
+fig, axes = plt.subplots(2, len(good), figsize=(3.1 * len(good), 6.6), layout="constrained")
 for k, (file, name, grid) in enumerate(good):
     exemplar = load(file)
     out = patchwork(exemplar, 384, grid_spacing=grid, sharpness=6, rng=k)
     show(axes[0, k], exemplar, f"{name} input {exemplar.shape[0]}x{exemplar.shape[1]}")
     show(axes[1, k], out, f"patchwork 384x384, grid {grid}, f = 6")
 fig.suptitle("Figure 4 on real textures: inputs (top, to scale of their own panel) and outputs (bottom)")
-fig.tight_layout()
 fig.savefig(OUT / "patchwork_gallery.png", dpi=80)
 print("saved", OUT / "patchwork_gallery.png")
 

@@ -25,8 +25,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-import texsynth.patchwork as pw
 from texsynth.io import load_image
+from texsynth.patchwork import patchwork
 
 HERE = Path(__file__).resolve().parent
 TEXTURES = HERE.parents[1] / "shared" / "textures"
@@ -94,7 +94,7 @@ print("saved", OUT / "patchwork_joins.png")
 # left the output with the Voronoi cell borders drawn, right the same crop without them.
 for name, file in [("water", TEXTURES / "embark" / "1.jpg"), ("gravel", TEXTURES / "skimage" / "gravel.png")]:
     exemplar = load_image(file)
-    out, info = pw.patchwork(exemplar, 256, grid_spacing=64, sharpness=6, rng=4, return_info=True)
+    out, info = patchwork(exemplar, 256, grid_spacing=64, sharpness=6, rng=4, return_info=True)
     border = np.zeros(info.cells.shape, bool)
     border[:-1] |= info.cells[:-1] != info.cells[1:]
     border[:, :-1] |= info.cells[:, :-1] != info.cells[:, 1:]

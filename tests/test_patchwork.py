@@ -5,12 +5,20 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from texsynth import metrics
-from texsynth.patchwork import patchwork, patchwork_transfer, patchwork_video, voronoi_weights
+from texsynth import cli, data, metrics
+from texsynth.io import load_frames, load_image, save_frames, save_image
+from texsynth.patchwork import _prescale, patchwork, patchwork_transfer, patchwork_video, voronoi_weights
 
 
 def _c(image):
     return image if image.ndim == 3 else image[..., None]
+
+
+def mirror(i, n):
+    """Symmetric extension (the module's np.pad mode="symmetric") of integer coordinates."""
+    period = 2 * n
+    i = np.mod(i, period)
+    return np.where(i < n, i, period - 1 - i)
 
 
 def all_cells_reference(exemplar, info, shape, f, tileable, divisor="sqrt"):
@@ -24,12 +32,6 @@ def all_cells_reference(exemplar, info, shape, f, tileable, divisor="sqrt"):
     a = ex.reshape(-1, ex.shape[-1]).mean(0)
     r, c = np.mgrid[:H, :W]
     shifts = [(0, 0)] if not tileable else [(dy, dx) for dy in (-H, 0, H) for dx in (-W, 0, W)]
-
-    def mirror(i, n):
-        period = 2 * n
-        i = np.mod(i, period)
-        return np.where(i < n, i, period - 1 - i)
-
     num = np.zeros((H, W, ex.shape[-1]))
     den = np.zeros((H, W))
     for (py, px), (qy, qx) in zip(info.p, info.q):
@@ -284,6 +286,91 @@ def test_transfer_eq7_with_one_cell_is_the_patch(texture):
     assert np.allclose(out, tex[qy - py : qy - py + 24, qx - px : qx - px + 24], atol=1e-5)
 
 
+def all_cells_eq7(texture, info, shape, f):
+    """Eq. 7 written out plainly over EVERY cell, in float64 (samples outside the texture mirrored)."""
+    tex = _c(texture).astype(np.float64)
+    H, W = shape
+    r, c = np.mgrid[:H, :W]
+    num = np.zeros((H, W, tex.shape[-1]))
+    mean_num = np.zeros((H, W, tex.shape[-1]))
+    sum_w = np.zeros((H, W))
+    sum_w2 = np.zeros((H, W))
+    for (py, px), (qy, qx), a_i in zip(info.p, info.q, info.local_means.astype(np.float64)):
+        w = ((r - py) ** 2 + (c - px) ** 2) ** (-f / 2)  # eq. 1
+        sample = tex[mirror((r - py + qy).astype(int), tex.shape[0]), mirror((c - px + qx).astype(int), tex.shape[1])]
+        num += (sample - a_i) * w[..., None]  # sum_i (I(x - p_i + q_i) - a_i) w_i(x)
+        mean_num += a_i * w[..., None]  # sum_i a_i w_i(x)
+        sum_w += w
+        sum_w2 += w * w
+    return np.clip(num / np.sqrt(sum_w2)[..., None] + mean_num / sum_w[..., None], 0, 1)
+
+
+@pytest.mark.parametrize("f", [2.0, 6.0])
+def test_transfer_matches_eq7_summed_over_all_cells(texture, f):
+    from skimage import data as skdata
+    from skimage.transform import resize
+
+    tex = texture("embark/2.jpg", 160)
+    pattern = np.repeat(resize(skdata.camera(), (64, 64), anti_aliasing=True)[..., None], 3, axis=-1)
+    # grid 16 on 64x64: 4x4 cells. With neighbors=8 every pixel's 8x8 block of grid points covers all
+    # four rows and columns of points (block start k0 = floor(r/16 - 3.5) is in -4..0), so the module
+    # sums over every cell and eq. 7 is exact: only float32 rounding separates it from this float64
+    # reference (measured: max 6e-7). Tolerance 1e-5: 16 terms of float32 products and a square
+    # root stay far below it, while a wrong exponent, divisor, local mean or offset moves pixels by
+    # 0.01-0.3.
+    out, info = patchwork_transfer(tex, pattern, grid_spacing=16, sharpness=f, candidates=16, neighbors=8,
+                                   rng=0, return_info=True)
+    assert info.grid_shape == (4, 4)
+    ref = all_cells_eq7(tex, info, (64, 64), f)
+    assert np.abs(out - ref).max() < 1e-5
+    # the local averages a_i are the means of the texture patches (patch_size = grid 16) at q_i
+    inside = 0
+    for (qy, qx), a_i in zip(info.q.astype(int), info.local_means):
+        if 8 <= qy <= tex.shape[0] - 8 and 8 <= qx <= tex.shape[1] - 8:
+            np.testing.assert_allclose(a_i, tex[qy - 8 : qy + 8, qx - 8 : qx + 8].mean((0, 1)), atol=1e-5)
+            inside += 1
+    assert inside >= 12
+    # the check is sensitive: the default 4x4 bound drops the far cells, which at f = 2 carry a
+    # visible share of sum_i w_i (measured: mean |diff| 9e-3) and at f = 6 very little (9e-5)
+    bounded, binfo = patchwork_transfer(tex, pattern, grid_spacing=16, sharpness=f, candidates=16, rng=0,
+                                        return_info=True)
+    err = np.abs(bounded - all_cells_eq7(tex, binfo, (64, 64), f)).mean()
+    assert err > (1e-3 if f == 2 else 1e-5)
+
+
+def test_prescale_gives_the_pattern_the_textures_mean_and_range(texture):
+    from skimage import data as skdata
+    from skimage.transform import resize
+
+    tex = texture("embark/2.jpg", 128).astype(np.float32)  # colour: per-channel mean and range differ
+    photo = resize(skdata.camera(), (48, 64), anti_aliasing=True)
+    pattern = np.repeat((0.2 + 0.3 * photo)[..., None], 3, axis=-1).astype(np.float32)  # dim, low contrast
+    pattern[..., 2] = 0.5  # a flat channel has no range: it takes the texture's mean
+    scaled = _prescale(pattern, tex)
+    # float32 sums over 3000-16000 values: agreement to 1e-4 (a missed mean or range is off by >= 0.05)
+    np.testing.assert_allclose(scaled.mean((0, 1)), tex.mean((0, 1)), atol=1e-4)
+    rng_t = tex.max((0, 1)) - tex.min((0, 1))
+    np.testing.assert_allclose((scaled.max((0, 1)) - scaled.min((0, 1)))[:2], rng_t[:2], atol=1e-4)
+    np.testing.assert_allclose(scaled[..., 2], tex[..., 2].mean(), atol=1e-4)
+    np.testing.assert_allclose(np.corrcoef(scaled[..., 0].ravel(), photo.ravel())[0, 1], 1, atol=1e-6)
+
+
+def test_prescale_option_changes_the_matching(texture):
+    tex = texture("embark/2.jpg", 128)
+    target = np.ascontiguousarray(np.rot90(tex))  # a pattern with exactly the texture's mean and range
+    dim = 0.4 * target + 0.3  # the same pattern, dimmer and with less contrast
+    # prescale (the default) maps the dim pattern back onto the texture's mean and range, i.e. onto
+    # `target`: the same q_i and the same output as matching `target` itself without pre-scaling
+    on, info_on = patchwork_transfer(tex, dim, candidates=16, rng=0, return_info=True)
+    ref, info_ref = patchwork_transfer(tex, target, candidates=16, prescale=False, rng=0, return_info=True)
+    assert np.array_equal(info_on.q, info_ref.q)
+    np.testing.assert_allclose(on, ref, atol=1e-6)
+    # turned off, the dim pattern itself is matched: other patches, another output
+    off, info_off = patchwork_transfer(tex, dim, candidates=16, prescale=False, rng=0, return_info=True)
+    assert np.mean(np.any(info_off.q != info_on.q, axis=1)) > 0.3  # measured: 78% of the cells
+    assert np.abs(off - on).mean() > 0.02  # measured: 0.09
+
+
 def test_video_transfer(texture):
     clip = _drifting(texture, frames=6, size=48)
     pattern = np.zeros((32, 32, 3))
@@ -291,6 +378,153 @@ def test_video_transfer(texture):
     out = patchwork_transfer(clip, pattern, grid_spacing=8, candidates=8, n_frames=4, rng=0)
     assert out.shape == (4, 32, 32, 3)
     assert out[:, 10:22, 10:22].mean() > out[:, :6].mean()
+
+
+def test_video_transfer_matches_the_pattern_against_the_average_frame(texture):
+    from skimage import data as skdata
+    from skimage.transform import resize
+
+    full = texture("embark/2.jpg")
+    # a window moving over the ink photograph: every frame differs from the average frame A(x)
+    clip = np.stack([full[100 + 3 * t : 196 + 3 * t, 100 + 4 * t : 196 + 4 * t] for t in range(8)])
+    pattern = np.repeat(resize(skdata.camera(), (48, 48), anti_aliasing=True)[..., None], 3, axis=-1)
+    kwargs = dict(grid_spacing=8, candidates=16, rng=0, return_info=True)
+    video, info = patchwork_transfer(clip, pattern, n_frames=6, **kwargs)
+    average = clip.astype(np.float32).mean(0)  # A(x), eq. 6
+    _, info_a = patchwork_transfer(average, pattern, **kwargs)
+    # the same random stream draws the same p_i and candidates: matching against A(x) picks the same
+    # q_i and local averages a_i as image transfer onto A(x)
+    assert np.array_equal(info.p, info_a.p)
+    assert np.array_equal(info.q, info_a.q)
+    np.testing.assert_array_equal(info.local_means, info_a.local_means)
+    # ... and not those of a single frame (the check is sensitive; measured 50-75% of the cells differ)
+    for t in (0, 4):
+        _, info_t = patchwork_transfer(clip[t], pattern, **kwargs)
+        assert np.mean(np.any(info_t.q != info.q, axis=1)) > 0.25
+    assert video.shape == (6, 48, 48, 3) and info.frame_keys.shape[0] == info.p.shape[0]
+
+
+def test_video_transfer_of_a_still_clip_is_the_image_transfer(texture):
+    frame = texture("embark/2.jpg", 96)
+    pattern = np.zeros((40, 40, 3))
+    pattern[10:30, 10:30] = 1.0
+    video = patchwork_transfer(np.stack([frame] * 4), pattern, grid_spacing=8, candidates=8, n_frames=3, rng=1)
+    image = patchwork_transfer(frame, pattern, grid_spacing=8, candidates=8, rng=1)
+    # I(x, t) = A(x): every intermediate frame is A (eq. 6), so every frame is eq. 7 on the image
+    np.testing.assert_allclose(video, np.stack([image] * 3), atol=1e-5)
+
+
+# --------------------------------------------------------------------------- memory
+
+
+def test_video_memory_stays_proportional_to_input_plus_output(texture):
+    import tracemalloc
+
+    base = texture("embark/1.jpg", 64).astype(np.float32)  # float32 in, float32 out: no float64 copy
+    clip = np.ascontiguousarray(np.stack([base[t : t + 48, 2 * t : 2 * t + 48] for t in range(8)]))
+    size, m = 96, 4  # grid 16: 6x6 = 36 cells, each summed over the 4x4 block of grid points
+    peaks, outputs = [], []
+    for n_frames in (32, 64):
+        tracemalloc.start()
+        out = patchwork_video(clip, size, n_frames, grid_spacing=16, neighbors=m, rng=0)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+        outputs.append(out.nbytes)
+        # Bound: the output, a few float32 copies of the input (cast, mean-subtracted, padded, A(x)),
+        # and one band of work, which does not grow with the number of frames: for each of the m^2
+        # neighbours a float32 weight, an int64 source index and float32 / int64 temporaries of the
+        # sampling (about 64 bytes per pixel of one frame; one band holds the whole 96x96 frame).
+        band = m * m * 64 * size * size
+        bound = outputs[-1] + 4 * clip.nbytes + band  # 32 frames: 3.5 + 0.9 + 9.4 MB; 64 frames: 17.4 MB
+        # Storing the intermediate sequences N_i(x, t) instead would cost, even restricted to where
+        # each cell contributes (its m x m block reach, about (m s)^2 pixels per cell), m^2 times the
+        # float32 output: 16 x 3.5 = 57 MB for 32 frames, 113 MB for 64 (over whole frames, 36 cells x
+        # the output: 127 and 255 MB) - 4 to 15 times the bound.
+        materialised = m * m * outputs[-1]
+        assert peaks[-1] < bound < materialised / 4  # measured peaks: 8.5 MB (32 frames), 12 MB (64)
+    # and it grows with the output, not m^2 times faster: twice the frames add about one output's bytes
+    assert peaks[1] - peaks[0] < 1.5 * (outputs[1] - outputs[0])
+
+
+# --------------------------------------------------------------------------- command line
+
+
+def _cli(*argv):
+    return cli.main([str(a) for a in argv])
+
+
+def _api_equals_file(api, stored):
+    """The file holds the API result rounded to 8 bits."""
+    return api.shape == stored.shape and np.array_equal(np.round(api * 255), np.round(stored * 255))
+
+
+def test_cli_patchwork_tileable(tmp_path):
+    bread = data.load("bread")  # 99 x 108 colour
+    src = save_image(tmp_path / "bread.png", bread)
+    out = tmp_path / "tile.png"
+    assert _cli("patchwork", src, "-o", out, "--size", "72x48", "--tileable", "--grid-spacing", 24,
+                "--seed", 3) == 0
+    tile = load_image(out)
+    api = patchwork(load_image(src), (48, 72), grid_spacing=24, tileable=True, rng=3)
+    assert tile.shape == (48, 72, 3) and _api_equals_file(api, tile)
+    # the written tile wraps: the pair across the wrap looks like an interior pair of columns
+    cols = np.abs(np.diff(tile, axis=1)).mean((0, 2))
+    assert np.abs(tile[:, 0] - tile[:, -1]).mean() <= cols.max()
+    # without --tileable the command gives another image
+    assert _cli("patchwork", src, "-o", tmp_path / "plain.png", "--size", "72x48", "--grid-spacing", 24,
+                "--seed", 3) == 0
+    assert not np.array_equal(load_image(tmp_path / "plain.png"), tile)
+
+
+def _translated(image, frames, size, step=(1, 2)):
+    """No video texture exists: a window moving over a real texture by `step` pixels per frame."""
+    return np.stack([image[step[0] * t : step[0] * t + size, step[1] * t : step[1] * t + size] for t in range(frames)])
+
+
+def test_cli_patchwork_video_from_a_gif(tmp_path):
+    clip = _translated(data.load("metal"), 6, 40)  # grey: a GIF holds 8-bit grey frames exactly
+    gif = save_frames(tmp_path / "metal.gif", clip)
+    out = tmp_path / "loop"  # no suffix: a folder of PNG frames
+    assert _cli("patchwork-video", gif, "-o", out, "--size", "36x32", "--n-frames", 5, "--grid-spacing", 16,
+                "--seed", 0) == 0
+    written = load_frames(out)
+    assert written.shape == (5, 32, 36, 1) and len(list(out.glob("frame_*.png"))) == 5
+    api = patchwork_video(load_frames(gif), (32, 36), 5, grid_spacing=16, rng=0)
+    assert _api_equals_file(api, written)
+
+
+def test_cli_patchwork_video_from_a_folder_of_frames(tmp_path):
+    clip = _translated(data.load("bread"), 6, 48, step=(2, 3))  # colour
+    folder = save_frames(tmp_path / "frames", clip)
+    out = tmp_path / "loop.gif"
+    assert _cli("patchwork-video", folder, "-o", out, "--n-frames", 4, "--grid-spacing", 16, "--seed", 1) == 0
+    written = load_frames(out)
+    assert written.shape == (4, 48, 48, 3)  # default size: the input frames'
+    api = patchwork_video(load_frames(folder), 48, 4, grid_spacing=16, rng=1)
+    # a GIF stores a 256-colour palette: the frames agree up to its quantisation (measured 0.006,
+    # while frames 0 and 2 of the loop differ by 0.065)
+    assert np.abs(written - api).mean() < 0.03
+    assert np.abs(written - api).mean() < 0.3 * np.abs(api[0] - api[2]).mean() + 0.01
+
+
+def test_cli_patchwork_transfer(tmp_path):
+    tex = save_image(tmp_path / "bread.png", data.load("bread"))
+    pattern = np.zeros((40, 56))
+    pattern[10:30, 14:42] = 1.0  # a bright rectangle on black, grey: repeated to the texture's channels
+    pat = save_image(tmp_path / "pattern.png", pattern)
+    out = tmp_path / "transfer.png"
+    assert _cli("patchwork-transfer", tex, pat, "-o", out, "--grid-spacing", 8, "--candidates", 8,
+                "--seed", 0) == 0
+    image = load_image(out)
+    assert image.shape == (40, 56, 3)  # the pattern's size, the texture's channels
+    api = patchwork_transfer(load_image(tex), np.repeat(load_image(pat)[..., None], 3, -1), grid_spacing=8,
+                             candidates=8, rng=0)
+    assert _api_equals_file(api, image)
+    assert image[14:26, 18:38].mean() > image[:6].mean() + 0.05  # the rectangle shows
+    out2 = tmp_path / "plain.png"
+    assert _cli("patchwork-transfer", tex, pat, "-o", out2, "--grid-spacing", 8, "--candidates", 8,
+                "--no-prescale", "--seed", 0) == 0
+    assert not np.array_equal(load_image(out2), image)
 
 
 # --------------------------------------------------------------------------- bad input
