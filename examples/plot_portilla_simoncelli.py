@@ -13,7 +13,10 @@ The second shows the convergence (signal-to-noise ratio of each group of
 statistics per iteration, the MATLAB code's ``snrP``). The third shows colour
 (principal components plus cross-channel correlations per band, as Ruiters
 et al. 2010 extend it) and output sizes different from the exemplar's. The
-fourth interpolates the statistics of two textures linearly.
+fourth synthesises from the linear interpolation of two textures' statistics
+(``portilla_simoncelli(interpolate_statistics(a, b, alpha), size)``), the
+fifth imposes statistics on a region of an image only (``ps_step(...,
+mask=region)``), the rest of the image untouched.
 """
 
 import time
@@ -112,24 +115,41 @@ fig.savefig(OUTPUT / "portilla_simoncelli_colour.png", dpi=110)
 plt.close(fig)
 
 # %%
-# Linear interpolation of statistics (what Ruiters et al. build on)
-# -----------------------------------------------------------------
+# Synthesis from interpolated statistics (the paper's sec. 6; what Ruiters et al. build on)
+# -----------------------------------------------------------------------------------------
 a = load_image(TEXTURES / "lcv/metal.pgm")[:128, :128]
 b = load_image(TEXTURES / "lcv/reptil_skin.pgm")[:128, :128]
 stats_a, stats_b = ps_statistics(a), ps_statistics(b)
 alphas = [0.0, 0.25, 0.5, 0.75, 1.0]
 fig, axes = plt.subplots(1, len(alphas), figsize=(3 * len(alphas), 3.2))
-rng = np.random.default_rng(3)
-noise = np.clip(0.5 + 0.15 * rng.standard_normal((128, 128)), 0, 1)
 for ax, alpha in zip(axes, alphas):
     target = interpolate_statistics(stats_a, stats_b, alpha)
-    image = noise
-    for _ in range(40):  # plain ps_step iterations (no momentum)
-        image = ps_step(image, target)
-    show(ax, image, f"alpha = {alpha}")
-fig.suptitle("metal (alpha 0) to reptile skin (alpha 1): interpolated statistics, 40 ps_step iterations",
+    show(ax, portilla_simoncelli(target, (128, 128), rng=3), f"alpha = {alpha}")
+fig.suptitle("metal (alpha 0) to reptile skin (alpha 1): synthesis from interpolated statistics, 50 iterations",
              fontsize=9)
 fig.tight_layout()
 fig.savefig(OUTPUT / "portilla_simoncelli_interpolation.png", dpi=110)
+plt.close(fig)
+
+# %%
+# Statistics imposed on a region only
+# -----------------------------------
+# ``ps_step(image, stats, mask=disk)`` measures every statistic on the disk, computes the correction
+# from it and keeps the pixels outside; 30 steps turn the disk of a metal photograph into reptile skin.
+# Pasting whole-image steps into the disk instead fits the statistics to disk and surroundings together.
+base = load_image(TEXTURES / "lcv/metal.pgm")[:192, :192]
+target = ps_statistics(load_image(TEXTURES / "lcv/reptil_skin.pgm"))
+yy, xx = np.mgrid[:192, :192]
+disk = np.hypot(yy - 96, xx - 96) < 64
+masked, pasted = base, base
+for _ in range(30):
+    masked = ps_step(masked, target, mask=disk)
+    pasted = np.where(disk, ps_step(pasted, target), pasted)
+fig, axes = plt.subplots(1, 3, figsize=(9.6, 3.4))
+show(axes[0], base, "metal.pgm 192x192 (start)")
+show(axes[1], masked, "ps_step(..., mask=disk) x30: reptile skin in the disk")
+show(axes[2], pasted, "whole-image ps_step pasted into the disk x30")
+fig.tight_layout()
+fig.savefig(OUTPUT / "portilla_simoncelli_mask.png", dpi=110)
 plt.close(fig)
 print("saved", sorted(p.name for p in OUTPUT.glob("portilla_simoncelli_*.png")))

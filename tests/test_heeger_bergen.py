@@ -8,8 +8,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from skimage.transform import resize
 
+from texsynth import cli
 from texsynth.heeger_bergen import HeegerBergenInfo, heeger_bergen, match_histogram
-from texsynth.io import load_image
+from texsynth.io import load_image, save_image
 from texsynth.metrics import spectrum_distance
 from texsynth.pyramid import SteerablePyramid, periodic_smooth_decomposition
 
@@ -186,6 +187,26 @@ def test_progress_callback(bread):
     for comp in range(3):
         d = [c[2]["band_distance"] for c in calls if c[2]["component"] == comp]
         assert d[-1] < d[0]
+
+
+# ----------------------------------------------------------------------------- command line
+def test_command_line_heeger_bergen(tmp_path, metal, bread):
+    grey = save_image(tmp_path / "metal.png", metal[:32, :32])
+    out = tmp_path / "hb.png"
+    assert cli.main(["heeger-bergen", str(grey), "-o", str(out), "--scales", "2", "--iterations", "1",
+                     "--size", "40x24", "--seed", "0"]) == 0
+    image = load_image(out)
+    assert image.shape == (24, 40) and 0.0 <= image.min() and image.max() <= 1.0
+    colour = save_image(tmp_path / "bread.png", bread[:32, :32])
+    assert cli.main(["heeger-bergen", str(colour), "-o", str(tmp_path / "c.png"), "--scales", "2",
+                     "--iterations", "1", "--orientations", "2", "--periodic-exemplar", "mirror", "--seed", "1"]) == 0
+    assert load_image(tmp_path / "c.png").shape == (32, 32, 3)  # default: the input's size and channels
+    # the same seed gives the same file; bad options are a one-line error with status 2
+    assert cli.main(["heeger-bergen", str(grey), "-o", str(tmp_path / "again.png"), "--scales", "2",
+                     "--iterations", "1", "--size", "40x24", "--seed", "0"]) == 0
+    assert np.array_equal(load_image(tmp_path / "again.png"), image)
+    assert cli.main(["heeger-bergen", str(grey), "-o", str(tmp_path / "bad.png"), "--scales", "4"]) == 2
+    assert not (tmp_path / "bad.png").exists()
 
 
 # ----------------------------------------------------------------------------- bad input

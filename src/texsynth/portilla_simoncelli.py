@@ -48,7 +48,12 @@ skewness and kurtosis; reduce the high-pass residual's variance if it is too
 large; add it, and impose the pixel mean, variance, skewness, kurtosis and
 range. :func:`portilla_simoncelli` iterates this from noise, with the MATLAB
 code's "accelerator" (the new image is pushed 0.8 times further along the
-last change, and the last un-pushed image is returned).
+last change, and the last un-pushed image is returned), from an exemplar or
+from given statistics (e.g. two textures' mixed by
+:func:`interpolate_statistics`, the paper's sec. 6). ``ps_step(...,
+mask=region)`` imposes statistics on a region of an image only: every
+statistic is measured on the region, the correction is computed from it, and
+the pixels outside are kept.
 
 Colour (Ruiters et al. 2010, sec. 4.5)
 --------------------------------------
@@ -218,7 +223,7 @@ class PSInfo:
     change : numpy.ndarray
         Root-mean-square change of the image in every iteration.
     statistics : PSStatistics
-        The target statistics (the exemplar's).
+        The target statistics (the exemplar's, or the ones given).
     """
 
     snr: dict
@@ -349,15 +354,16 @@ def _double_phase(z):
     return np.where(mag > 0, z * z / np.where(mag > 0, mag, 1.0), 0.0)
 
 
-def _parents(bands_parent, shape):
+def _parents(bands_parent, shape, where=None):
     """Expanded parent magnitudes (mean-free) and real/imaginary parts of the phase-doubled parent.
 
-    bands_parent: (C, K, h, w) complex at scale s + 1. Returns (N, C K) and (N, 2 C K).
+    bands_parent: (C, K, h, w) complex at scale s + 1. Returns (N, C K) and (N, 2 C K). ``where``
+    (N,) bool: the magnitudes' mean is the region's (default: all pixels').
     """
     c, k = bands_parent.shape[:2]
     up = _expand(bands_parent, shape).reshape(c * k, -1)
     mag = np.abs(up)
-    mag -= mag.mean(axis=1, keepdims=True)
+    mag -= mag.mean(axis=1, keepdims=True) if where is None else mag[:, where].mean(axis=1, keepdims=True)
     doubled = _double_phase(up)
     # columns: channel c: [Re of K orientations, Im of K orientations]
     real = np.concatenate([np.concatenate([doubled[i * k:(i + 1) * k].real, doubled[i * k:(i + 1) * k].imag])
@@ -653,16 +659,36 @@ def _analyse_pixels(comps, mask):
 
 
 # --------------------------------------------------------------------------- projections
-def _impose_autocorrelation(x, target):
+def _region_autocorrelation(x, where, reach):
+    """Circular autocorrelation over pairs of pixels both in the region, natural FFT order.
+
+    ``sum m(p) m(p+d) x(p) x(p+d) / sum m(p) m(p+d)`` (the weighted estimate of
+    :func:`_autocorrelation`); every lag up to ``reach`` in each direction needs a pair inside.
+    """
+    w = where.astype(float)
+    num = sfft.irfft2(np.abs(sfft.rfft2(x * w)) ** 2, s=x.shape)
+    den = np.rint(sfft.irfft2(np.abs(sfft.rfft2(w)) ** 2, s=x.shape))
+    if np.any(_central(den, min(reach, (min(x.shape) - 1) // 2)) < 1):
+        raise ValueError("mask region is too small or too thin to impose the autocorrelation "
+                         f"of a {x.shape[0]}x{x.shape[1]} band; pass a larger mask or fewer scales")
+    return num / np.maximum(den, 1.0)
+
+
+def _impose_autocorrelation(x, target, where=None):
     """Filter ``x`` so its central autocorrelation becomes ``target`` (textureSynth's modacor22).
 
     Solve for a symmetric ``g`` on the window with ``(A_x * g)(u) = target(u)`` for every lag ``u``
     of the window, then filter with ``sqrt(|FFT g|)``: the new autocorrelation is ``A_x * g``.
-    Returns (image, snr before).
+    With a region ``where`` (bool, x's shape) ``A_x`` is the region's autocorrelation (pairs of
+    pixels both inside, as ``ps_statistics(mask=)`` measures it) and the filter is applied to the
+    whole of ``x``. Returns (image, snr before).
     """
     radius = (target.shape[0] - 1) // 2
     spec = sfft.rfft2(x)
-    full = sfft.irfft2(np.abs(spec) ** 2, s=x.shape) / x.size
+    if where is None:
+        full = sfft.irfft2(np.abs(spec) ** 2, s=x.shape) / x.size
+    else:
+        full = _region_autocorrelation(x, where, 2 * radius)
     snr = _snr(target, _central(full, radius))
     lags = np.arange(-radius, radius + 1)
     oy, ox = np.meshgrid(lags, lags, indexing="ij")
@@ -675,33 +701,40 @@ def _impose_autocorrelation(x, target):
     return sfft.irfft2(spec * gain, s=x.shape), snr
 
 
-def _impose_moment(x, target, order):
+def _impose_moment(x, target, order, where=None):
     """Impose skewness (order 3) or kurtosis (order 4), keeping mean and variance (modskew / modkurt).
 
     Gradient projection: ``x + lambda g`` with ``g`` the moment's gradient made orthogonal to the
     constant and to ``x`` (``d^2 - (m3/m2) d - m2`` for skewness, ``d^3 - (m4/m2) d - m3`` for
     kurtosis, ``d = x - mean``), rescaled to the variance; ``lambda`` is the root of the moment's
     rational function of ``lambda`` nearest to 0 (or its extremum if the target cannot be reached).
-    Returns (image, snr before).
+    With a region ``where`` (bool, x's shape) every moment is the region's and the same change
+    is applied to all of ``x``. Returns (image, snr before).
     """
-    mean = float(x.mean())
-    sd = float(np.sqrt(np.mean((x - mean) ** 2)))
+    sel = (lambda a: a) if where is None else (lambda a: a[where])
+    mean = float(np.mean(sel(x)))
+    sd = float(np.sqrt(np.mean(sel((x - mean) ** 2))))
     if sd == 0.0:
         return x, _snr(target, 0.0 if order == 3 else 3.0)
     d = (x - mean) / sd  # unit variance: lambda is dimensionless
-    d2 = d * d
-    m3 = float(np.mean(d2 * d))
+    dr = sel(d)  # the region's values: every moment below is the region's
+    d2 = dr * dr
+    m3 = float(np.mean(d2 * dr))
     current = m3 if order == 3 else float(np.mean(d2 * d2))
     snr = _snr(target, current)
-    d2 = d * d
-    g = d2 - m3 * d - 1.0 if order == 3 else d2 * d - current * d - m3
+
+    def gradient(v):
+        v2 = v * v
+        return v2 - m3 * v - 1.0 if order == 3 else v2 * v - current * v - m3
+
+    gr = gradient(dr)
     # numerator: mean((d + lambda g)^order) = sum_j binom(order, j) mean(d^(order-j) g^j) lambda^j
-    dpow, gpow = [np.ones_like(d), d], [np.ones_like(d), g]
+    dpow, gpow = [np.ones_like(dr), dr], [np.ones_like(dr), gr]
     for _ in range(order - 1):
-        dpow.append(dpow[-1] * d)
-        gpow.append(gpow[-1] * g)
+        dpow.append(dpow[-1] * dr)
+        gpow.append(gpow[-1] * gr)
     num = np.array([math.comb(order, j) * float(np.mean(dpow[order - j] * gpow[j])) for j in range(order + 1)])
-    den = np.array([1.0, 2.0 * float(np.mean(d * g)), float(np.mean(g * g))])  # variance of d + lambda g
+    den = np.array([1.0, 2.0 * float(np.mean(dr * gr)), float(np.mean(gr * gr))])  # variance of d + lambda g
 
     def value(lam):
         return npoly.polyval(lam, num) / npoly.polyval(lam, den) ** (order / 2)
@@ -721,9 +754,13 @@ def _impose_moment(x, target, order):
         cand = npoly.polyroots(deriv) if np.any(deriv[1:] != 0) else np.array([])
         cand = np.concatenate([[0.0], cand[np.abs(cand.imag) <= 1e-6 * np.maximum(1.0, np.abs(cand.real))].real])
         lam = cand[np.argmin(np.abs(value(cand) - target))]
-    y = d + lam * g
-    y -= y.mean()
-    y *= sd / max(float(np.sqrt(np.mean(y * y))), 1e-300)
+    if where is None:
+        y = d + lam * gr
+    else:  # the step changes the region only (the gradient grows as d^3: outside it is unbounded)
+        y = d.copy()
+        y[where] += lam * gr
+    y -= np.mean(sel(y))
+    y *= sd / max(float(np.sqrt(np.mean(sel(y * y)))), 1e-300)
     return y + mean, snr
 
 
@@ -742,20 +779,26 @@ def _covariance_map(current, desired):
     return cur_inv @ vt.T @ u.T @ des
 
 
-def _impose_covariance(x, target):
-    """x (N, m) -> x M with covariance ``target`` (adjustCorr1s; the paper's eq. 8 without parents)."""
-    current = x.T @ x / x.shape[0]
+def _impose_covariance(x, target, where=None):
+    """x (N, m) -> x M with covariance ``target`` (adjustCorr1s; the paper's eq. 8 without parents).
+
+    With ``where`` ((N,) bool) the covariance is the region rows' and M is applied to all rows.
+    """
+    xr = x if where is None else x[where]
+    current = xr.T @ xr / xr.shape[0]
     return x @ _covariance_map(current, target), _snr(target, current)
 
 
-def _impose_cross_covariance(x, target_x, y, target_xy):
+def _impose_cross_covariance(x, target_x, y, target_xy, where=None):
     """Modify only x (N, m): x^T x / N -> target_x and x^T y / N -> target_xy (adjustCorr2s, eq. 8).
 
     New x = x Mx + y My with ``My = By^-1 (Cxy^T - Bxy^T Mx)`` and ``Mx`` mapping the current
-    covariance of x given y onto the desired one. Returns (x, snr of x^T x, snr of x^T y).
+    covariance of x given y onto the desired one. With ``where`` ((N,) bool) the covariances are
+    the region rows' and the maps are applied to all rows. Returns (x, snr of x^T x, snr of x^T y).
     """
-    n = x.shape[0]
-    bx, bxy, by = x.T @ x / n, x.T @ y / n, y.T @ y / n
+    xr, yr = (x, y) if where is None else (x[where], y[where])
+    n = xr.shape[0]
+    bx, bxy, by = xr.T @ xr / n, xr.T @ yr / n, yr.T @ yr / n
     by_inv = np.linalg.pinv(by, rcond=1e-12, hermitian=True)
     current = bx - bxy @ by_inv @ bxy.T
     desired = target_x - target_xy @ by_inv @ target_xy.T
@@ -793,10 +836,29 @@ class _SNR:
         return {g: (float(np.mean(v)) if v else float("nan")) for g, v in self.values.items()}
 
 
-def _step(comps, stats, plan, snr):
-    """One projection iteration on decorrelated components (C, H, W) (textureSynthesis.m's loop body)."""
+def _step(comps, stats, plan, snr, region=None):
+    """One projection iteration on decorrelated components (C, H, W) (textureSynthesis.m's loop body).
+
+    ``region``: None (the whole image, textureSynthesis.m) or, for every scale ``0 .. S``, the
+    boolean region at that scale's size: every statistic is then measured on the region and the
+    linear corrections (covariance maps, autocorrelation filters) are applied to the whole band,
+    the skewness/kurtosis steps to the region only (the caller keeps the outside).
+    """
     C, S, K = comps.shape[0], plan.scales, plan.orientations
     pixel = stats.pixel
+
+    def at(s):  # the region at scale s, (h, w) bool
+        return None if region is None else region[s]
+
+    def rows(s):  # the region at scale s as rows of an (N, m) matrix
+        return None if region is None else region[s].ravel()
+
+    def inside(image, s):  # the region's pixels of an (h, w) array of scale s
+        return image if region is None else image[region[s]]
+
+    def inside_rows(matrix, s):  # the region's rows of an (N, m) matrix of scale s
+        return matrix if region is None else matrix[region[s].ravel()]
+
     decomposed = [plan.decompose(comps[c]) for c in range(C)]
     highpass = [d[0] for d in decomposed]
     bands = [np.stack([d[1][s] for d in decomposed]) for s in range(S)]  # per scale (C, K, h, w)
@@ -809,28 +871,28 @@ def _step(comps, stats, plan, snr):
             variance = stats.lowpass_autocorrelation[c, s][(stats.neighborhood - 1) // 2, (stats.neighborhood - 1) // 2]
             x = low[c]
             if variance / max(pixel[c, 1], 1e-300) > _NEGLIGIBLE_VARIANCE:
-                x, v = _impose_autocorrelation(x, _window_for(stats.lowpass_autocorrelation[c, s], x.shape))
+                x, v = _impose_autocorrelation(x, _window_for(stats.lowpass_autocorrelation[c, s], x.shape), at(s))
                 snr.add("lowpass_autocorrelation", v)
             else:
-                x = x * np.sqrt(variance / max(float(np.mean(x * x)), 1e-300))
+                x = x * np.sqrt(variance / max(float(np.mean(inside(x * x, s))), 1e-300))
             out.append(x)
         out = np.stack(out)
         if C > 1:
             flat = out.reshape(C, -1).T
-            target = _with_variances(stats.lowpass_cross_channel[s], np.mean(flat * flat, axis=0))
-            flat, v = _impose_covariance(flat, target)
+            target = _with_variances(stats.lowpass_cross_channel[s], np.mean(inside_rows(flat * flat, s), axis=0))
+            flat, v = _impose_covariance(flat, target, rows(s))
             snr.add("cross_channel", v)
             out = flat.T.reshape(out.shape)
         for c in range(C):
             variance = stats.lowpass_autocorrelation[c, s][(stats.neighborhood - 1) // 2, (stats.neighborhood - 1) // 2]
             if variance / max(pixel[c, 1], 1e-300) > _NEGLIGIBLE_VARIANCE:
-                out[c], v1 = _impose_moment(out[c], stats.lowpass_moments[c, s, 0], 3)
-                out[c], v2 = _impose_moment(out[c], stats.lowpass_moments[c, s, 1], 4)
+                out[c], v1 = _impose_moment(out[c], stats.lowpass_moments[c, s, 0], 3, at(s))
+                out[c], v2 = _impose_moment(out[c], stats.lowpass_moments[c, s, 1], 4, at(s))
                 snr.add("lowpass_moments", v1, v2)
         return out
 
     # Coarsest low-pass image: mean removed, L0-filtered.
-    low = np.stack([plan.coarsest_lowpass(d[2] - d[2].mean()) for d in decomposed])
+    low = np.stack([plan.coarsest_lowpass(d[2] - np.mean(inside(d[2], S))) for d in decomposed])
     low = adjust_lowpass(low, S)
     for s in range(S - 1, -1, -1):
         z = bands[s]  # (C, K, h, w) complex
@@ -838,14 +900,14 @@ def _step(comps, stats, plan, snr):
         n = h * w
         # Magnitudes: cross-orientation and cross-scale covariance (eq. 8), mean-free.
         mags = np.abs(z).reshape(C * K, n).T
-        mags = mags - mags.mean(axis=0)
+        mags = mags - inside_rows(mags, s).mean(axis=0)
         target_co = stats.magnitude_cross_orientation[s]
         if s == S - 1:
-            mags, v = _impose_covariance(mags, target_co)
+            mags, v = _impose_covariance(mags, target_co, rows(s))
             snr.add("magnitude_cross_orientation", v)
         else:
-            pmag, preal = _parents(bands[s + 1], (h, w))
-            mags, v1, v2 = _impose_cross_covariance(mags, target_co, pmag, stats.magnitude_cross_scale[s])
+            pmag, preal = _parents(bands[s + 1], (h, w), rows(s))
+            mags, v1, v2 = _impose_cross_covariance(mags, target_co, pmag, stats.magnitude_cross_scale[s], rows(s))
             snr.add("magnitude_cross_orientation", v1)
             snr.add("magnitude_cross_scale", v2)
         mags = mags.T.reshape(C, K, h, w)
@@ -853,7 +915,7 @@ def _step(comps, stats, plan, snr):
         for c in range(C):
             for k in range(K):
                 target = _window_for(stats.magnitude_autocorrelation[c, s, k], (h, w))
-                a, v = _impose_autocorrelation(mags[c, k], target)
+                a, v = _impose_autocorrelation(mags[c, k], target, at(s))
                 snr.add("magnitude_autocorrelation", v)
                 mag = np.maximum(a + stats.magnitude_means[c, s, k], 0.0)
                 cur = np.abs(z[c, k])
@@ -864,12 +926,12 @@ def _step(comps, stats, plan, snr):
             for k in range(K):
                 cols = np.arange(C) * K + k
                 x = reals[:, cols]
-                target_x = _with_variances(stats.real_cross_channel[s, k], np.mean(x * x, axis=0))
+                target_x = _with_variances(stats.real_cross_channel[s, k], np.mean(inside_rows(x * x, s), axis=0))
                 if s < S - 1:
-                    x, v1, v2 = _impose_cross_covariance(x, target_x, preal, stats.real_cross_scale[s][cols])
+                    x, v1, v2 = _impose_cross_covariance(x, target_x, preal, stats.real_cross_scale[s][cols], rows(s))
                     snr.add("real_cross_scale", v2)
                 else:
-                    x, v1 = _impose_covariance(x, target_x)
+                    x, v1 = _impose_covariance(x, target_x, rows(s))
                 if C > 1:
                     snr.add("cross_channel", v1)
                 reals[:, cols] = x
@@ -884,26 +946,30 @@ def _step(comps, stats, plan, snr):
     out = np.empty_like(comps)
     for c in range(C):
         hp = highpass[c]
-        var, target = float(np.mean(hp * hp)), stats.highpass_variance[c]
+        var, target = float(np.mean(inside(hp * hp, 0))), stats.highpass_variance[c]
         snr.add("highpass", _snr(target, var))
         if var > target:
             hp = hp * np.sqrt(target / var)
         out[c] = low[c] + plan.highpass_image(hp)
-    return _impose_pixels(out, stats, snr)
+    return _impose_pixels(out, stats, snr, at(0))
 
 
-def _impose_pixels(comps, stats, snr):
-    """Mean, variance, skewness, kurtosis and range of every component (end of sec. 4)."""
+def _impose_pixels(comps, stats, snr, where=None):
+    """Mean, variance, skewness, kurtosis and range of every component (end of sec. 4).
+
+    With a region ``where`` (bool) the moments and the range are the region's.
+    """
     out = np.empty_like(comps)
     for c in range(comps.shape[0]):
         mean0, var0, skew0, kurt0, lo, hi = stats.pixel[c]
         x = comps[c]
-        mean, var, _, _ = _moments(x)
+        mean, var, _, _ = _moments(x, None if where is None else where.astype(float))
+        xin = x if where is None else x[where]
         snr.add("pixel", _snr(var0, var))
-        snr.add("pixel_range", _snr([lo, hi], [x.min() - mean + mean0, x.max() - mean + mean0]))
+        snr.add("pixel_range", _snr([lo, hi], [xin.min() - mean + mean0, xin.max() - mean + mean0]))
         x = (x - mean) * np.sqrt(var0 / max(var, 1e-300)) + mean0
-        x, v1 = _impose_moment(x, skew0, 3)
-        x, v2 = _impose_moment(x, kurt0, 4)
+        x, v1 = _impose_moment(x, skew0, 3, where)
+        x, v2 = _impose_moment(x, kurt0, 4, where)
         snr.add("pixel", v1, v2)
         out[c] = np.clip(x, lo, hi)
     if comps.shape[0] > 1:  # the colours themselves stay within the exemplar's range
@@ -918,8 +984,39 @@ def _check_statistics(statistics, name="statistics"):
     return statistics
 
 
+def _check_step_mask(mask, shape, scales):
+    """(blend weights in [0, 1] as float (H, W), the region at every scale) or (None, None) for no mask.
+
+    The region is ``mask > 0.5`` (what ``ps_statistics(mask=)`` measures), subsampled like the
+    pyramid's bands; it must keep pixels at every scale. A mask of ones is no mask.
+    """
+    if mask is None:
+        return None, None
+    m = np.asarray(mask)
+    if m.shape != tuple(shape):
+        raise ValueError(f"mask must have the image's spatial shape {tuple(shape)}, got {m.shape}")
+    if not (m.dtype == bool or np.issubdtype(m.dtype, np.integer) or np.issubdtype(m.dtype, np.floating)):
+        raise TypeError(f"mask must be a boolean or numeric (H, W) array, got dtype {m.dtype}")
+    m = m.astype(np.float64)
+    if not np.all(np.isfinite(m)) or m.min() < 0 or m.max() > 1:
+        raise ValueError("mask values must be in [0, 1] (True/1 inside the region, 0 outside, fractions "
+                         f"to blend), got values in [{np.nanmin(m)}, {np.nanmax(m)}]")
+    if np.all(m == 1.0):
+        return None, None
+    region = [m > 0.5]
+    for s in range(1, scales + 1):
+        region.append(region[-1][::2, ::2])
+    if not region[0].any():
+        raise ValueError("mask selects no pixel; pass a mask with True (> 0.5) where the statistics are imposed")
+    for s, r in enumerate(region):
+        if not r.any():
+            raise ValueError(f"mask selects no pixel (mask > 0.5) at scale {s} ({r.shape[0]}x{r.shape[1]} "
+                             "samples, every second one of the scale above); pass a larger region or fewer scales")
+    return m, region
+
+
 @_single_threaded_blas
-def ps_step(image, statistics):
+def ps_step(image, statistics, *, mask=None):
     """Apply ONE Portilla-Simoncelli projection iteration to ``image``.
 
     For algorithms that interleave one statistical step with their own
@@ -933,6 +1030,16 @@ def ps_step(image, statistics):
         channels; any size with at least ``2^(scales+2)`` pixels per axis.
     statistics : PSStatistics
         Target statistics (:func:`ps_statistics`, :func:`interpolate_statistics`).
+    mask : array_like, optional
+        ``(H, W)`` boolean or values in [0, 1]: impose the statistics on this
+        region only (Ruiters et al. 2010, sec. 4.5 run the statistical step
+        "only on the relevant parts of the image"). Every statistic is
+        measured on the region ``mask > 0.5`` (as ``ps_statistics(image,
+        mask=mask > 0.5)`` measures it) and the correction is computed from
+        the region alone; the result is ``(1 - mask) * image + mask *
+        projected``, so pixels where the mask is 0 keep their values exactly
+        and fractional values blend (a feathered edge). Default None: the
+        whole image, as textureSynthesis.m.
 
     Returns
     -------
@@ -942,14 +1049,25 @@ def ps_step(image, statistics):
     Raises
     ------
     ValueError
-        If the channels do not match or the image is too small for the
-        statistics' scales.
+        If the channels do not match, the image is too small for the
+        statistics' scales, or the mask has the wrong shape, values outside
+        [0, 1], or a region too small for the statistics' coarsest scale.
 
     Notes
     -----
     Without the momentum ("accelerator") that :func:`portilla_simoncelli`
     adds between iterations; see the module docstring for the order of the
     projections (the paper's section 4, fig. 7).
+
+    With a mask every projection (covariance maps of eq. 8, the
+    autocorrelation filters, the skewness/kurtosis steps, the pixel
+    statistics) is computed from the region's statistics at each scale (the
+    region subsampled like the bands) and applied to the whole band, so the
+    pyramid stays consistent; only the region's pixels are kept. Near the
+    region's border the bands mix inside and outside, as they do in
+    ``ps_statistics(mask=)``, so a region converges to its target the more
+    closely the larger it is compared with the coarsest scale's filters
+    (``2^scales`` pixels).
 
     References
     ----------
@@ -965,6 +1083,14 @@ def ps_step(image, statistics):
     >>> after = statistics_snr(ps_statistics(ps_step(noise, target), scales=3), target)
     >>> bool(after["magnitude_autocorrelation"] > before)
     True
+
+    On the right half only: the left half keeps its values.
+
+    >>> right = np.zeros((64, 64), bool)
+    >>> right[:, 32:] = True
+    >>> out = ps_step(noise, target, mask=right)
+    >>> bool(np.array_equal(out[:, :32], noise[:, :32]))
+    True
     """
     stats = _check_statistics(statistics)
     img = as_image(image, "image")
@@ -974,9 +1100,12 @@ def ps_step(image, statistics):
         raise ValueError(f"image has {img.shape[-1]} channel(s) but the statistics were measured on "
                          f"{stats.channels}; pass an image with {stats.channels} channel(s)")
     _check_scales_fit(stats.scales, img.shape[:2], "image")
+    weight, region = _check_step_mask(mask, img.shape[:2], stats.scales)
     plan = _plan(img.shape[:2], stats.scales, stats.orientations)
-    comps = _step(_components(img, stats.color_mean, stats.color_basis), stats, plan, _SNR())
+    comps = _step(_components(img, stats.color_mean, stats.color_basis), stats, plan, _SNR(), region)
     out = np.clip(_image_from_components(comps, stats), 0.0, 1.0)
+    if weight is not None:  # outside the region the image stays as it was (exactly where mask == 0)
+        out = (1.0 - weight)[..., None] * img + weight[..., None] * out
     return restore_channels(out.astype(dtype, copy=False), grey)
 
 
@@ -1084,28 +1213,71 @@ def interpolate_statistics(a, b, alpha):
 
 
 # --------------------------------------------------------------------------- synthesis
+def _synthesise(stats, shape, iterations, gen, progress):
+    """Iterate the projections from Gaussian noise with the accelerator; (components, PSInfo fields)."""
+    plan = _plan(shape, stats.scales, stats.orientations)
+    C = stats.channels
+    # Gaussian noise with the target's mean and variance (textureSynthesis.m's start).
+    current = (gen.standard_normal((C,) + shape) * np.sqrt(stats.pixel[:, 1])[:, None, None]
+               + stats.pixel[:, 0][:, None, None])
+    previous = current
+    history = {g: np.full(iterations, np.nan) for g in SNR_GROUPS}
+    change = np.zeros(iterations)
+    with Progress(progress, iterations, "Portilla-Simoncelli") as bar:
+        for it in range(iterations):
+            snr = _SNR()
+            projected = _step(current, stats, plan, snr)
+            means = snr.means()
+            for g in SNR_GROUPS:
+                history[g][it] = means[g]
+            change[it] = float(np.sqrt(np.mean((projected - previous) ** 2)))
+            current = projected + ACCELERATION * (projected - previous)  # the "accelerator"
+            previous = projected
+            bar.advance({g: v for g, v in means.items() if np.isfinite(v)})
+    return previous, history, change
+
+
+def _check_from_statistics(stats, size, scales, orientations, neighborhood, periodic_smooth):
+    """Options that only an exemplar's analysis uses must be left out (or agree) with given statistics."""
+    if size is None:
+        raise ValueError("size is required when synthesising from statistics (they carry no image size); "
+                         "pass size=(height, width), e.g. size=256")
+    for name, value in (("scales", scales), ("orientations", orientations), ("neighborhood", neighborhood)):
+        if value is not None and value != getattr(stats, name):
+            raise ValueError(f"{name}={value} but the statistics were measured with {name}={getattr(stats, name)}; "
+                             f"leave {name} out when passing statistics (it is theirs)")
+    if periodic_smooth:
+        raise ValueError("periodic_smooth applies to the analysis of an exemplar, and these statistics are "
+                         "already measured; pass periodic_smooth=True to ps_statistics instead")
+
+
 @_single_threaded_blas
-def portilla_simoncelli(exemplar, size=None, *, scales=4, orientations=4, neighborhood=7, iterations=50,
+def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, neighborhood=None, iterations=50,
                         periodic_smooth=False, rng=None, progress=False, return_info=False):
-    """Synthesise a texture with the exemplar's Portilla-Simoncelli statistics.
+    """Synthesise a texture with an exemplar's (or given) Portilla-Simoncelli statistics.
 
     Parameters
     ----------
-    exemplar : array_like
+    exemplar : array_like or PSStatistics
         Grey ``(H, W)`` or colour ``(H, W, C)`` texture (uint8, uint16 or
         float in [0, 1]), at least ``2^(scales+2)`` pixels per axis (64x64 for
-        the default 4 scales).
+        the default 4 scales). Or the statistics themselves, as
+        :func:`ps_statistics` measures them or :func:`interpolate_statistics`
+        mixes them: then ``size`` is required and ``scales``,
+        ``orientations`` and ``neighborhood`` are the statistics' own.
     size : int or (int, int), optional
-        Output ``(height, width)``, default the exemplar's; any size with at
-        least ``2^(scales+2)`` pixels per axis (the statistics do not depend
-        on the image's size).
-    scales, orientations, neighborhood : int
-        Pyramid scales, orientations and the autocorrelation window (4, 4 and
-        7 in the paper).
+        Output ``(height, width)``, default the exemplar's (required with
+        statistics); any size with at least ``2^(scales+2)`` pixels per axis
+        (the statistics do not depend on the image's size).
+    scales, orientations, neighborhood : int, optional
+        Pyramid scales, orientations and the autocorrelation window; None
+        (the default) means 4, 4 and 7 as in the paper for an exemplar, and
+        the statistics' own for statistics (another value is then an error).
     iterations : int
         Number of projection iterations (50 in the paper's examples).
     periodic_smooth : bool
-        Analyse the exemplar's periodic component (see :func:`ps_statistics`).
+        Analyse the exemplar's periodic component (see :func:`ps_statistics`);
+        not with statistics.
     rng : None, int or numpy.random.Generator
         Seed of the initial Gaussian noise.
     progress : bool or callable
@@ -1118,8 +1290,9 @@ def portilla_simoncelli(exemplar, size=None, *, scales=4, orientations=4, neighb
     Returns
     -------
     image : numpy.ndarray
-        ``size`` with the exemplar's channels, in [0, 1], the exemplar's float
-        dtype. The output is periodic (it tiles).
+        ``size`` with the exemplar's channels (the statistics' channels:
+        ``(H, W)`` for one), in [0, 1], the exemplar's float dtype (float64
+        from statistics). The output is periodic (it tiles).
     info : PSInfo
         Only if ``return_info=True``.
 
@@ -1128,11 +1301,13 @@ def portilla_simoncelli(exemplar, size=None, *, scales=4, orientations=4, neighb
     ValueError
         If the exemplar or the output is too small for ``scales`` (the message
         lists which sizes work), the exemplar has NaN/inf values,
-        ``iterations < 1`` or ``neighborhood`` is even.
+        ``iterations < 1`` or ``neighborhood`` is even; with statistics, if
+        ``size`` is missing, ``scales``/``orientations``/``neighborhood``
+        disagree with them or ``periodic_smooth`` is set.
 
     Notes
     -----
-    The initial image is Gaussian noise with the exemplar's mean and
+    The initial image is Gaussian noise with the target's mean and
     variance. Each iteration is :func:`ps_step` (the paper's fig. 7: the
     statistics of sec. 3 imposed by the projections of sec. 4: eq. 8 for
     covariances, gradient projections for skewness and kurtosis, a
@@ -1141,6 +1316,14 @@ def portilla_simoncelli(exemplar, size=None, *, scales=4, orientations=4, neighb
     returned. Colour as Ruiters et al. (2010, sec. 4.5) extend it: principal
     components of the colours plus cross-channel correlations of every band
     (module docstring).
+
+    ``portilla_simoncelli(ps_statistics(exemplar, ...), size, rng=seed)`` is
+    the same, bit for bit, as ``portilla_simoncelli(exemplar, size, ...,
+    rng=seed)``; with statistics mixed by :func:`interpolate_statistics`
+    it gives the paper's interpolated textures (sec. 6). There is no mask:
+    the synthesis starts from noise everywhere; to impose statistics on a
+    region of an existing image, iterate ``ps_step(image, statistics,
+    mask=region)``.
 
     Known failures (as in the paper, fig. 12): textures with long straight
     structures or large objects come out as broken fragments; text keeps
@@ -1162,39 +1345,38 @@ def portilla_simoncelli(exemplar, size=None, *, scales=4, orientations=4, neighb
     ...                                 iterations=3, rng=0, return_info=True)
     >>> out.shape, len(info.snr["pixel"])
     ((64, 96), 3)
+
+    From statistics, here halfway between metal and reptile skin:
+
+    >>> a = ps_statistics(data.load("metal")[:64, :64], scales=3)
+    >>> b = ps_statistics(data.load("reptile")[:64, :64], scales=3)
+    >>> mixed = portilla_simoncelli(interpolate_statistics(a, b, 0.5), (48, 64), iterations=3, rng=0)
+    >>> mixed.shape, mixed.dtype
+    ((48, 64), dtype('float64'))
     """
-    ex = as_image(exemplar, "exemplar")
-    dtype = ex.dtype
-    ex, grey = with_channels(ex.astype(np.float64, copy=False))
-    shape = ex.shape[:2] if size is None else as_size(size)
-    scales = check_positive_int(scales, "scales", minimum=1)
-    orientations = check_positive_int(orientations, "orientations", minimum=1)
-    neighborhood = _check_neighborhood(neighborhood)
-    iterations = check_positive_int(iterations, "iterations", minimum=1)
-    _check_scales_fit(scales, ex.shape[:2], "exemplar")
-    _check_scales_fit(scales, shape, "output")
-    gen = as_rng(rng)
-    stats = _statistics(ex, scales, orientations, neighborhood, None, None, periodic_smooth)
-    plan = _plan(shape, scales, orientations)
-    C = ex.shape[-1]
-    # Gaussian noise with the exemplar's mean and variance (textureSynthesis.m's start).
-    current = (gen.standard_normal((C,) + shape) * np.sqrt(stats.pixel[:, 1])[:, None, None]
-               + stats.pixel[:, 0][:, None, None])
-    previous = current
-    history = {g: np.full(iterations, np.nan) for g in SNR_GROUPS}
-    change = np.zeros(iterations)
-    with Progress(progress, iterations, "Portilla-Simoncelli") as bar:
-        for it in range(iterations):
-            snr = _SNR()
-            projected = _step(current, stats, plan, snr)
-            means = snr.means()
-            for g in SNR_GROUPS:
-                history[g][it] = means[g]
-            change[it] = float(np.sqrt(np.mean((projected - previous) ** 2)))
-            current = projected + ACCELERATION * (projected - previous)  # the "accelerator"
-            previous = projected
-            bar.advance({g: v for g, v in means.items() if np.isfinite(v)})
-    out = np.clip(_image_from_components(previous, stats), 0.0, 1.0)
+    if isinstance(exemplar, PSStatistics):
+        stats = exemplar
+        _check_from_statistics(stats, size, scales, orientations, neighborhood, periodic_smooth)
+        shape = as_size(size)
+        iterations = check_positive_int(iterations, "iterations", minimum=1)
+        _check_scales_fit(stats.scales, shape, "output")
+        dtype, grey = np.dtype(np.float64), stats.channels == 1
+        gen = as_rng(rng)
+    else:
+        ex = as_image(exemplar, "exemplar")
+        dtype = ex.dtype
+        ex, grey = with_channels(ex.astype(np.float64, copy=False))
+        shape = ex.shape[:2] if size is None else as_size(size)
+        scales = check_positive_int(4 if scales is None else scales, "scales", minimum=1)
+        orientations = check_positive_int(4 if orientations is None else orientations, "orientations", minimum=1)
+        neighborhood = _check_neighborhood(7 if neighborhood is None else neighborhood)
+        iterations = check_positive_int(iterations, "iterations", minimum=1)
+        _check_scales_fit(scales, ex.shape[:2], "exemplar")
+        _check_scales_fit(scales, shape, "output")
+        gen = as_rng(rng)
+        stats = _statistics(ex, scales, orientations, neighborhood, None, None, periodic_smooth)
+    components, history, change = _synthesise(stats, shape, iterations, gen, progress)
+    out = np.clip(_image_from_components(components, stats), 0.0, 1.0)
     out = restore_channels(out.astype(dtype, copy=False), grey)
     if return_info:
         return out, PSInfo(history, change, stats)
