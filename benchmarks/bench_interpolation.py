@@ -8,7 +8,11 @@ speed, the texture energy of the alpha = 0.5 output against each input are print
 the plain linear blend (Figure 1a) and, as the reference for the paper's own figure, the
 paper's 3.5 hours for a 1024x256 sequence on a 4-core Q6600.
 
-Run:  python benchmarks/bench_interpolation.py [--quick]
+With ``--caps``: what the cost caps cost in quality. The alpha = 0.5 256x256 run with the
+defaults (``max_feature_points=24, max_neighborhoods=1024``) and with both doubled (48, 2048),
+two seeds each: time, stage times, and texture energy against I1 and I2.
+
+Run:  python benchmarks/bench_interpolation.py [--quick] [--caps]
 """
 
 import argparse
@@ -41,7 +45,11 @@ def load():
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true", help="64x64 exemplars, stages (2,17),(1,17), 3 iterations")
+    parser.add_argument("--caps", action="store_true",
+                        help="alpha = 0.5 with default and doubled max_feature_points / max_neighborhoods")
     args = parser.parse_args()
+    if args.caps:
+        return caps(args.quick)
     n = 64 if args.quick else 128
     opts = dict(stages=((2, 17), (1, 17)), iterations=3) if args.quick else {}
     a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
@@ -63,6 +71,24 @@ def main():
     row(f"transition strip {4 * n}x{n} (20 alphas)", time.perf_counter() - t0, info)
     print(f"load average at the end {load():.2f}")
     print("paper: 1024x256 sequence, 3.5 h on a 4-core Q6600 (20 min patch interpolation, C++)")
+
+
+def caps(quick):
+    """Default vs doubled caps (max_feature_points, max_neighborhoods), two seeds each."""
+    n = 64 if quick else 128
+    opts = dict(stages=((2, 17), (1, 17)), iterations=3) if quick else {}
+    a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
+    b = load_image(TEXTURES / "rohitrango" / "t7.png")[:n, :n, :3]
+    print(f"caps: exemplars {n}x{n} brick <-> slate, alpha = 0.5 -> {2 * n}x{2 * n}; load average {load():.2f}")
+    for points, hoods in ((24, 1024), (48, 2048)):
+        for seed in (0, 1):
+            t0 = time.perf_counter()
+            mid, info = interpolate_textures(a, b, 0.5, size=2 * n, rng=seed, return_info=True,
+                                             max_feature_points=points, max_neighborhoods=hoods, **opts)
+            seconds = time.perf_counter() - t0
+            row(f"points={points} neighborhoods={hoods} seed={seed}", seconds, info,
+                (texture_energy(mid, a), texture_energy(mid, b)))
+            print(f"    pairs per stage {info.pairs}, N' per stage {info.kept}, load average {load():.2f}")
 
 
 if __name__ == "__main__":

@@ -146,3 +146,208 @@ def test_pixels_and_solid_commands(tmp_path):
     assert volume.shape == (20, 20, 20, 3)  # one number: a cube
     for axis in "zyx":
         assert load_image(tmp_path / f"s_slice_{axis}.png").shape == (20, 20, 3)
+
+
+# --------------------------------------------------------------------------- grey maps, help text
+def test_read_grey_map_means_the_same_in_every_layout(tmp_path):
+    # one reader for --weights, --mask, --alpha-map, --features: grey, grey + alpha, RGB and
+    # RGBA files (8 or 16 bit) of the same grey values give the same map; alpha is ignored
+    grey = np.tile(np.linspace(0, 1, 6), (4, 1))
+    alpha = np.full_like(grey, 0.25)
+    files = {
+        "grey": save_image(tmp_path / "g.png", grey),
+        "grey16": save_image(tmp_path / "g16.png", grey, bits=16),
+        "la": save_image(tmp_path / "la.png", np.stack([grey, alpha], -1)),
+        "rgb": save_image(tmp_path / "rgb.png", np.stack([grey] * 3, -1)),
+        "rgba": save_image(tmp_path / "rgba.png", np.stack([grey] * 3 + [alpha], -1)),
+    }
+    for kind, path in files.items():
+        m = cli.read_grey_map(path, "--mask")
+        assert m.shape == (4, 6), kind
+        np.testing.assert_allclose(m, grey, atol=1 / 255, err_msg=kind)
+    # --weights uses it too: a grey + alpha weight file is its grey channel, not grey and alpha averaged
+    first, second = cli.parse_weights(str(files["la"]), 2, (4, 6))
+    np.testing.assert_allclose(second, grey, atol=1 / 255)
+
+
+def test_grouped_parameters_are_described_once(capsys):
+    # animate_texture documents nine parameters in one numpydoc entry ("As in optimize_texture,
+    # for frame 1 (and method ... kd-tree ...)"); the help used to repeat that sentence under
+    # each of the nine options. Now the first shown option carries it, the others say "see
+    # --first", and each gets its own description from optimize_texture's docstring.
+    with pytest.raises(SystemExit):
+        run("animate", "--help")
+    text = capsys.readouterr().out
+    assert text.count("re-ranking 4 candidates") == 1
+    start = text.index("  --levels LEVELS", text.index("options:"))
+    levels = " ".join(text[start:text.index("\n  --", start + 1)].split())
+    assert "Resolution levels" in levels and "see --neighborhood-sizes" in levels
+    assert ":func:" not in text and "``" not in text  # numpydoc markup is stripped
+    # and generally: no method shows the same description under two options
+    import inspect
+
+    for name, method in cli.METHODS.items():
+        func = method.function()
+        params = inspect.signature(func).parameters
+        shown = cli._option_names(method, params)
+        descriptions = [d for n, d in cli._doc_params(func, shown).items() if n in shown and len(d) > 30]
+        assert len(descriptions) == len(set(descriptions)), name
+
+
+# --------------------------------------------------------------------------- interpolate
+FAST_INTERPOLATE = ["--stages", "((1, 9),)", "--iterations", "1", "--no-statistics", "--max-neighborhoods", "16",
+                    "--max-feature-points", "8", "--alpha-steps", "2", "--seed", "0"]
+
+
+def _spy(monkeypatch, module, name, fake=None):
+    """Record the calls of module.name (the CLI looks the function up at run time); ``fake`` replaces it."""
+    import functools
+
+    real = getattr(module, name)
+    calls = []
+
+    @functools.wraps(real)
+    def wrapper(*args, **kwargs):
+        calls.append(kwargs)
+        return fake(*args, **kwargs) if fake else real(*args, **kwargs)
+
+    monkeypatch.setattr(module, name, wrapper)
+    return calls
+
+
+@pytest.fixture
+def pair_files(tmp_path):
+    a, b = data.load("brick")[:32, :32], data.load("bumpy")[:32, :32]
+    return str(save_image(tmp_path / "a.png", a)), str(save_image(tmp_path / "b.png", b))
+
+
+def test_interpolate_number_alpha_end_to_end(tmp_path, pair_files, monkeypatch):
+    from texsynth import interpolation
+
+    calls = _spy(monkeypatch, interpolation, "interpolate_textures")
+    out = tmp_path / "mid.png"
+    assert run("interpolate", *pair_files, "-o", str(out), "--alpha", "0.5", *FAST_INTERPOLATE) == 0
+    assert load_image(out).shape == (32, 32, 3)
+    assert calls[0]["alpha"] == 0.5 and calls[0]["size"] == (32, 32) and "features" not in calls[0]
+
+
+def test_interpolate_transition_end_to_end(tmp_path, pair_files, monkeypatch):
+    from texsynth import interpolation
+
+    calls = _spy(monkeypatch, interpolation, "interpolate_textures")
+    out = tmp_path / "strip.png"
+    assert run("interpolate", *pair_files, "-o", str(out), "--transition", "--size", "48x24", *FAST_INTERPOLATE) == 0
+    assert load_image(out).shape == (24, 48, 3)
+    np.testing.assert_allclose(calls[0]["alpha"], interpolation.transition_alpha_map((24, 48)))
+
+
+def test_interpolate_alpha_map_from_an_rgb_file_end_to_end(tmp_path, pair_files, monkeypatch):
+    from texsynth import interpolation
+
+    calls = _spy(monkeypatch, interpolation, "interpolate_textures")
+    yy, xx = np.mgrid[:24, :40]
+    grey = np.clip((12 - np.hypot(yy - 12, xx - 20)) / 6 + 0.5, 0, 1)  # a disc of B in A (Figure 7)
+    rgba = np.concatenate([np.stack([grey] * 3, -1), np.ones((24, 40, 1))], -1)
+    amap = save_image(tmp_path / "disc.png", rgba)
+    out = tmp_path / "disc_out.png"
+    assert run("interpolate", *pair_files, "-o", str(out), "--alpha-map", str(amap), *FAST_INTERPOLATE) == 0
+    assert load_image(out).shape == (24, 40, 3)  # the map's size, not the inputs'
+    assert calls[0]["alpha"].shape == (24, 40) and calls[0]["size"] == (24, 40)
+    np.testing.assert_allclose(calls[0]["alpha"], grey, atol=1 / 255)
+
+
+def test_interpolate_features_end_to_end(tmp_path, pair_files, monkeypatch):
+    from texsynth import interpolation
+
+    calls = _spy(monkeypatch, interpolation, "interpolate_textures")
+    fa = np.zeros((32, 32, 3))
+    fa[::8] = 0.9  # horizontal lines in an RGB file
+    fb = np.zeros((32, 32), np.uint16)
+    fb[:, ::8] = 40000  # vertical lines in a 16-bit grey file (0.61 > 0.5)
+    pa = save_image(tmp_path / "fa.png", fa)
+    pb = tmp_path / "fb.png"
+    import imageio.v3 as iio
+
+    iio.imwrite(pb, fb)
+    out = tmp_path / "feat.png"
+    assert run("interpolate", *pair_files, "-o", str(out), "--alpha", "0.3", "--features", str(pa), str(pb),
+               *FAST_INTERPOLATE) == 0
+    assert load_image(out).shape == (32, 32, 3)
+    f1, f2 = calls[0]["features"]
+    assert f1.dtype == bool and f2.dtype == bool and f1.shape == f2.shape == (32, 32)
+    assert np.array_equal(f1, fa[..., 0] > 0.5) and np.array_equal(f2, fb > 20000)
+    # feature maps of the wrong size: the function's one-line error, exit 2
+    small = save_image(tmp_path / "small.png", np.zeros((8, 8)))
+    assert run("interpolate", *pair_files, "-o", str(tmp_path / "x.png"), "--alpha", "0.3",
+               "--features", str(small), str(pb), *FAST_INTERPOLATE) == 2
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_interpolate_alpha_options_are_exclusive_and_ramp_is_an_alias(tmp_path, pair_files, monkeypatch, capsys):
+    from texsynth import interpolation
+
+    calls = _spy(monkeypatch, interpolation, "interpolate_textures", fake=lambda a, b, alpha, size, **kw: a)
+    amap = str(save_image(tmp_path / "m.png", np.zeros((8, 8))))
+    out = str(tmp_path / "o.png")
+    for options in (["--alpha", "0.5", "--transition"], ["--alpha-map", amap, "--transition"],
+                    ["--alpha", "0.5", "--alpha-map", amap], []):
+        with pytest.raises(SystemExit) as info:
+            run("interpolate", *pair_files, "-o", out, *options)
+        err = capsys.readouterr().err
+        assert info.value.code == 2 and err.count("\n") == 1, options
+        assert ("not allowed with" if options else "one of the arguments --alpha --alpha-map --transition") in err
+    assert run("interpolate", *pair_files, "-o", out, "--alpha", "ramp", "--size", "40x8") == 0
+    assert run("interpolate", *pair_files, "-o", out, "--overwrite", "--transition", "--size", "40x8") == 0
+    assert np.array_equal(calls[0]["alpha"], calls[1]["alpha"]) and calls[0]["alpha"].shape == (8, 40)
+    # --alpha FILE is --alpha-map FILE: without --size the output has the map's size
+    assert run("interpolate", *pair_files, "-o", str(tmp_path / "p.png"), "--alpha", amap) == 0
+    assert calls[-1]["alpha"].shape == (8, 8) and calls[-1]["size"] == (8, 8)
+
+
+# --------------------------------------------------------------------------- optimize, animate
+def test_optimize_with_an_rgba_mask_and_tileable(tmp_path, monkeypatch):
+    from texsynth import optimization
+
+    calls = _spy(monkeypatch, optimization, "optimize_texture")
+    ex = save_image(tmp_path / "ex.png", data.load("bumpy")[:32, :32])
+    inside = np.zeros((40, 40), bool)
+    inside[10:30, 10:30] = True
+    mask = np.zeros((40, 40, 4))
+    mask[..., 3] = 1.0  # an opaque RGBA mask, as paint programs save it
+    mask[inside, :3] = 1.0
+    target = np.zeros((40, 40, 3))
+    target[..., 0] = 1.0  # pure red wanted inside the mask
+    pm, pt = save_image(tmp_path / "mask.png", mask), save_image(tmp_path / "target.png", target)
+    fast = ["--size", "40x40", "--neighborhood-sizes", "8", "--levels", "1", "--max-iterations", "2", "--seed", "0"]
+    out = tmp_path / "hole.png"
+    assert run("optimize", str(ex), "-o", str(out), "--tileable", "--mask", str(pm), "--target", str(pt),
+               "--constraint-weight", "100", *fast) == 0
+    kw = calls[0]
+    assert kw["tileable"] is True and kw["mask"].shape == (40, 40) and np.array_equal(kw["mask"] > 0.5, inside)
+    result = load_image(out)
+    assert result.shape == (40, 40, 3)
+    red = result[..., 0] - result[..., 1:].mean(-1)
+    assert red[inside].mean() > 0.8 and red[~inside].mean() < 0.3  # the constraint holds only inside
+    # the same mask saved as a grey file gives the same output
+    grey = save_image(tmp_path / "mask_grey.png", inside.astype(float))
+    out2 = tmp_path / "hole2.png"
+    assert run("optimize", str(ex), "-o", str(out2), "--tileable", "--mask", str(grey), "--target", str(pt),
+               "--constraint-weight", "100", *fast) == 0
+    assert np.array_equal(load_image(out2), result)
+
+
+def test_animate_named_flow_to_gif_and_frame_folder(tmp_path):
+    from texsynth.io import load_frames
+
+    ex = save_image(tmp_path / "ex.png", data.load("bumpy")[:32, :32])
+    fast = ["--size", "24x20", "--frames", "3", "--neighborhood-sizes", "8", "--levels", "1",
+            "--max-iterations", "2", "--frame-iterations", "1", "--seed", "0"]
+    gif = tmp_path / "vortex.gif"
+    assert run("animate", str(ex), "-o", str(gif), "--flows", "vortex:1", *fast) == 0
+    assert load_frames(gif).shape == (3, 20, 24, 3)
+    folder = tmp_path / "sink"
+    assert run("animate", str(ex), "-o", str(folder), "--flows", "sink:1.5", *fast) == 0
+    frames = sorted(p.name for p in folder.iterdir())
+    assert len(frames) == 3 and all(f.endswith(".png") for f in frames)
+    assert load_image(folder / frames[0]).shape == (20, 24, 3)
+    assert run("animate", str(ex), "-o", str(tmp_path / "n.gif"), "--flows", "swirl:1", *fast) == 2

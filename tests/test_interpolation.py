@@ -91,10 +91,15 @@ def test_endpoints_match_texture_optimization(pair, results, alpha):
     e_ours = texture_energy(ours, ref, patch_size=8)
     e_kwatra = texture_energy(kwatra, ref, patch_size=8)
     e_noise = texture_energy(noise, ref, patch_size=8)
-    # measured: alpha=0 0.0008 vs Kwatra 0.0008 (noise 0.0063); alpha=1 0.0070 vs 0.0049
-    # (noise 0.048). Before the fixes (noise initialisation, unscaled distance channel, a
-    # set of 1/stride^2 of the patches) they were 0.0023 and 0.010, i.e. 3x and 2x Kwatra.
-    assert e_ours < 1.6 * e_kwatra
+    # The ends are NOT as good as ordinary texture optimization, only within a factor: measured
+    # (seeds 0 as here) alpha=0 0.00085 vs Kwatra 0.00081 (1.05x; noise 0.0063), alpha=1
+    # 0.0071 vs 0.0049 (1.46x; noise 0.048). Other seeds of either side give 1.37-1.63x, and
+    # at 64 px on other textures the ratio reaches 2.1x (docs/methods/interpolation.md,
+    # Quality). The bound 1.8 is therefore a regression guard for this pair and size (the
+    # seed spread plus ~10 %), not a claim of parity: before the fixes (noise
+    # initialisation, unscaled distance channel, a set of 1/stride^2 of the patches) the ends
+    # were 0.0023 and 0.010, i.e. 2.8x and 2.0x Kwatra, and fail it.
+    assert e_ours < 1.8 * e_kwatra
     assert e_ours < 0.25 * e_noise
     assert e_ours < 0.3 * texture_energy(ours, other, patch_size=8)  # and it is not the other texture
 
@@ -274,3 +279,146 @@ def test_stops_when_energy_stops_falling(pair):
         interpolate_textures(a, b, 0.5, min_improvement=1.5, **SMALL)
     with pytest.raises(ValueError, match="mean_shift_iterations"):
         interpolate_textures(a, b, 0.5, mean_shift_iterations=-1, **SMALL)
+
+
+# --------------------------------------------------------------------------- Section 4.1: correspondences
+def _stage(a, b, size, k=1, max_neighborhoods=1024):
+    from texsynth.interpolation import _params, _stage_textures
+
+    p = _params(a, b, None, 1.0, k, 0.5, 0.5, 24, max_neighborhoods, 16384, None)
+    return p, *_stage_textures(p, 1, size)
+
+
+def _weighted_d2(t_src, t_dst, corners, size, weights):
+    """Brute force: weighted squared distance of each src corner's neighbourhood to every dst neighbourhood."""
+    q = all_patches(t_src.image, size)[corners[:, 0], corners[:, 1]].reshape(len(corners), -1)
+    view = all_patches(t_dst.image, size)
+    v = view.reshape(-1, q.shape[1])
+    w = np.tile(weights, size * size)
+    d2 = ((q**2) * w).sum(1)[:, None] - 2 * (q * w) @ v.T + ((v**2) * w).sum(1)[None, :]
+    return d2, view.shape[:2]
+
+
+@pytest.mark.parametrize("k", [1, 2])
+def test_correspondences_are_the_k_nearest_in_both_directions(pair, k):
+    # Section 4.1: for every (capped) neighbourhood of I1 its k nearest among all neighbourhoods
+    # of I2 under ||W_C (N1 - N2)|| (colour + distance channel), AND the same from I2 into I1
+    # ("it is important to perform these searches ... in both textures"), checked against
+    # a brute-force search written here
+    from texsynth.interpolation import _correspondences
+
+    a, b = pair
+    s = 7
+    p, t1, t2 = _stage(a[:32, :32], b[:32, :32], s, k=k, max_neighborhoods=64)
+    assert len(t1.corners) == len(t2.corners) == 49  # 26 x 26 neighbourhoods, capped to a stride of 4
+    c1, c2 = _correspondences(t1, t2, s, p["channel_weights"], k, np.random.default_rng(0))
+    pairs = {tuple(r) for r in np.concatenate([c1, c2], 1)}
+    assert len(pairs) == len(c1) <= 2 * k * 49  # unique pairs; a pair found both ways counts once
+    for src, dst, forward in ((t1, t2, True), (t2, t1, False)):
+        d2, grid = _weighted_d2(src, dst, src.corners, s, p["channel_weights"])
+        for q, row in zip(src.corners, d2):
+            mine = [r[2:] if forward else r[:2] for r in pairs if tuple(r[:2] if forward else r[2:]) == tuple(q)]
+            found = np.sort([row[np.ravel_multi_index(m, grid)] for m in mine])
+            # the query's k nearest (by distance: robust to exact ties) are among its pairs
+            np.testing.assert_allclose(found[:k], np.sort(row)[:k], rtol=1e-4, atol=1e-6)
+    # both directions contribute: pairs whose I2 side is one of I2's capped corners but whose I1
+    # side is no capped corner of I1 exist only because of the search from I2 into I1
+    on1 = {tuple(c) for c in t1.corners}
+    on2 = {tuple(c) for c in t2.corners}
+    assert any(r[:2] not in on1 and r[2:] in on2 for r in pairs)
+    assert any(r[:2] in on1 and r[2:] not in on2 for r in pairs)
+
+
+def test_correspondences_by_pca_kdtree_agree_with_exact_search(pair, monkeypatch):
+    # The paper's PCA + kd-tree search (used above _CORRESPONDENCE_EXACT_MAX = 20000
+    # neighbourhoods, i.e. for textures above about 150 px per stage) forced on 48 px brick <->
+    # slate, 9 x 9 neighbourhoods (1600 per texture, 400 capped corners each). PatchIndex's
+    # kd-tree (PCA to <= 24 dimensions, 16 candidates from an eps = 1 tree search, re-ranked
+    # exactly) is deterministic here (no PCA subsample below 20000 vectors). Measured: 81 % of
+    # the exact pairs found (per direction 98 % brick -> slate, 64 % slate -> brick; on pebbles
+    # <-> paving 75 %, skimage brick <-> gravel 91 %); the misses are near ties: the best
+    # correspondence found per neighbourhood is on average 0.0 % / 3.7 % farther than the exact
+    # nearest, 20 % at the 95th percentile. The bounds leave room for BLAS/platform rounding
+    # of the near ties.
+    from texsynth import interpolation
+    from texsynth.interpolation import _correspondences
+
+    a, b = pair
+    s = 9
+    p, t1, t2 = _stage(a, b, s)
+    w = p["channel_weights"]
+    exact = _correspondences(t1, t2, s, w, 1, np.random.default_rng(0))
+    used = []
+
+    class Spy(PatchIndex):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            used.append(self.method)
+
+    monkeypatch.setattr(interpolation, "PatchIndex", Spy)
+    monkeypatch.setattr(interpolation, "_CORRESPONDENCE_EXACT_MAX", 1000)  # below the 1600 neighbourhoods
+    approx = _correspondences(t1, t2, s, w, 1, np.random.default_rng(0))
+    assert used == ["kdtree", "kdtree"]  # both directions took the kd-tree path
+    e = {tuple(r) for r in np.concatenate(exact, 1)}
+    k = {tuple(r) for r in np.concatenate(approx, 1)}
+    assert len(e & k) / len(e) > 0.7
+    for side, (src, dst) in enumerate(((t1, t2), (t2, t1))):
+        d2, grid = _weighted_d2(src, dst, src.corners, s, w)
+        true = d2.min(1)
+        ca, cb = approx if side == 0 else approx[::-1]
+        best = np.full(len(src.corners), np.inf)
+        index = {tuple(c): i for i, c in enumerate(src.corners)}
+        for q, m in zip(ca, cb):
+            i = index.get(tuple(q))
+            if i is not None:
+                best[i] = min(best[i], d2[i, np.ravel_multi_index(m, grid)])
+        ratio = best / np.maximum(true, 1e-12)
+        assert np.all(ratio >= 1 - 1e-4)  # returned pairs are real pairs: never closer than exact
+        assert ratio.mean() < 1.1 and np.percentile(ratio, 95) < 1.4
+
+
+# --------------------------------------------------------------------------- Section 4.2: colour adjustment
+def _identity_blend(t1, t2, c1, c2, size, alpha):
+    from texsynth.interpolation import _blend_pairs
+
+    grid = np.stack(np.indices((size, size)), -1).reshape(1, -1, 2).astype(float)
+    g = np.broadcast_to(grid, (len(c1),) + grid.shape[1:])
+    blend, _ = _blend_pairs(t1, t2, c1, c2, g, g, g, alpha, 0.5)
+    return blend.reshape(len(c1), size, size, -1)
+
+
+@pytest.mark.parametrize("alpha", [0.0, 0.3, 0.5, 1.0])
+def test_colour_adjustment_interpolates_means_and_deviations(pair, alpha):
+    # Section 4.2: "the mean and variance of the color channels in both input textures are
+    # computed, and then linearly interpolated according to alpha. The color values of the two
+    # neighborhoods are then shifted and scaled accordingly." The library interpolates the
+    # deviation (not the variance) linearly: see the docs page. With identity warps:
+    a, b = pair
+    # (1) I2 an affine recolouring of I1 (per channel gain and offset): both patches adjusted
+    # to the same interpolated statistics are then one and the same patch, so the blend of the
+    # whole-texture patch has exactly the interpolated mean and deviation per channel
+    gain, offset = np.array([0.5, 1.2, 0.8]), np.array([0.3, -0.05, 0.1])
+    b_affine = a * gain + offset
+    s = 48
+    _, t1, t2 = _stage(a, b_affine, s)
+    zero = np.zeros((1, 2), int)
+    n = _identity_blend(t1, t2, zero, zero, s, alpha)[0]
+    m1, s1 = a.reshape(-1, 3).mean(0), a.reshape(-1, 3).std(0)
+    np.testing.assert_allclose(n[..., :3].reshape(-1, 3).mean(0), (1 - alpha) * m1 + alpha * (gain * m1 + offset),
+                               atol=1e-6)
+    np.testing.assert_allclose(n[..., :3].reshape(-1, 3).std(0), (1 - alpha) * s1 + alpha * gain * s1, rtol=1e-4)
+    # (2) a real pair (brick, slate), every 9 x 9 patch at the same corner of both: each patch is
+    # shifted and scaled, N1 -> (N1 - m1) s / s1 + m, N2 -> (N2 - m2) s / s2 + m, then blended;
+    # the distance channel is blended but not adjusted
+    s = 9
+    _, t1, t2 = _stage(a, b, s)
+    corners = np.stack(np.nonzero(np.ones((40, 40), bool)), 1)[::7]
+    n = _identity_blend(t1, t2, corners, corners, s, alpha)
+    p1 = all_patches(t1.image, s)[corners[:, 0], corners[:, 1]]
+    p2 = all_patches(t2.image, s)[corners[:, 0], corners[:, 1]]
+    mean = (1 - alpha) * t1.mean + alpha * t2.mean
+    dev = (1 - alpha) * t1.std + alpha * t2.std
+    adj1 = (p1[..., :3] - t1.mean) / t1.std * dev + mean
+    adj2 = (p2[..., :3] - t2.mean) / t2.std * dev + mean
+    np.testing.assert_allclose(n[..., :3], np.clip((1 - alpha) * adj1 + alpha * adj2, 0, None), atol=1e-5)
+    np.testing.assert_allclose(n[..., 3], (1 - alpha) * p1[..., 3] + alpha * p2[..., 3], atol=1e-6)

@@ -54,6 +54,21 @@ class Method:
     mixing : str or None
         Parameter that takes one weight per input, given on the command line
         as ``equal``, ``ramp`` or image files (see :func:`parse_weights`).
+    maps : tuple of str
+        Parameters whose value on the command line may be an image file read
+        as one grey map ``(H, W)`` (see :func:`read_grey_map`: colour
+        channels averaged, an alpha channel ignored), e.g. masks.
+    map_pairs : tuple of str
+        Parameters that take two binary maps, given as ``--NAME FILE1 FILE2``
+        (each read by :func:`read_grey_map` and thresholded at 0.5).
+    spatial : str or None
+        Parameter that is a number or a map of numbers at the output size.
+        Besides ``--NAME`` (a number, or an image file if the parameter is in
+        ``maps``, or ``ramp`` if it is in ``ramps``) it gets ``--NAME-map
+        FILE`` (a grey image of values; the output then has the image's size
+        unless ``--size`` is given) and ``--transition`` (a left-to-right
+        ramp from 0 to 1 at the output size, a transition strip). The three
+        are mutually exclusive.
     skip : tuple of str
         Keyword parameters not exposed (arrays, callables).
     """
@@ -69,6 +84,9 @@ class Method:
     ramps: tuple = ()
     flow: str | None = None
     mixing: str | None = None
+    maps: tuple = ()
+    map_pairs: tuple = ()
+    spatial: str | None = None
 
     def to_unit(self, result):
         """Map the function's values to [0, 1] for saving: "unit" (already), "signed" ([-1, 1]) or "positive"."""
@@ -106,13 +124,15 @@ METHODS: dict[str, Method] = {
                     inputs="images", output="volume", size="shape"),
     "optimize": Method("optimization:optimize_texture",
                        "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling",
-                       files=("mask", "target", "init", "exemplar_mask")),
+                       files=("target", "init"), maps=("mask", "exemplar_mask")),
     "animate": Method("optimization:animate_texture",
                       "Kwatra 2005: flow-guided animation, e.g. --flows sink:1.5 --frames 16 --size 128",
                       output="frames", size=None, flow="flows", files=("first_frame",)),
     "interpolate": Method("interpolation:interpolate_textures",
-                          "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --alpha ramp | --alpha map.png)",
-                          inputs="pair", skip=("features", "rpm_options"), files=("alpha",), ramps=("alpha",)),
+                          "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --transition | --alpha-map map.png; "
+                          "--features FA FB)",
+                          inputs="pair", skip=("rpm_options",), maps=("alpha",), ramps=("alpha",),
+                          map_pairs=("features",), spatial="alpha"),
     "heeger-bergen": Method("heeger_bergen:heeger_bergen",
                             "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)"),
     "portilla-simoncelli": Method("portilla_simoncelli:portilla_simoncelli",
@@ -145,24 +165,73 @@ class CommandError(Exception):
     """A user error on the command line: printed on one line, exit status 2."""
 
 
-def _doc_params(func):
-    """Parameter descriptions from a numpydoc docstring: {name: first sentence}."""
+def _doc_entries(func):
+    """The Parameters section of a numpydoc docstring as [(names, description)], one per entry."""
     doc = inspect.getdoc(func) or ""
     match = re.search(r"^Parameters\n-+\n(.*?)(?:^\w[\w ]*\n-+\n|\Z)", doc, re.S | re.M)
-    out = {}
+    entries = []
     if not match:
-        return out
-    current = None
+        return entries
     for line in match.group(1).splitlines():
         if line and not line.startswith(" "):
             names = line.split(":")[0]
-            current = [n.strip() for n in names.split(",")]
-            for n in current:
-                out[n] = ""
-        elif current and line.strip():
-            for n in current:
-                out[n] = (out[n] + " " + line.strip()).strip()
+            entries.append(([n.strip() for n in names.split(",") if n.strip()], ""))
+        elif entries and line.strip():
+            names, text = entries[-1]
+            entries[-1] = (names, (text + " " + line.strip()).strip())
+    return entries
+
+
+_REFERENCE = re.compile(r"^As in :(?:func|meth):`~?([\w.]+)`")
+
+
+def _referenced_function(func, text):
+    """The function a description such as "As in :func:`optimize_texture`, ..." refers to, or None."""
+    match = _REFERENCE.match(text)
+    if not match:
+        return None
+    module_name, _, name = match.group(1).rpartition(".")
+    try:
+        module = importlib.import_module(module_name) if module_name else sys.modules[func.__module__]
+    except (ImportError, KeyError):
+        return None
+    other = getattr(module, name, None)
+    return other if callable(other) and other is not func else None
+
+
+def _doc_params(func, shown=None):
+    """Parameter descriptions from a numpydoc docstring: {name: description}.
+
+    A grouped entry (``a, b, c : type`` with one description for all) gives
+    its description to the first of its names that is ``shown`` as an
+    option; the others get "see --first" instead of a copy of the same
+    sentence. When the group's description refers to another function ("As
+    in :func:`optimize_texture`, ..."), every name also gets its own
+    description from that function's docstring.
+    """
+    out = {}
+    for names, text in _doc_entries(func):
+        if len(names) == 1:
+            out[names[0]] = text
+            continue
+        other = _referenced_function(func, text)
+        own = _doc_params(other) if other is not None else {}
+        first = next((n for n in names if shown is None or n in shown), names[0])
+        for n in names:
+            mine = own.get(n, "")
+            if n == first:
+                out[n] = f"{mine} {text}".strip()
+            else:
+                see = "--" + first.replace("_", "-")
+                out[n] = f"{mine} (see {see})" if mine else f"See {see}."
     return out
+
+
+def _plain(text):
+    """numpydoc markup to plain help text: ``x`` -> x, :func:`~a.f` -> f()."""
+    text = re.sub(r":(?:func|meth):`~?(?:[\w]+\.)*(\w+)`", r"\1()", text)
+    text = re.sub(r":\w+:`~?([^`]+)`", r"\1", text)
+    return text.replace("``", "")
 
 
 def _parse_value(text):
@@ -199,7 +268,6 @@ def parse_size(text):
 
 def _add_method_parser(sub, name, method):
     func = method.function()
-    help_text = _doc_params(func)
     first_line = (inspect.getdoc(func) or method.summary).splitlines()[0]
     parser = sub.add_parser(name, help=method.summary, description=f"{method.summary}\n\n{first_line}",
                             formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -217,19 +285,42 @@ def _add_method_parser(sub, name, method):
     parser.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     params = inspect.signature(func).parameters
+    shown = _option_names(method, params)
+    help_text = _doc_params(func, shown)
     for pname, param in params.items():
-        if pname not in _option_names(method, params):
+        if pname not in shown:
             continue
         flag = "--" + pname.replace("_", "-")
-        desc = help_text.get(pname, "").replace("%", "%%")  # argparse %-formats help strings
+        desc = _plain(help_text.get(pname, "")).replace("%", "%%")  # argparse %-formats help strings
         default = param.default
-        if pname == method.mixing:
+        required = default is inspect.Parameter.empty
+        if pname == method.spatial:
+            # NAME (number | ramp | file), NAME-map FILE and --transition: one of them, at most
+            group = parser.add_mutually_exclusive_group(required=required)
+            forms = ["a number"] + (["'ramp' (as --transition)"] if pname in method.ramps else []) + (
+                ["a grey image file (as " + flag + "-map)"] if pname in method.maps else [])
+            group.add_argument(flag, dest=pname, type=_parse_value, default=None if required else default,
+                               help=f"{', '.join(forms[:-1])} or {forms[-1]}. {desc}" if len(forms) > 1 else desc)
+            group.add_argument(flag + "-map", dest=f"_{pname}_map", metavar="PATH",
+                               help=f"grey image file of {pname} values in [0, 1] (colour channels averaged, an "
+                                    f"alpha channel ignored); the output has its size unless --size is given")
+            group.add_argument("--transition", dest=f"_{pname}_transition", action="store_true",
+                               help=f"a transition strip: {pname} rising from 0 at the left edge to 1 at the "
+                                    f"right edge of the output (--size, default the first input's size)")
+        elif pname == method.mixing:
             parser.add_argument(flag, dest=pname, default="equal",
                                 help="one weight per input: 'equal', 'ramp' (first input at the left edge to the "
                                      "last at the right) or grey weight images, comma-separated (one per input, "
                                      "or one file m for two inputs: weights 1-m and m) (default: 'equal')")
-        elif default is inspect.Parameter.empty:
+        elif pname in method.map_pairs:
+            parser.add_argument(flag, dest=pname, nargs=2, metavar=("PATH1", "PATH2"),
+                                help=f"two image files, read as binary maps (grey, colour channels averaged, "
+                                     f"an alpha channel ignored, threshold 0.5). {desc}")
+        elif required:
             parser.add_argument(flag, dest=pname, type=_parse_value, required=True, help=desc)
+        elif pname in method.maps:
+            parser.add_argument(flag, dest=pname, metavar="PATH",
+                                help=f"grey image file (colour channels averaged, an alpha channel ignored). {desc}")
         elif pname in method.files:
             parser.add_argument(flag, dest=pname, metavar="PATH", help=f"image file. {desc}")
         elif isinstance(default, bool):
@@ -285,8 +376,6 @@ def parse_weights(text, n, shape):
     """
     import numpy as np
 
-    from .io import load_image
-
     if text in (None, "equal"):
         return None
     if text == "ramp":
@@ -296,11 +385,37 @@ def parse_weights(text, n, shape):
     if len(paths) not in {n, 1} or (len(paths) == 1 and n != 2):
         raise CommandError(f"--weights needs 'equal', 'ramp', one image file per input ({n}) "
                            f"or, for two inputs, one file; got {text!r}")
-    maps = []
-    for path in paths:
-        image = load_image(path)
-        maps.append(image if image.ndim == 2 else image[..., :3].mean(axis=-1))
+    maps = [read_grey_map(path, "--weights") for path in paths]
     return [1.0 - maps[0], maps[0]] if len(paths) == 1 else maps
+
+
+def read_grey_map(path, option):
+    """Read an image file as one grey map ``(H, W)`` of floats in [0, 1].
+
+    The one reader of every map given on the command line (mixing weights,
+    masks, alpha maps, feature maps), so that a map saved as grey, grey with
+    alpha, RGB or RGBA (any bit depth ``load_image`` reads) means the same:
+    the colour channels are averaged and an alpha channel is ignored.
+    ``option`` names the option in error messages.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np
+    >>> from texsynth.io import save_image
+    >>> rgba = np.zeros((2, 3, 4)); rgba[..., :3] = 1.0  # white, fully transparent
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     read_grey_map(save_image(d + "/m.png", rgba), "--mask").tolist()
+    [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]]
+    """
+    from .io import load_image
+
+    image = load_image(path)
+    if image.ndim == 3:
+        channels = image.shape[-1]
+        image = image[..., 0] if channels <= 2 else image[..., :3].mean(axis=-1)  # (grey | RGB) [+ alpha]
+    if image.ndim != 2:
+        raise CommandError(f"{option} {str(path)!r} is not a 2-D image (shape {image.shape}); pass a grey or RGB image")
+    return image
 
 
 def _option_names(method, params):
@@ -336,6 +451,18 @@ def _match_channels(first, second):
     return first, second
 
 
+def _spatial_value(method, args, pname, value, shape):
+    """The value of a ``Method.spatial`` parameter from NAME, NAME-map or --transition (exclusive)."""
+    map_path = getattr(args, f"_{pname}_map")
+    if map_path is not None:
+        return read_grey_map(map_path, "--" + pname.replace("_", "-") + "-map")
+    if getattr(args, f"_{pname}_transition") or (pname in method.ramps and value == "ramp"):
+        return _ramp(shape)
+    if pname in method.maps and isinstance(value, str):
+        return read_grey_map(value, "--" + pname.replace("_", "-"))
+    return value
+
+
 def _load_inputs(method, paths):
     from .io import load_frames, load_image
 
@@ -369,6 +496,8 @@ def _write(method, result, output, overwrite):
 
 
 def _run_method(args):
+    import numpy as np
+
     method = METHODS[args._method]
     func = method.function()
     paths = list(getattr(args, "inputs", []) or [])
@@ -388,6 +517,7 @@ def _run_method(args):
     if "progress" in params:
         kwargs["progress"] = not args.no_progress and sys.stderr.isatty()
     positional = list(inputs) if method.inputs != "images" else [inputs]
+    size = None
     if method.size:
         if args.size:
             size = parse_size(args.size)
@@ -397,24 +527,33 @@ def _run_method(args):
             raise CommandError("--size is required for this method")
         if method.output == "volume" and len(size) == 2:  # a volume as deep as it is high
             size = (size[0],) + tuple(size)
-        if params[method.size].kind is inspect.Parameter.KEYWORD_ONLY:
-            kwargs[method.size] = size
-        else:
-            positional.append(size)
     for pname in _option_names(method, params):
         value = getattr(args, pname)
-        if pname == method.mixing:
+        if pname == method.spatial:
+            value = _spatial_value(method, args, pname, value, size if method.size else inputs[0].shape[:2])
+            if not args.size and method.size and isinstance(value, np.ndarray):
+                size = value.shape[:2]  # a map from a file: the output has its size
+        elif pname == method.mixing:
             value = parse_weights(value, len(inputs), size)
         elif pname == method.flow:
             if not args.size:
                 raise CommandError("--size is required for an animation (the flow field's size)")
             value = parse_flow(value, parse_size(args.size))
+        elif pname in method.map_pairs and value is not None:
+            value = tuple(read_grey_map(path, "--" + pname.replace("_", "-")) > 0.5 for path in value)
         elif pname in method.ramps and value == "ramp":
             value = _ramp(size if method.size else inputs[0].shape[:2])
+        elif pname in method.maps and isinstance(value, str):
+            value = read_grey_map(value, "--" + pname.replace("_", "-"))
         elif pname in method.files and isinstance(value, str):
             value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
         if value is not params[pname].default:
             kwargs[pname] = value
+    if method.size:
+        if params[method.size].kind is inspect.Parameter.KEYWORD_ONLY:
+            kwargs[method.size] = size
+        else:
+            positional.append(size)
     result = func(*positional, **kwargs)
     if isinstance(result, tuple):
         result = result[0]
