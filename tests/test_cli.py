@@ -351,3 +351,24 @@ def test_animate_named_flow_to_gif_and_frame_folder(tmp_path):
     assert len(frames) == 3 and all(f.endswith(".png") for f in frames)
     assert load_image(folder / frames[0]).shape == (20, 24, 3)
     assert run("animate", str(ex), "-o", str(tmp_path / "n.gif"), "--flows", "swirl:1", *fast) == 2
+
+
+@pytest.mark.parametrize("tty, flag, expected", [(True, [], True), (True, ["--no-progress"], False),
+                                                 (False, [], False)])
+def test_progress_bar_is_on_by_default_on_a_terminal(tmp_path, monkeypatch, tty, flag, expected):
+    import texsynth.procedural as procedural
+
+    import functools
+
+    seen = {}
+    real = procedural.reaction_diffusion
+
+    @functools.wraps(real)  # the command reads the signature
+    def spy(*args, **kwargs):
+        seen.update(kwargs)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(procedural, "reaction_diffusion", spy)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: tty)
+    assert run("reaction-diffusion", "-o", str(tmp_path / "m.png"), "--size", "16x16", "--steps", "5", *flag) == 0
+    assert seen["progress"] is expected
