@@ -1,5 +1,7 @@
 """Harrison patchwork (texsynth.patchwork): eqs. 1-7 on real textures."""
 
+import sys
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -21,22 +23,45 @@ def mirror(i, n):
     return np.where(i < n, i, period - 1 - i)
 
 
-def all_cells_reference(exemplar, info, shape, f, tileable, divisor="sqrt"):
+def taper(info, shape, dy=0, dx=0):
+    """The module's smooth truncation phi_i(x), written out plainly: one ``(n, H, W)`` array.
+
+    Cell i (grid square (j, k); shifted by (dy, dx) for a periodic image) is summed where x lies in
+    its reach, the span m s wide centred on its own grid square: ``|x - centre| < m s / 2`` along each
+    axis. phi is 1 inside, falls as a raised cosine over the outer half grid spacing of the reach,
+    and is 0 where the cell stops being summed.
+    """
+    m = info.neighbors
+    ny, nx = info.grid_shape
+    j, k = (g.ravel() for g in np.indices(info.grid_shape))
+    (sy, sx), (H, W) = info.spacing, shape
+
+    def axis(coord, square, s):
+        e = m * s / 2 - np.abs(coord[None, :] - (square[:, None] + 0.5) * s)  # distance to the reach's end
+        return 0.5 - 0.5 * np.cos(np.pi * np.clip(e / (s / 2), 0, 1))
+
+    return axis(np.arange(H), j + dy // H * ny, sy)[:, :, None] * axis(np.arange(W), k + dx // W * nx, sx)[:, None, :]
+
+
+def all_cells_reference(exemplar, info, shape, f, tileable, divisor="sqrt", tapered=False):
     """Eq. 2 summed over EVERY cell (and its 3x3 periodic images when tileable), in float64.
 
     Samples outside the input are mirrored, as the module does. ``divisor="sum"``
     gives plain feathering (Figure 1b) instead of the standard-deviation control.
+    ``tapered=True`` multiplies each w_i by the module's window phi_i (see ``taper``): the
+    module's bounded sum written as a sum over every cell.
     """
     ex = _c(exemplar).astype(np.float64)
     H, W = shape
     a = ex.reshape(-1, ex.shape[-1]).mean(0)
     r, c = np.mgrid[:H, :W]
     shifts = [(0, 0)] if not tileable else [(dy, dx) for dy in (-H, 0, H) for dx in (-W, 0, W)]
+    phis = {shift: taper(info, shape, *shift) if tapered else np.ones((len(info.p), 1, 1)) for shift in shifts}
     num = np.zeros((H, W, ex.shape[-1]))
     den = np.zeros((H, W))
-    for (py, px), (qy, qx) in zip(info.p, info.q):
+    for i, ((py, px), (qy, qx)) in enumerate(zip(info.p, info.q)):
         for dy, dx in shifts:
-            w = ((r - py - dy) ** 2 + (c - px - dx) ** 2) ** (-f / 2)  # eq. 1
+            w = ((r - py - dy) ** 2 + (c - px - dx) ** 2) ** (-f / 2) * phis[dy, dx][i]  # eq. 1 (x phi_i)
             sy = mirror((r - py - dy + qy).astype(int), ex.shape[0])
             sx = mirror((c - px - dx + qx).astype(int), ex.shape[1])
             num += (ex[sy, sx] - a) * w[..., None]
@@ -52,12 +77,72 @@ def all_cells_reference(exemplar, info, shape, f, tileable, divisor="sqrt"):
 def test_bounded_neighbours_match_the_all_cells_sum(texture, tileable):
     ex = texture("embark/2.jpg", 160)
     out, info = patchwork(ex, (72, 88), grid_spacing=24, tileable=tileable, rng=1, return_info=True)
-    ref = all_cells_reference(ex, info, (72, 88), 6.0, tileable)
-    err = np.abs(out - ref)
-    # measured: mean 7e-5..1e-4, max 3.6e-3 with the 4x4 bound (float32 work; 3x3 gives max 0.04).
-    # A wrong weight, divisor or offset gives errors of order 0.1.
-    assert err.mean() < 3e-4
-    assert err.max() < 0.01
+    # The 4x4 bound with its smooth taper IS eq. 2 over every cell with w_i replaced by w_i phi_i
+    # (phi_i = 0 outside the cell's reach): only float32 rounding separates the two (measured max
+    # 2e-7 over 8 seeds, f = 2, 6, 20, tileable or not). A wrong weight, divisor or offset gives
+    # errors of 0.01-0.1; a taper 20% wider than half a grid spacing already 3e-3.
+    assert np.abs(out - all_cells_reference(ex, info, (72, 88), 6.0, tileable, tapered=True)).max() < 1e-5
+    # ... and close to the paper's plain eq. 2 over every cell at f = 6: the taper touches only
+    # cells at least one grid spacing away along an axis (measured over 8 seeds: mean 1.1e-4 to
+    # 4.2e-4, max 4e-3 to 2.6e-2; the plain 4x4 truncation gave mean 6e-5 to 2e-4, max 7e-3).
+    err = np.abs(out - all_cells_reference(ex, info, (72, 88), 6.0, tileable))
+    assert err.mean() < 1e-3
+    assert err.max() < 0.05
+
+
+@pytest.mark.parametrize("f", [2.0, 6.0])
+def test_when_every_cell_is_summed_the_output_is_the_plain_eq2(texture, f):
+    ex = texture("embark/2.jpg", 160)
+    # grid 16 on 48x48: 3x3 points. With neighbors=8 the reach of every square (8 squares,
+    # 128 pixels, centred on it) covers the whole output with more than its half-spacing taper
+    # to spare, so phi_i = 1 everywhere and the module computes eq. 2 over every cell exactly.
+    out, info = patchwork(ex, 48, grid_spacing=16, sharpness=f, neighbors=8, rng=0, return_info=True)
+    assert info.grid_shape == (3, 3)
+    assert np.all(taper(info, (48, 48)) == 1)
+    # measured: max 1.1e-7 (float32 rounding); at f = 2 the default 4x4 bound is off by 8e-3 on average
+    assert np.abs(out - all_cells_reference(ex, info, (48, 48), f, False)).max() < 1e-5
+
+
+def seam_ratio(image, spacing, m=4):
+    """Mean |neighbour difference| across the rows and columns where the summed block of cells changes,
+    divided by the mean over all other rows and columns."""
+    o = _c(image).astype(np.float64)
+    across, other = [], []
+    for axis in (0, 1):
+        d = np.abs(np.diff(o, axis=axis)).mean(axis=(1, 2) if axis == 0 else (0, 2))
+        k0 = np.floor(np.arange(o.shape[axis]) / spacing - m / 2 + 0.5)  # first square of the block summed
+        boundary = k0[1:] != k0[:-1]  # pair (r - 1, r) straddles a block boundary
+        across.append(d[boundary])
+        other.append(d[~boundary])
+    return np.concatenate(across).mean() / np.concatenate(other).mean()
+
+
+def test_no_seams_where_the_block_of_summed_cells_changes(texture, monkeypatch):
+    from skimage import data as skdata
+    from skimage.transform import resize
+
+    module = sys.modules["texsynth.patchwork"]  # texsynth.patchwork is also the function's name
+    ink = texture("embark/2.jpg")  # white paper and red clouds: local means that vary a lot
+    photo = np.repeat(resize(skdata.camera(), (256, 256), anti_aliasing=True)[..., None], 3, axis=-1)
+    runs = {  # f = 2, where the weights fall off slowly; grid 16 (transfer's default) and 32
+        "transfer": (16, lambda: patchwork_transfer(ink, photo, rng=0, return_info=True)),
+        "image": (32, lambda: patchwork(ink, 384, grid_spacing=32, sharpness=2, rng=0, return_info=True)),
+    }
+    tapered = {name: run() for name, (_, run) in runs.items()}
+    # the paper's plain truncation, for comparison: every cell of the block at full weight
+    monkeypatch.setattr(module._Axis, "window", lambda self, a: np.ones(self.coords.shape, np.float32))
+    plain = {name: run() for name, (_, run) in runs.items()}
+    for name, (spacing, _) in runs.items():
+        (out, info), (cut, cut_info) = tapered[name], plain[name]
+        assert np.array_equal(info.q, cut_info.q)  # the taper does not change how q_i is drawn
+        # Measured over 6 seeds (transfer onto the 256x256 cameraman / 384x384 image synthesis):
+        # plain truncation 1.19-1.33 / 1.22-1.33 (faint straight seams in a 3x close-up); tapered
+        # 0.95-1.00 / 0.95-0.99. Where there is nothing to see (f = 6 or 20, where the taper changes
+        # the ratio by < 0.001) the ratio is 0.85-1.0, not exactly 1: the boundaries run through the
+        # middle of grid squares, where joins between cells are rarer than near the squares' edges.
+        # Threshold 1.1, between the two; 0.8 below, so a window that over-smooths fails too.
+        assert seam_ratio(cut, spacing) > 1.15, name  # the measure sees the seams of plain truncation
+        assert 0.8 < seam_ratio(out, spacing) < 1.1, name
 
 
 def test_cell_map_is_the_voronoi_diagram_and_sources_stay_inside(texture):
@@ -286,8 +371,11 @@ def test_transfer_eq7_with_one_cell_is_the_patch(texture):
     assert np.allclose(out, tex[qy - py : qy - py + 24, qx - px : qx - px + 24], atol=1e-5)
 
 
-def all_cells_eq7(texture, info, shape, f):
-    """Eq. 7 written out plainly over EVERY cell, in float64 (samples outside the texture mirrored)."""
+def all_cells_eq7(texture, info, shape, f, tapered=False):
+    """Eq. 7 written out plainly over EVERY cell, in float64 (samples outside the texture mirrored).
+
+    ``tapered=True``: each w_i times the module's window phi_i (see ``taper``).
+    """
     tex = _c(texture).astype(np.float64)
     H, W = shape
     r, c = np.mgrid[:H, :W]
@@ -295,8 +383,9 @@ def all_cells_eq7(texture, info, shape, f):
     mean_num = np.zeros((H, W, tex.shape[-1]))
     sum_w = np.zeros((H, W))
     sum_w2 = np.zeros((H, W))
-    for (py, px), (qy, qx), a_i in zip(info.p, info.q, info.local_means.astype(np.float64)):
-        w = ((r - py) ** 2 + (c - px) ** 2) ** (-f / 2)  # eq. 1
+    phi = taper(info, shape) if tapered else np.ones((len(info.p), 1, 1))
+    for i, ((py, px), (qy, qx), a_i) in enumerate(zip(info.p, info.q, info.local_means.astype(np.float64))):
+        w = ((r - py) ** 2 + (c - px) ** 2) ** (-f / 2) * phi[i]  # eq. 1 (x phi_i)
         sample = tex[mirror((r - py + qy).astype(int), tex.shape[0]), mirror((c - px + qx).astype(int), tex.shape[1])]
         num += (sample - a_i) * w[..., None]  # sum_i (I(x - p_i + q_i) - a_i) w_i(x)
         mean_num += a_i * w[..., None]  # sum_i a_i w_i(x)
@@ -314,13 +403,15 @@ def test_transfer_matches_eq7_summed_over_all_cells(texture, f):
     pattern = np.repeat(resize(skdata.camera(), (64, 64), anti_aliasing=True)[..., None], 3, axis=-1)
     # grid 16 on 64x64: 4x4 cells. With neighbors=8 every pixel's 8x8 block of grid points covers all
     # four rows and columns of points (block start k0 = floor(r/16 - 3.5) is in -4..0), so the module
-    # sums over every cell and eq. 7 is exact: only float32 rounding separates it from this float64
-    # reference (measured: max 6e-7). Tolerance 1e-5: 16 terms of float32 products and a square
-    # root stay far below it, while a wrong exponent, divisor, local mean or offset moves pixels by
-    # 0.01-0.3.
+    # sums over every cell, and the smooth taper, which lives in the outer 8 pixels of each cell's
+    # 128-pixel reach, stays outside the output (phi_i = 1 everywhere): eq. 7 is exact, only float32
+    # rounding separates it from this float64 reference (measured: max 6e-7). Tolerance 1e-5: 16
+    # terms of float32 products and a square root stay far below it, while a wrong exponent,
+    # divisor, local mean or offset moves pixels by 0.01-0.3.
     out, info = patchwork_transfer(tex, pattern, grid_spacing=16, sharpness=f, candidates=16, neighbors=8,
                                    rng=0, return_info=True)
     assert info.grid_shape == (4, 4)
+    assert np.all(taper(info, (64, 64)) == 1)
     ref = all_cells_eq7(tex, info, (64, 64), f)
     assert np.abs(out - ref).max() < 1e-5
     # the local averages a_i are the means of the texture patches (patch_size = grid 16) at q_i
@@ -330,10 +421,13 @@ def test_transfer_matches_eq7_summed_over_all_cells(texture, f):
             np.testing.assert_allclose(a_i, tex[qy - 8 : qy + 8, qx - 8 : qx + 8].mean((0, 1)), atol=1e-5)
             inside += 1
     assert inside >= 12
-    # the check is sensitive: the default 4x4 bound drops the far cells, which at f = 2 carry a
-    # visible share of sum_i w_i (measured: mean |diff| 9e-3) and at f = 6 very little (9e-5)
+    # the default 4x4 bound is eq. 7 over every cell with w_i phi_i in place of w_i (float32 rounding:
+    # measured max 4e-7) ...
     bounded, binfo = patchwork_transfer(tex, pattern, grid_spacing=16, sharpness=f, candidates=16, rng=0,
                                         return_info=True)
+    assert np.abs(bounded - all_cells_eq7(tex, binfo, (64, 64), f, tapered=True)).max() < 1e-5
+    # ... and the check is sensitive: the bound tapers off and drops the far cells, which at f = 2
+    # carry a visible share of sum_i w_i (measured: mean |diff| 1.1e-2) and at f = 6 very little (1.8e-4)
     err = np.abs(bounded - all_cells_eq7(tex, binfo, (64, 64), f)).mean()
     assert err > (1e-3 if f == 2 else 1e-5)
 
