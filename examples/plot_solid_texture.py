@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from texsynth.io import load_image
-from texsynth.metrics import noise_baseline, texture_energy
+from texsynth.metrics import mosaic_baseline, noise_baseline, texture_energy
 from texsynth.multisource import synthesize_solid
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -59,6 +59,14 @@ def cube(volume):
 
 slices = [vol[N // 2], vol[:, N // 2], vol[:, :, N // 2]]
 noise = texture_energy(noise_baseline(ex, N, rng=0), ex)
+# Baselines for the slices: noise (right values, no structure), random 16x16 exemplar blocks
+# pasted edge to edge (copied pixels, wrong seams), and extrusion (the exemplar repeated along
+# depth: perfect z slices, streaks along y and x, which a solid must avoid).
+mosaic = np.mean([texture_energy(mosaic_baseline(ex, N, rng=k), ex) for k in range(3)])
+extruded = np.broadcast_to(ex[:N, :N][None], (N, N, N, 3))
+print("texture energy of the middle slices (along z, y, x):", [round(texture_energy(s, ex), 4) for s in slices])
+print(f"baselines: noise {noise:.4f}, mosaic {mosaic:.4f}, extrusion (z, y, x) "
+      f"{[round(texture_energy(s, ex), 4) for s in (extruded[N // 2], extruded[:, N // 2], extruded[:, :, N // 2])]}")
 fig, axes = plt.subplots(1, 6, figsize=(18, 3.4))
 for ax, img, title in zip(
     axes,

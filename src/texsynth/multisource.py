@@ -61,12 +61,15 @@ __all__ = [
     "PixelSynthesisInfo",
     "ORDERS",
     "SEARCHES",
+    "SHAPES",
 ]
 
 #: Visiting orders: Wei & Levoy 2000 (scanline) and 2002 (order-independent).
 ORDERS = ("scanline", "independent")
 #: Nearest-neighbour search: ``"auto"``/``"exact"`` or an approximate backend of :class:`~texsynth.nearest.PatchIndex`.
 SEARCHES = ("auto", "exact", "kdtree", "tsvq")
+#: Neighbourhood footprints inside the ``(h, w)`` box: the whole box, or the inscribed disc (ellipse).
+SHAPES = ("square", "disc")
 
 try:  # installed with scikit-learn; tiny per-pixel BLAS calls run faster on one thread
     from threadpoolctl import threadpool_limits as _threadpool_limits
@@ -131,16 +134,79 @@ def _default_parent_size(size):
     return tuple(max(1, (s // 2) | 1) for s in size)
 
 
-def _per_source(value, n, name, convert):
-    """A single setting for every source, or one per source."""
-    if value is None or isinstance(value, numbers.Integral) or (
-        isinstance(value, tuple) and len(value) == 2 and all(isinstance(v, numbers.Integral) for v in value)
-    ):
-        return [convert(value, name) for _ in range(n)]
+def _is_int(v):
+    return isinstance(v, numbers.Integral) and not isinstance(v, bool)
+
+
+def _is_pair(v):
+    return isinstance(v, (tuple, list, np.ndarray)) and len(v) == 2 and all(_is_int(x) for x in v)
+
+
+def _per_source(value, n, name):
+    """Neighbourhood sizes: one setting for every source, or a list with one per source.
+
+    ``None`` or an int is the same for every source. A list (or a tuple whose
+    entries are not all integers, or whose length is the number of sources
+    other than two) holds one entry per source, each an int or an ``(h, w)``
+    pair. A tuple or array of two integers is one ``(h, w)`` rectangle for
+    every source, except with exactly two sources, where ``(5, 9)`` could
+    also mean 5x5 and 9x9: that raises, naming both spellings.
+    """
+    if value is None or _is_int(value):
+        return [value] * n
+    if isinstance(value, str) or not hasattr(value, "__len__"):
+        raise TypeError(f"{name} must be an int, an (h, w) pair or a list with one per source, got {value!r}")
+    if not isinstance(value, list) and _is_pair(value):
+        h, w = (int(v) for v in value)
+        if n == 2:
+            raise ValueError(
+                f"{name}=({h}, {w}) is ambiguous with two sources: pass a list with one entry per source, "
+                f"[{h}, {w}] for {h}x{h} and {w}x{w}, or [({h}, {w}), ({h}, {w})] for one {h}x{w} rectangle for both"
+            )
+        return [(h, w)] * n
     values = list(value)
     if len(values) != n:
-        raise ValueError(f"{name} holds {len(values)} entries but there are {n} sources; pass one per source or a single value")
-    return [convert(v, f"{name}[{i}]") for i, v in enumerate(values)]
+        one = "source" if n == 1 else "sources"
+        raise ValueError(
+            f"{name} holds {len(values)} entries but there {'is' if n == 1 else 'are'} {n} {one}; pass a list "
+            f"with one entry per source (an int or an (h, w) pair each, e.g. {[5] * n!r}) or a single int"
+        )
+    for i, v in enumerate(values):
+        if not (v is None or _is_int(v) or _is_pair(v)):
+            raise TypeError(f"{name}[{i}] must be an int or an (h, w) pair of ints, got {v!r}")
+    return [v if v is None or _is_int(v) else tuple(int(x) for x in v) for v in values]
+
+
+def _per_source_shape(value, n, name):
+    """Neighbourhood footprints: one name for every source, or a list with one per source."""
+    values = [value] * n if isinstance(value, str) else value
+    if not isinstance(values, (list, tuple)):
+        raise TypeError(
+            f"{name} must be one of {', '.join(map(repr, SHAPES))} or a list with one per source, got {value!r}"
+        )
+    values = list(values)
+    if len(values) != n:
+        raise ValueError(
+            f"{name} holds {len(values)} entries but there are {n} sources; pass one shape "
+            f"({' or '.join(map(repr, SHAPES))}) per source or a single one"
+        )
+    per_source = n > 1 and not isinstance(value, str)
+    return [_choice(v, SHAPES, f"{name}[{i}]" if per_source else name) for i, v in enumerate(values)]
+
+
+def _footprint(size, shape):
+    """Pixels of an (h, w) neighbourhood box its footprint keeps.
+
+    ``"square"``: the whole box (Wei & Levoy 2000). ``"disc"``: the ellipse
+    inscribed in the box, ``(dy / (h/2))^2 + (dx / (w/2))^2 <= 1`` (a disc
+    when h == w; 3x3 keeps all 9 pixels, 5x5 drops the 4 corners, 21 left).
+    """
+    h, w = size
+    if shape == "square":
+        return np.ones((h, w), bool)
+    dy = (np.arange(h) - h // 2) / (h / 2)
+    dx = (np.arange(w) - w // 2) / (w / 2)
+    return dy[:, None] ** 2 + dx[None, :] ** 2 <= 1.0
 
 
 def _check_levels(levels):
@@ -168,24 +234,42 @@ class _Source:
     axis: int | None  # output axis the view looks along (None: 2-D output)
     name: str
     weights: list = field(default_factory=list)  # normalised weight per output level
+    shape: str = "square"  # footprint of N_i at this level and at the parent level
+
+    @property
+    def parent_mask(self):
+        """Parent-level footprint, or None for the whole box (the fast shared-layer path)."""
+        return None if self.shape == "square" else _footprint(self.parent_size, self.shape)
 
 
-def _masks(size):
-    """Causal parts of the neighbourhood: rows above (fixed when a scanline starts) and left of the centre."""
+def _masks(size, shape="square"):
+    """Parts of the neighbourhood inside its footprint: the causal rows above (fixed when a
+    scanline starts), the causal pixels left of the centre, and the full non-causal one."""
     h, w = size
+    foot = _footprint(size, shape)
     above = np.zeros((h, w), bool)
     above[: h // 2] = True
-    left = causal_mask(size) & ~above
-    full = np.ones((h, w), bool)
+    # every footprint keeps the whole centre row, so ``left`` is always the w//2 pixels
+    # left of the centre (the scanline engine reads them as one slice of the row)
+    left = causal_mask(size) & ~above & foot
+    full = foot.copy()
     full[h // 2, w // 2] = False  # eq. 1 keeps p itself out of N_i(p)
-    return above, left, full
+    return above & foot, left, full
 
 
-def _vectors(image, parent, centers, size, parent_size, mask, mode):
-    """This level's masked neighbourhood joined to the parent's full one (Wei & Levoy 2000, Sec. 3.2)."""
+def _vectors(image, parent, centers, size, parent_size, mask, mode, parent_mask=None):
+    """This level's masked neighbourhood joined to the parent's (Wei & Levoy 2000, Sec. 3.2).
+
+    The parent's neighbourhood is the whole box, or the pixels of ``parent_mask``.
+    """
     if parent is None:
         return extract(image, centers, size, mode=mode)[:, mask].reshape(len(centers), -1)
-    return multilevel_vectors(image, parent, centers, size, parent_size, mode=mode, mask=mask)
+    if parent_mask is None:
+        return multilevel_vectors(image, parent, centers, size, parent_size, mode=mode, mask=mask)
+    centers = np.asarray(centers)
+    here = extract(image, centers, size, mode=mode)[:, mask].reshape(len(centers), -1)
+    coarse = extract(parent, centers // 2, parent_size, mode=mode)[:, parent_mask].reshape(len(centers), -1)
+    return np.concatenate([here, coarse], axis=1)
 
 
 def _candidates(source, level, levels):
@@ -211,7 +295,9 @@ def _candidates(source, level, levels):
 
 def _exemplar_vectors(source, level, levels, centers, mask):
     parent = source.pyramid[level + 1] if level + 1 < levels else None
-    return _vectors(source.pyramid[level], parent, centers, source.size, source.parent_size, mask, "valid")
+    return _vectors(
+        source.pyramid[level], parent, centers, source.size, source.parent_size, mask, "valid", source.parent_mask
+    )
 
 
 def _output_vectors(out, parent, source, mask):
@@ -225,7 +311,7 @@ def _output_vectors(out, parent, source, mask):
     if source.axis is None:
         h, w = out.shape[:2]
         centers = np.argwhere(np.ones((h, w), bool))
-        return _vectors(out, parent, centers, size, psize, mask, "wrap")
+        return _vectors(out, parent, centers, size, psize, mask, "wrap", source.parent_mask)
     vol = np.moveaxis(out, source.axis, 2)  # (P0, P1, S, C): plane axes first
     p0, p1, s, c = vol.shape
     pvol = None
@@ -239,7 +325,7 @@ def _output_vectors(out, parent, source, mask):
         ns = chunk.stop - chunk.start
         img = vol[:, :, chunk].reshape(p0, p1, ns * c)
         pim = None if pvol is None else pvol[:, :, chunk].reshape(pvol.shape[0], pvol.shape[1], ns * c)
-        v = _vectors(img, pim, centers, size, psize, mask, "wrap")
+        v = _vectors(img, pim, centers, size, psize, mask, "wrap", source.parent_mask)
         parts = [v[:, : n_here * ns * c].reshape(p0 * p1, n_here, ns, c)]
         if pim is not None:
             parts.append(v[:, n_here * ns * c :].reshape(p0 * p1, -1, ns, c))
@@ -287,6 +373,21 @@ def _weight_pyramids(raw, levels, spatial_dims):
     return result  # [level][source]
 
 
+def _check_output_levels(sources, shape, out_pyr, levels):
+    """The toroidal output's coarsest level must hold every neighbourhood (this level's and the parent's)."""
+    coarse = out_pyr[-1].shape[:-1]
+    for src in sources:
+        plane = tuple(n for a, n in enumerate(coarse) if a != src.axis) if src.axis is not None else coarse
+        need = src.size if levels == 1 else tuple(max(a, b) for a, b in zip(src.size, src.parent_size))
+        if plane[0] < need[0] or plane[1] < need[1]:
+            what = "shape" if src.axis is not None else "size"
+            raise ValueError(
+                f"the output {what} {tuple(shape)} is only {plane[0]}x{plane[1]} at the coarsest of levels={levels}, "
+                f"smaller than the neighbourhood {need[0]}x{need[1]} of {src.name}; pass a larger {what}, "
+                f"fewer levels or a smaller neighbourhood"
+            )
+
+
 def _resolve_search(search, order, n_pairs):
     if search in ("auto", "exact"):
         if order == "scanline" or search == "exact" or n_pairs <= _AUTO_EXACT_PAIRS:
@@ -304,6 +405,7 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, search, itera
     noise = _noise(sources, weights[0], channels, dtype, rng)
     # Wei & Levoy 2000, Sec. 3.2: Gaussian pyramids of the exemplar and of the noise output.
     out_pyr = [np.array(level, dtype=dtype) for level in gaussian_pyramid(noise, levels, spatial_dims=spatial_dims, mode="wrap")]
+    _check_output_levels(sources, shape, out_pyr, levels)
     tables = [[_candidates(s, level, levels) for s in sources] for level in range(levels)]
     total = sum(out_pyr[lv].shape[0] for lv in range(levels)) if order == "scanline" else levels * (passes + 1)
     info = PixelSynthesisInfo(order=order)
@@ -373,7 +475,7 @@ def _scanline_level(out, parent, sources, centers, weights, level, levels, itera
     exact = search == "exact"
     tabs = []
     for i, (src, cen, a) in enumerate(zip(sources, centers, weights)):
-        above, left, _ = _masks(src.size)
+        above, left, _ = _masks(src.size, src.shape)
         fixed = _exemplar_vectors(src, level, levels, cen, above)
         lefts = extract(src.pyramid[level], cen, src.size, mode="valid")[:, left].reshape(len(cen), -1)
         pixels = np.ascontiguousarray(src.pyramid[level][cen[:, 0], cen[:, 1]])
@@ -404,7 +506,7 @@ def _scanline_level(out, parent, sources, centers, weights, level, levels, itera
         active = [t for t in tabs if t["a"][r].any()]
         for t in active:
             src = t["src"]
-            q = _vectors(out, parent, line_centers, src.size, src.parent_size, t["above"], "wrap")
+            q = _vectors(out, parent, line_centers, src.size, src.parent_size, t["above"], "wrap", src.parent_mask)
             if exact:  # ||q - e||^2 for the fixed part, + ||e_left||^2 of the left part
                 t["base"] = (np.einsum("wd,wd->w", q, q)[:, None] - 2.0 * (q @ t["fixed_t"])) + (
                     t["fixed_sq"] + t["lefts_sq"]
@@ -546,7 +648,7 @@ def _independent_level(out, parent, sources, centers, weights, level, levels, it
     shared = {}  # views given as one image share their tables and indexes (built once)
     tabs = []
     for i, (src, cen) in enumerate(zip(sources, centers)):
-        key = (id(src.pyramid[level]), src.size, src.parent_size)
+        key = (id(src.pyramid[level]), src.size, src.parent_size, src.shape)
         if key not in shared:
             shared[key] = _level_tables(
                 src, cen, level, levels, search, seed, i,
@@ -575,7 +677,7 @@ def _independent_level(out, parent, sources, centers, weights, level, levels, it
 
 def _level_tables(src, cen, level, levels, search, seed, i, *, direct, several, with_parent):
     """Candidate pixels and the indexes over their neighbourhoods at one level, for one source."""
-    _, _, full = _masks(src.size)
+    _, _, full = _masks(src.size, src.shape)
     vec = _exemplar_vectors(src, level, levels, cen, full)
     pixels = np.ascontiguousarray(src.pyramid[level][cen[:, 0], cen[:, 1]])
     t = dict(full=full, pixels=pixels)
@@ -719,7 +821,7 @@ def _average_sel(tabs, a_flat, ks, nds, sel):
 # --------------------------------------------------------------------------- #
 # public functions
 # --------------------------------------------------------------------------- #
-def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name, work_dtype=None):
+def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name, work_dtype=None, shapes=None):
     """Convert the sources once and check their channels and neighbourhoods.
 
     The same image object passed twice (one view for all axes of a solid) gets
@@ -745,12 +847,9 @@ def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name, work_d
             pyramids[id(images[i])] = [
                 np.asarray(level, dtype=work) for level in gaussian_pyramid(img.astype(work, copy=False), levels)
             ]
-        sources.append(_Source(pyramids[id(images[i])], size, psize, axis, name))
+        shape = "square" if shapes is None else shapes[i]
+        sources.append(_Source(pyramids[id(images[i])], size, psize, axis, name, shape=shape))
     return sources, channels, dtype, converted[0][1]
-
-
-def _identity(value, name):
-    return value
 
 
 def _check_order_search(order, search, passes, iterations=1):
@@ -765,6 +864,7 @@ def synthesize_pixels(
     size,
     *,
     neighborhood_size=5,
+    neighborhood_shape="square",
     parent_size=None,
     levels=3,
     order="scanline",
@@ -786,6 +886,10 @@ def synthesize_pixels(
         Neighbourhood at each level. Default 5 (5x5, of which the causal
         half is used in scanline order): the paper's multi-resolution
         results use 5x5 neighbourhoods over 3 levels [1]_ (Sec. 3.2, 5).
+    neighborhood_shape : {"square", "disc"}
+        ``"square"``: the whole box, as in [1]_ (default). ``"disc"``: the
+        disc (ellipse) inscribed in it, at this level and the parent level;
+        isotropic, about pi/4 of the values (see :func:`mix_textures`).
     parent_size : int or (int, int), optional
         Full neighbourhood at the parent (coarser) level. Default about half
         ``neighborhood_size`` rounded to odd (5 -> 3, 9 -> 5).
@@ -856,7 +960,8 @@ def synthesize_pixels(
     _check_order_search(order, search, passes)
     rng = as_rng(rng)
     sources, channels, dtype, grey = _prepare(
-        [exemplar], ["exemplar"], [neighborhood_size], [parent_size], [None], levels, "neighborhood_size"
+        [exemplar], ["exemplar"], [neighborhood_size], [parent_size], [None], levels, "neighborhood_size",
+        shapes=[_choice(neighborhood_shape, SHAPES, "neighborhood_shape")],
     )
     sources[0].weights = 1.0
     out, info = _synthesize(
@@ -913,6 +1018,7 @@ def mix_textures(
     *,
     weights=None,
     neighborhood_sizes=5,
+    neighborhood_shapes="square",
     parent_sizes=None,
     levels=3,
     iterations=4,
@@ -938,10 +1044,25 @@ def mix_textures(
         Default: equal weighting (a uniform mixture). A ramp
         ``np.linspace(0, 1, width)`` for one source and its complement for
         the other turns one texture into the other from left to right.
-    neighborhood_sizes : int, (int, int) or sequence of them
-        ``N_i`` per source (sources differ in texon size). Default 5.
-    parent_sizes : optional
-        Parent-level neighbourhood per source; default about half.
+    neighborhood_sizes : int or list
+        The size of ``N_i``, per source, because sources differ in texon
+        size (Wei 2002, Sec. 2). An int ``k`` is a ``k x k`` neighbourhood
+        for every source (default 5, as :func:`synthesize_pixels`). A list
+        holds one entry per source, each an int or an ``(h, w)`` pair:
+        ``[5, 9]`` is 5x5 for ``sources[0]`` and 9x9 for ``sources[1]``,
+        ``[(5, 9), 7]`` a 5-row by 9-column box and 7x7. A bare tuple
+        ``(h, w)`` is one box for every source; with exactly two sources it
+        is ambiguous and raises ``ValueError`` (write ``[5, 9]`` or
+        ``[(5, 9), (5, 9)]``).
+    neighborhood_shapes : {"square", "disc"} or list of them
+        The shape of ``N_i``, one for every source or a list with one per
+        source: ``"square"`` is the whole ``(h, w)`` box (Wei & Levoy 2000;
+        default), ``"disc"`` the disc (ellipse, for ``h != w``) inscribed in
+        it, at this level and at the parent level. In scanline order the
+        causal (L-shaped) half of the shape is used. See Notes.
+    parent_sizes : None, int or list
+        Parent-level neighbourhood, same forms as ``neighborhood_sizes``;
+        default about half of each source's size, odd (5 -> 3, 9 -> 5).
     levels : int
         Pyramid levels (default 3).
     iterations : int
@@ -962,7 +1083,9 @@ def mix_textures(
     ValueError, TypeError
         For weights of the wrong shape, negative weights, all weights zero at
         a pixel, sources with different channel counts, a neighbourhood
-        larger than its source, or an invalid option.
+        larger than its source, ``neighborhood_sizes`` or
+        ``neighborhood_shapes`` of the wrong length or ambiguous (a tuple of
+        two ints with two sources), or an invalid option.
 
     Notes
     -----
@@ -980,6 +1103,20 @@ def mix_textures(
     Wei & Levoy 2000 and later steps keep it, so the result equals
     :func:`synthesize_pixels` bit for bit.
 
+    Neighbourhood shape: Wei gives each source "a neighborhood parameter,
+    defining the size and shape of the neighborhood" [1]_ without listing
+    shapes; Wei & Levoy 2000 use square boxes (the causal L-shaped half in
+    scanline order) [2]_. A box reaches sqrt(2) times farther along its
+    diagonals than along its axes, so for isotropic (stochastic) textures
+    ``"disc"`` compares the same distance in every direction, with about
+    pi/4 of the values (5x5: 21 of 25, 9x9: 69 of 81). A rectangular
+    ``(h, w)`` box suits elongated texons (bricks). 3x3 discs keep all 9
+    pixels, so they equal 3x3 squares. The shape is this library's option,
+    not a setting the paper reports. The neighbourhood term of eq. 1 sums
+    over the pixels of ``N_i``, so at equal weights a source with a larger
+    neighbourhood counts more (a ramp turns later); divide ``w_i`` by the
+    pixel count of ``N_i`` to balance them.
+
     References
     ----------
     .. [1] L.-Y. Wei, "Texture synthesis from multiple sources", SIGGRAPH 2003
@@ -996,6 +1133,12 @@ def mix_textures(
     >>> out = mix_textures([a, b], 20, weights=[1 - ramp, ramp], levels=2, rng=0)
     >>> out.shape
     (20, 20, 3)
+    >>> out = mix_textures([a, b], 20, neighborhood_sizes=[3, (5, 7)], neighborhood_shapes=["square", "disc"],
+    ...                    levels=2, rng=0)
+    >>> mix_textures([a, b], 20, neighborhood_sizes=(3, 5))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: neighborhood_sizes=(3, 5) is ambiguous with two sources: ... [3, 5] ... or [(3, 5), (3, 5)] ...
     """
     if isinstance(sources, np.ndarray) or not hasattr(sources, "__len__") or len(sources) == 0:
         raise ValueError("sources must be a non-empty list of exemplar images, e.g. [a, b]")
@@ -1004,10 +1147,13 @@ def mix_textures(
     levels = _check_levels(levels)
     _check_order_search(order, search, passes, iterations)
     rng = as_rng(rng)
-    sizes = _per_source(neighborhood_sizes, n, "neighborhood_sizes", _identity)
-    psizes = _per_source(parent_sizes, n, "parent_sizes", _identity)
+    sizes = _per_source(neighborhood_sizes, n, "neighborhood_sizes")
+    psizes = _per_source(parent_sizes, n, "parent_sizes")
+    shapes = _per_source_shape(neighborhood_shapes, n, "neighborhood_shapes")
     names = [f"sources[{i}]" for i in range(n)]
-    srcs, channels, dtype, grey = _prepare(sources, names, sizes, psizes, [None] * n, levels, "neighborhood_sizes")
+    srcs, channels, dtype, grey = _prepare(
+        sources, names, sizes, psizes, [None] * n, levels, "neighborhood_sizes", shapes=shapes
+    )
     for src, w in zip(srcs, _check_weights(weights, n, size)):
         src.weights = w
     out, info = _synthesize(
@@ -1024,6 +1170,7 @@ def synthesize_solid(
     *,
     axes=None,
     neighborhood_size=5,
+    neighborhood_shape="square",
     parent_size=None,
     levels=3,
     iterations=2,
@@ -1048,8 +1195,9 @@ def synthesize_solid(
         columns W), 1 (y: ``volume[:, h]`` has rows D, columns W) or 2 (x:
         ``volume[:, :, w]`` has rows D, columns H). Default: ``(0, 1, 2)``
         for one view (repeated) or three views, ``(0, 1)`` for two.
-    neighborhood_size, parent_size, levels
-        As in :func:`synthesize_pixels` (one setting for every view).
+    neighborhood_size, neighborhood_shape, parent_size, levels
+        As in :func:`synthesize_pixels` (one setting for every view; each
+        view's neighbourhood lies in the plane perpendicular to its axis).
     iterations : int
         Most alternation steps of eq. 1 per voxel and pass (default 2).
     passes : int
@@ -1135,7 +1283,7 @@ def synthesize_solid(
     # of exemplar pixels, so 1e-7 rounding is far below any visible change.
     srcs, channels, dtype, grey = _prepare(
         views, names, [neighborhood_size] * n, [parent_size] * n, list(axes), levels, "neighborhood_size",
-        work_dtype=_SOLID_DTYPE,
+        work_dtype=_SOLID_DTYPE, shapes=[_choice(neighborhood_shape, SHAPES, "neighborhood_shape")] * n,
     )
     for src in srcs:
         src.weights = 1.0
