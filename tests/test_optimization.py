@@ -2,6 +2,9 @@
 
 from pathlib import Path
 
+import functools
+import inspect
+
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -12,11 +15,13 @@ from texsynth.io import load_image
 from texsynth.optimization import (
     _Exemplar,
     _m_step_frame,
+    _schedule,
     _solve_gradient_system,
     animate_texture,
     optimize_texture,
 )
 from texsynth.neighborhood import extract, grid_centers
+from texsynth.pyramid import downsample
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 pytestmark = pytest.mark.skipif(not TEXTURES.is_dir(), reason="../shared/textures is not available")
@@ -90,40 +95,113 @@ def test_gradient_system_matches_a_direct_solve():
             np.testing.assert_allclose(x[..., c].ravel(), np.linalg.solve(big, rhs), rtol=1e-7, atol=1e-9)
 
 
+def test_gradient_system_converges_with_irls_weights_spanning_six_decades():
+    # IRLS weights of matched and unmatched neighbourhoods differ by 4-6 orders of magnitude;
+    # the unscaled constant-coefficient preconditioner then needed 85-500 CG iterations and
+    # stopped at its cap (relative residual up to 4e-8). Diagonal scaling first: measured
+    # 16 iterations (median; 30 at most) on the systems of a 256 x 256 synthesis.
+    rng = np.random.default_rng(1)
+    h = w = 48
+    for wrap in (False, True):
+        blocks = 10.0 ** rng.uniform(-3, 3, size=(h // 8, w // 8))  # smooth per-patch scale
+        a = np.kron(blocks, np.ones((8, 8))) * (0.5 + rng.random((h, w)))
+        ex = (h, w) if wrap else (h, w - 1)
+        ey = (h, w) if wrap else (h - 1, w)
+        wx = a[:, : ex[1]] * (0.5 + rng.random(ex))
+        wy = a[: ey[0]] * (0.5 + rng.random(ey))
+        m = rng.random((h, w, 3))
+        gx, gy = rng.random(ex + (3,)) - 0.5, rng.random(ey + (3,)) - 0.5
+        stats = {}
+        x = _solve_gradient_system(a, a[..., None] * m, wx, gx, wy, gy, 10.0, wrap, np.zeros((h, w, 3)), stats=stats)
+        assert stats["iterations"] < 60 and stats["residual"] <= 1e-10, stats
+        # the true residual, not only the recursively updated one
+        big = _solve_gradient_system(a, a[..., None] * m, wx, gx, wy, gy, 10.0, wrap, x)
+        np.testing.assert_allclose(big, x, rtol=0, atol=1e-7)
+
+
 # --------------------------------------------------------------------------- quality
-QUALITY = [
-    ("rohitrango/t4.png", 0, 0),       # stochastic: pebbles
-    ("jcjohnson/bread.png", 0, 0),     # stochastic: bread crumb
-    ("lcv/metal.pgm", 0, 0),           # stochastic, grey
-    ("rohitrango/t1.png", 0, 0),       # structured: brick
-    ("lcv/reptil_skin.pgm", 0, 0),     # structured, grey
-    ("lcv/text.pgm", 0, 0),            # text
-]
+# The issue's bounds on real textures: texture energy well below histogram-matched noise
+# and comparable to a random-block mosaic, completeness better than the mosaic's, no
+# verbatim copy larger than half the exemplar. Measured at 64 -> 96 px with the defaults:
+# the output has 2.25 times the exemplar's area, as the gallery's 128 -> 192 (at 56 -> 64
+# the copy bound is empty: the output is barely larger than the exemplar), and the whole
+# default schedule runs (sizes 8 | 16, 8 | 32, 16, 8 across the 3 levels) in ~1 s.
+QUALITY = {
+    "rohitrango/t4.png": "stochastic: pebbles",
+    "jcjohnson/bread.png": "stochastic: bread crumb",
+    "lcv/metal.pgm": "stochastic, grey",
+    "rohitrango/t1.png": "structured: brick",
+    "lcv/reptil_skin.pgm": "structured, grey",
+    "lcv/text.pgm": "text",
+}
 
 
-@pytest.mark.parametrize("name, top, left", QUALITY)
-def test_quality_against_baselines(name, top, left):
-    ex = texture(name, 56, top, left)
-    out = optimize_texture(ex, 64, **FAST, rng=0)
-    mosaic = metrics.mosaic_baseline(ex, 64, rng=0)
-    e_out = metrics.texture_energy(out, ex)
-    e_noise = metrics.texture_energy(metrics.noise_baseline(ex, 64, rng=0), ex)
-    e_mosaic = metrics.texture_energy(mosaic, ex)
+@functools.lru_cache(maxsize=None)
+def _quality_run(name, options=()):
+    ex = texture(name, 64)
+    out = optimize_texture(ex, 96, rng=0, **dict(options))
+    return ex, out, metrics.noise_baseline(ex, 96, rng=0), metrics.mosaic_baseline(ex, 96, rng=0)
+
+
+@pytest.mark.parametrize("name", list(QUALITY))
+def test_energy_well_below_noise_and_mosaic(name):
     # coherence: the paper's energy, measured independently by the metric; noise is the
-    # worst case, the block mosaic is coherent inside its blocks but has seams.
-    # Measured at these settings (rng=0): out/noise 0.04-0.11, out/mosaic 0.12-0.37;
-    # a broken E- or M-step lands near the noise level.
-    assert e_out < 0.3 * e_noise, (e_out, e_noise)
-    assert e_out < 0.8 * e_mosaic, (e_out, e_mosaic)
-    # completeness: eq. 1 rewards coherence only, and EM settles on a subset of the
-    # exemplar (flat regions win), so completeness is NOT better than the mosaic's at
-    # this size: measured out/mosaic 0.73-1.65, out/noise 0.10-0.46. The bounds check
-    # that the output still shows most of the exemplar (noise scores 1).
-    c_out = metrics.completeness(out, ex)
-    assert c_out < 0.6 * metrics.completeness(metrics.noise_baseline(ex, 64, rng=0), ex)
-    assert c_out < 2.0 * metrics.completeness(mosaic, ex)
-    # no verbatim copy of half the exemplar (a tiled exemplar scores about 1)
+    # worst case, the block mosaic (16-px blocks) coherent inside its blocks but seamed.
+    # Measured (rng=0): out/noise 0.026-0.072, out/mosaic 0.15-0.28; a broken E- or M-step
+    # lands near the noise level, a collapse onto one flat patch near the mosaic's.
+    ex, out, noise, mosaic = _quality_run(name)
+    e_out = metrics.texture_energy(out, ex)
+    assert e_out < 0.15 * metrics.texture_energy(noise, ex)
+    assert e_out < 0.5 * metrics.texture_energy(mosaic, ex)
+
+
+@pytest.mark.parametrize("name", [
+    pytest.param(n, marks=pytest.mark.xfail(strict=True, reason="measured 1.07 of the mosaic's completeness"))
+    if n == "lcv/reptil_skin.pgm" else n for n in QUALITY])
+def test_completeness_better_than_the_mosaic(name):
+    # Eq. 1 rewards coherence only and EM settles on a subset of the exemplar. Measured
+    # out/mosaic 0.61-0.86 on five textures; reptile skin 1.07 (a known gap, strict xfail:
+    # it fails loudly once fixed). At 128 -> 192 it is worse (median 1.68 over 8 textures
+    # x 2 seeds, see occurrence_weight); noise scores 7-17 times the output.
+    ex, out, _, mosaic = _quality_run(name)
+    assert metrics.completeness(out, ex) < metrics.completeness(mosaic, ex)
+
+
+@pytest.mark.parametrize("name", [
+    pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=f"measured {v} of the exemplar copied verbatim"))
+    if v else n for n, v in zip(QUALITY, ["0.62", "0.71", None, None, None, None])])
+def test_no_verbatim_copy_of_half_the_exemplar(name):
+    # The paper's M-step copies: 32-px neighbourhoods at full resolution settle on one
+    # offset over large regions (eq. 1 is zero on a copy). Measured with the defaults:
+    # 0.40-0.49 on four textures, 0.62 (pebbles) and 0.71 (bread) of the exemplar's area
+    # (known gaps, strict xfail); copy_limit removes them (next test). A tiled exemplar
+    # scores about 1.
+    ex, out, _, _ = _quality_run(name)
     assert metrics.verbatim_copy(out, ex) < 0.5
+
+
+def test_copy_limit_removes_the_large_copies(name="jcjohnson/bread.png"):
+    # copy_limit=0.1 on the texture that copies most with the defaults: measured copy
+    # 0.71 -> 0.39 of the exemplar at +28 % texture energy (still 0.27 of the mosaic's);
+    # the price is completeness, 0.61 -> 1.19 of the mosaic's (pebbles: 0.62 -> 0.27,
+    # +38 %, completeness 0.86 -> 1.78).
+    ex, out, _, mosaic = _quality_run(name)
+    _, limited, _, _ = _quality_run(name, (("copy_limit", 0.1),))
+    v = metrics.verbatim_copy(limited, ex)
+    assert v < 0.45 and v < 0.7 * metrics.verbatim_copy(out, ex)
+    assert metrics.texture_energy(limited, ex) < 0.5 * metrics.texture_energy(mosaic, ex)
+
+
+def test_occurrence_penalty_raises_completeness():
+    # Kaspar et al. 2015: penalising exemplar neighbourhoods by how much they are already
+    # used spreads the output over more of the exemplar. Bread, 64 -> 96: measured
+    # completeness 0.61 -> 0.49 of the mosaic's with occurrence_weight=0.3, energy +1 %
+    # (pebbles: 0.86 -> 0.85, +11 %; the effect is larger at 128 -> 192, where the
+    # defaults use less of the exemplar).
+    ex, out, _, _ = _quality_run("jcjohnson/bread.png")
+    _, spread, _, _ = _quality_run("jcjohnson/bread.png", (("occurrence_weight", 0.3),))
+    assert metrics.completeness(spread, ex) < 0.9 * metrics.completeness(out, ex)
+    assert metrics.texture_energy(spread, ex) < 1.3 * metrics.texture_energy(out, ex)
 
 
 # --------------------------------------------------------------------------- behaviour
@@ -197,21 +275,40 @@ def test_soft_constraints_pull_towards_the_target():
         metrics.noise_baseline(ex, (40, 16), rng=0), ex)
 
 
+def _sharpness(img, where=None):
+    """Mean absolute difference of neighbouring pixels (inside ``where``): falls as an image
+    blurs or washes out."""
+    if where is None:
+        return np.mean(np.abs(np.diff(img, axis=0))) + np.mean(np.abs(np.diff(img, axis=1)))
+    dx = np.abs(np.diff(img, axis=1)).mean(-1)[where[:, 1:] & where[:, :-1]]
+    dy = np.abs(np.diff(img, axis=0)).mean(-1)[where[1:] & where[:-1]]
+    return dx.mean() + dy.mean()
+
+
 def test_hole_filling_on_bricks():
-    img = load_image(TEXTURES / "embark" / "bricks.png")
-    known = img[..., 3] > 0.5
-    rows, cols = np.nonzero(~known)
-    r0, c0 = rows.min() - 8, cols.min() - 8
-    crop = (slice(r0, r0 + 96, 2), slice(c0, c0 + 96, 2))  # every second pixel: 48x48 around the hole's corner
-    rgb, keep = img[..., :3][crop], known[crop]
-    assert 0.2 < (~keep).mean() < 0.8
-    out = optimize_texture(rgb, rgb.shape[:2], neighborhood_sizes=(8,), levels=2, max_iterations=4,
-                           mask=keep, target=rgb, exemplar_mask=keep, constraint_weight=100.0, rng=0)
-    # known pixels stay
+    # embark/bricks.png at half resolution, cropped to 128 x 136 around its round hole
+    # (78 x 88 px, 29 % of the crop); the defaults (3 levels, 32/16/8) with 2 iterations
+    img = downsample(load_image(TEXTURES / "embark" / "bricks.png"))[24:152, 19:155]
+    keep = img[..., 3] > 0.999
+    rgb = img[..., :3]
+    hole = ~keep
+    assert 0.2 < hole.mean() < 0.4
+    out = optimize_texture(rgb, rgb.shape[:2], max_iterations=2, mask=keep, target=rgb, exemplar_mask=keep,
+                           constraint_weight=100.0, rng=0)
+    # known pixels stay (λ = 100 is nearly hard)
     assert np.sqrt(np.mean((out[keep] - rgb[keep]) ** 2)) < 0.03
     # the hole (black in the file) is filled with brick colours, not left dark
-    assert abs(out[~keep].mean() - rgb[keep].mean()) < 0.1
-    assert rgb[~keep].mean() < 0.05 < out[~keep].mean()
+    assert abs(out[hole].mean() - rgb[keep].mean()) < 0.05
+    dark = img[..., 3] < 0.5  # (the rim of the down-sampled hole mixes in brick colours)
+    assert rgb[dark].mean() < 0.05 < out[dark].mean()
+    # ... and with bricks and mortar, not a smear: the hole's interior (3 px from its rim)
+    # keeps most of the known pixels' sharpness. Measured 0.69 of it; blurring the known
+    # pixels by a Gaussian of σ = 1 px leaves 0.47, and the blurred, smeared fill of 2
+    # levels with sizes 16 and 8 (the example's former settings) 0.55.
+    core = ndimage.binary_erosion(hole, iterations=3)
+    ratio = _sharpness(out, core) / _sharpness(rgb, keep)
+    assert ratio > 0.62, ratio
+    assert _sharpness(ndimage.gaussian_filter(rgb, (1, 1, 0)), keep) / _sharpness(rgb, keep) < 0.5
 
 
 def test_animation_moves_texture_with_the_flow():
@@ -232,11 +329,6 @@ def test_animation_moves_texture_with_the_flow():
         moved = np.mean((video[i] - np.roll(video[i - 1], 3, axis=1)) ** 2)
         still = np.mean((video[i] - video[i - 1]) ** 2)
         assert moved < 0.05 * still
-
-
-def _sharpness(img):
-    """Mean absolute difference of neighbouring pixels: falls as an image blurs or washes out."""
-    return np.mean(np.abs(np.diff(img, axis=0))) + np.mean(np.abs(np.diff(img, axis=1)))
 
 
 def test_rotating_frames_stay_sharp_and_follow_the_flow():
@@ -301,7 +393,56 @@ def test_animation_grey_and_callable_flows():
     assert video.shape == (3, 24, 24)
 
 
+# --------------------------------------------------------------------------- defaults
+def test_defaults_are_the_papers():
+    # Section 3: grid spacing w/4; 3.1: r = 0.8; 3.2: three levels, sizes 32, 16, 8
+    params = inspect.signature(optimize_texture).parameters
+    assert params["levels"].default == 3
+    assert tuple(params["neighborhood_sizes"].default) == (32, 16, 8)
+    assert params["grid_spacing"].default == 0.25
+    assert params["irls_exponent"].default == 0.8
+    assert params["gradient_weight"].default == 0.0  # the paper's generalisation is opt-in (μ = 10)
+    # Figure 3 (a 64-px exemplar): (1/4, 8), (1/2, 16), (1/2, 8), (1, 32), (1, 16), (1, 8)
+    plan = _schedule((32, 16, 8), [(64, 64), (32, 32), (16, 16)], [(128, 128), (64, 64), (32, 32)])
+    assert plan == [(32, 16, 8), (16, 8), (8,)]
+
+
+def test_default_run_follows_figure_3_with_w_over_4_grids():
+    ex = texture("jcjohnson/bread.png", 64)
+    _, info = optimize_texture(ex, 64, max_iterations=1, rng=0, return_info=True)
+    assert [(s.level, s.size) for s in info.stages] == [(2, 8), (1, 16), (1, 8), (0, 32), (0, 16), (0, 8)]
+    assert [s.spacing for s in info.stages] == [2, 4, 2, 8, 4, 2]
+    assert [s.shape for s in info.stages] == [(16, 16), (32, 32), (32, 32), (64, 64), (64, 64), (64, 64)]
+
+
+def test_progress_callable_receives_step_total_info(bread):
+    calls = []
+    optimize_texture(bread, 32, neighborhood_sizes=(16, 8), levels=1, max_iterations=3, tolerance=0.0, rng=0,
+                     progress=lambda step, total, info: calls.append((step, total, dict(info))))
+    assert calls, "the callable was never called"
+    steps = [c[0] for c in calls]
+    totals = {c[1] for c in calls}
+    assert totals == {6}  # 2 stages x max_iterations
+    assert steps == sorted(steps) and steps[-1] == 6  # a stage stopping early advances to its end
+    for _, _, info in calls:
+        assert {"level", "size", "iteration", "energy"} <= set(info)
+        assert info["size"] in (16, 8) and np.isfinite(info["energy"])
+
+
 # --------------------------------------------------------------------------- bad input
+def test_nan_in_mask_init_first_frame_is_named(bread):
+    ok = dict(neighborhood_sizes=(8,), levels=1, max_iterations=1)
+    mask = np.ones((16, 16))
+    mask[3, 4] = np.nan
+    with pytest.raises(ValueError, match="mask contains NaN"):
+        optimize_texture(bread, 16, mask=mask, target=np.zeros((16, 16, 3)), **ok)
+    with pytest.raises(ValueError, match="init contains NaN"):
+        optimize_texture(bread, 16, init=np.full((16, 16, 3), np.nan), **ok)
+    with pytest.raises(ValueError, match="first_frame contains NaN"):
+        animate_texture(bread, translation((16, 16), (0.0, 1.0)), frames=2, first_frame=np.full((16, 16, 3), np.nan),
+                        **ok)
+
+
 def test_bad_input_messages(bread):
     ok = dict(neighborhood_sizes=(8,), levels=1, max_iterations=1)
     cases = [
