@@ -58,6 +58,7 @@ from ._validate import (
 )
 from .nearest import PatchIndex
 from .neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
+from .optimization import expectation_maximization
 from .portilla_simoncelli import interpolate_statistics, ps_statistics, ps_step
 from .tps import tps_rpm
 
@@ -71,14 +72,13 @@ __all__ = [
     "InterpolationInfo",
 ]
 
-_IRLS_EXPONENT = 0.8  # Kwatra et al. 2005, r = 0.8
 # Correspondence search (Section 4.1): exact up to this many neighbourhoods of the other texture,
 # PCA + kd-tree above. Measured for 784 queries into the 12544 neighbourhoods (17 x 17 x 4) of a
 # 128 px texture: exact 0.55-0.6 s, kd-tree 0.9-1.2 s (build + query) with recall@1 0.27-0.91
 # (brick -> slate vs slate -> brick). texsynth.nearest's "auto" (kd-tree above 5000) assumes
 # about N / 2 queries; here there are at most max_neighborhoods.
 _CORRESPONDENCE_EXACT_MAX = 20_000
-_EPS = 1e-3  # keeps IRLS weights finite for perfect matches
+_EPS = 1e-3  # ε² of the IRLS weights (texsynth.optimization.irls_weights): finite for perfect matches
 
 
 @dataclass
@@ -97,8 +97,8 @@ class InterpolationInfo:
     kept : list of int
         Interpolated neighbourhoods kept in ``N'`` per stage (all alphas).
     energy : list of list of float
-        Mean distance of the pasted neighbourhoods to the synthesized image
-        per iteration, per stage.
+        Mean distance of the pasted neighbourhoods to the synthesized image,
+        per stage: after the stage's first search, then after each iteration.
     colour_only : bool
         True when the feature maps were empty and the warps fell back to
         the identity.
@@ -989,14 +989,16 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
             stats = _Statistics(_downsample(p["a"], r), _downsample(p["b"], r),
                                 alphas if alpha_map is None else np.linspace(0, 1, bands), shape) if statistics else None
             info.add("statistics", t0)
-            energies = []
-            for it in range(iterations):
+
+            def search(x, _previous):
+                """M-step of Pseudocode 1: (PS step,) irregular centres and their nearest N' neighbourhoods."""
                 if stats is not None:
                     # Section 4.5, one Portilla-Simoncelli step per iteration, taken *before* the
-                    # patch step: the step restores fine detail and contrast that the next search
-                    # then finds in N', and the patch step removes its colour fringes and broken
+                    # patch search: the step restores fine detail and contrast that the search then
+                    # finds in N', and the patch update removes its colour fringes and broken
                     # features (taken after it, as listed in Pseudocode 1, they stay in the output)
                     t0 = time.perf_counter()
+                    x = x.copy()
                     x[..., :n_colour] = np.clip(stats.step(x[..., :n_colour], amap), 0.0, 1.0)
                     info.add("statistics", t0)
                 t0 = time.perf_counter()
@@ -1004,19 +1006,34 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
                 z = patches[idx].astype(np.float64)
                 if amap is not None:
                     z[..., -1] = extract(x, centres, s, mode="wrap")[..., -1]  # the map is enforced, not replaced
-                weights = (err + _EPS) ** ((_IRLS_EXPONENT - 2.0) / 2.0)  # IRLS (Kwatra et al. 2005)
+                info.add("synthesis", t0)
+                return (centres, z), err, True
+
+            def update(state, weights, _iteration):
+                """E-step: relaxation of the pasted neighbourhoods, then the per-pixel mean-shift mode."""
+                t0 = time.perf_counter()
+                centres, z = state
                 if relaxation_radius > 0:
                     centres = _relax(centres, z, weights, shape, relaxation_radius, spring_weight, max_sweeps=5)
                 x = _mean_shift_update(z, centres, weights, shape, bandwidth, ms_iterations, n_colour)
-                energies.append(float(err.mean()))
-                info.add("synthesis", t0)
                 x[..., :n_colour] = np.clip(x[..., :n_colour], 0.0, 1.0)
-                bar.advance({"stage": (r, s), "energy": energies[-1]})
-                if (min_improvement is not None and len(energies) > 1
-                        and energies[-1] > (1.0 - min_improvement) * energies[-2]):
-                    # Kwatra et al. 2005: iterate until the energy stops falling
-                    bar.advance(n=iterations - it - 1)
-                    break
+                info.add("synthesis", t0)
+                return x
+
+            energies = []
+
+            def energy(err, _x):
+                energies.append(float(err.mean()))
+                return energies[-1]
+
+            def report(iteration, value, stop):
+                bar.advance({"stage": (r, s), "energy": value}, n=iterations - iteration if stop else 1)
+
+            state, err, _ = search(x, None)
+            x, *_ = expectation_maximization(
+                x, state, err, update, search, energy, max_iterations=iterations,
+                tolerance=min_improvement, eps2=_EPS, on_iteration=report,
+            )
             info.energy.append(energies)
     if x.shape[:2] != out_shape:
         x = ndimage.zoom(x, (out_shape[0] / x.shape[0], out_shape[1] / x.shape[1], 1), order=1)

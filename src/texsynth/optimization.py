@@ -91,8 +91,13 @@ from .nearest import METHODS, PatchIndex
 from .neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
 from .pyramid import gaussian_pyramid, max_levels, upsample
 
-__all__ = ["optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo"]
+__all__ = [
+    "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo",
+    "expectation_maximization", "irls_weights", "IRLS_EXPONENT",
+]
 
+#: r of Section 3.1, the default robust exponent (the paper's 0.8).
+IRLS_EXPONENT = 0.8
 # IRLS guard: RMS difference per weighted value below which a neighbourhood
 # counts as matched (1e-3 = a quarter of an 8-bit grey level).
 _EPS_RMS = 1e-3
@@ -759,6 +764,76 @@ def _energy(rho, r, eps2, x, constraint):
     return e
 
 
+# --------------------------------------------------------------------------- Algorithm 1's loop
+def irls_weights(rho, r=IRLS_EXPONENT, eps2=0.0):
+    """IRLS weights of Section 3.1: ``ω_p = (r/2) (ρ_p + ε²)^((r-2)/2)``.
+
+    With these weights the quadratic energy ``Σ ω_p ρ_p`` majorises the robust
+    energy ``Σ (ρ_p + ε²)^(r/2)`` of eq. 1 at the current ``ρ_p = ||x_p - z_p||²``,
+    so the weighted E-step never raises it. ``ε²`` keeps the weight of a
+    perfect match finite.
+    """
+    return (r / 2.0) * (rho + eps2) ** ((r - 2.0) / 2.0)
+
+
+def expectation_maximization(x, state, rho, e_step, m_step, energy, *, max_iterations, tolerance,
+                             r=IRLS_EXPONENT, eps2=0.0, on_iteration=None):
+    """The alternation of Algorithm 1 (Kwatra et al. 2005), shared by every method that minimises a patch energy.
+
+    Texture optimization and Ruiters et al.'s interpolation (which plugs in its
+    own search and pixel update) both run this loop.
+
+    Parameters
+    ----------
+    x : numpy.ndarray or None
+        The current image (None before the first E-step of a bootstrap).
+    state, rho
+        The current neighbourhoods ``z_p`` (whatever ``m_step`` returns) and
+        their squared distances ``ρ_p`` (None for a random start: every
+        ``ω_p = 1`` then).
+    e_step : callable
+        ``e_step(state, omega, iteration) -> x``: minimise the weighted energy over ``x``.
+    m_step : callable
+        ``m_step(x, state) -> (state, rho, changed)``: the nearest neighbourhoods of ``x``.
+    energy : callable
+        ``energy(rho, x) -> float``: the energy after an M-step (also the place to log it).
+    max_iterations : int
+        At most this many E-steps.
+    tolerance : float or None
+        Stop when ``E`` falls by at most this fraction of its previous value
+        (None: run every iteration unless the ``z_p`` stop changing).
+    r, eps2 : float
+        IRLS exponent and ``ε²`` (:func:`irls_weights`).
+    on_iteration : callable, optional
+        ``on_iteration(iteration, energy, stop)`` after every M-step of the loop.
+
+    Returns
+    -------
+    x, state, rho
+        After the last E-step and the M-step that followed it.
+    iterations : int
+    converged : bool
+        True if the loop ended because the ``z_p`` no longer changed (the paper's criterion).
+    """
+    energies = [] if rho is None else [energy(rho, x)]
+    iterations, converged = 0, False
+    for iterations in range(1, max_iterations + 1):
+        omega = None if rho is None else irls_weights(rho, r, eps2)
+        x = e_step(state, omega, iterations - 1)
+        state, rho, changed = m_step(x, state)
+        energies.append(energy(rho, x))
+        # the paper stops when {z_p} no longer changes; we also stop when E has stopped falling
+        flat = (tolerance is not None and len(energies) >= 2
+                and energies[-2] - energies[-1] <= tolerance * abs(energies[-2]))
+        stop = not changed or flat
+        if on_iteration is not None:
+            on_iteration(iterations - 1, energies[-1], stop)
+        if stop:
+            converged = not changed
+            break
+    return x, state, rho, iterations, converged
+
+
 # --------------------------------------------------------------------------- one stage
 def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
     """Algorithm 1 (or 2) at one level with one neighbourhood size."""
@@ -773,11 +848,6 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
     nn = build
     r, mu, eps2 = params["r"], params["mu"], ex.eps2
     values = float(ex.weights.sum())
-
-    def log(rho):
-        record["energy"].append(_energy(rho, r, eps2, x, constraint))
-        record["mse"].append(float(rho.mean()) / values)
-        record["stage"].append(len(record["stages"]))
 
     coords = params.get("coords")  # animation frame: the previous frame's correspondence, warped
     prior = None if coords is None else ex.lookup(coords[centers[:, 0], centers[:, 1]] - w // 2, 0)
@@ -805,7 +875,6 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
     g0 = None
     if x is None:  # bootstrap: z_p^0 <- random neighbourhood in Z
         zidx = rng.integers(len(ex), size=len(centers))
-        omega = np.ones(len(centers))
         rho = None
         # The first x is assembled from these neighbourhoods with a sharp fall-off
         # (σ = spacing/4), so each pixel comes from the nearest centre: averaging ~16
@@ -816,30 +885,39 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
         t1 = time.perf_counter()
         zidx, rho = m_step(x, None)
         nn += time.perf_counter() - t1
-        log(rho)
-    max_it = params["max_iterations"]
-    for it in range(max_it):
-        if rho is not None:  # IRLS weights ω_p (Section 3.1), majorising (ρ + ε²)^{r/2}
-            omega = (r / 2.0) * (rho + eps2) ** ((r - 2.0) / 2.0)
-        x0 = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
+    current = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
+
+    def e_step(zidx, omega, it):
+        nonlocal current
+        omega = np.ones(len(centers)) if omega is None else omega
         g = g0 if it == 0 and g0 is not None else ga  # bootstrap assembly, frame assembly or ex.g
-        x = _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=g)
+        current = _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, current, g=g)
+        return current
+
+    def search(x, zidx):
+        nonlocal nn
         t1 = time.perf_counter()
         new, rho = m_step(x, zidx)
         nn += time.perf_counter() - t1
-        log(rho)
+        return new, rho, not np.array_equal(new, zidx)
+
+    def log(rho, x):
+        record["energy"].append(_energy(rho, r, eps2, x, constraint))
+        record["mse"].append(float(rho.mean()) / values)
+        record["stage"].append(len(record["stages"]))
+        return record["energy"][-1]
+
+    max_it = params["max_iterations"]
+
+    def report(it, energy, stop):
         stage.iterations = it + 1
-        done = np.array_equal(new, zidx)
-        zidx = new
-        e = record["energy"]
-        # the paper stops when {z_p} no longer changes; we also stop when E has
-        # stopped falling (relative decrease below `tolerance`)
-        flat = len(e) - stage.first >= 2 and e[-2] - e[-1] <= params["tolerance"] * abs(e[-2])
-        progress.advance({"level": level, "size": w, "iteration": it, "energy": e[-1]},
-                         n=max_it - it if (done or flat) else 1)
-        if done or flat:
-            stage.converged = bool(done)
-            break
+        progress.advance({"level": level, "size": w, "iteration": it, "energy": energy},
+                         n=max_it - it if stop else 1)
+
+    x, zidx, _, _, stage.converged = expectation_maximization(
+        x, zidx, rho, e_step, search, log, max_iterations=max_it, tolerance=params["tolerance"], r=r, eps2=eps2,
+        on_iteration=report,
+    )
     stage.seconds = time.perf_counter() - t0 + build
     stage.nn_seconds = nn
     stage.searches = memo.searched
