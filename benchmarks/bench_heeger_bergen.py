@@ -1,6 +1,6 @@
 """Heeger-Bergen synthesis: time of a 512x512 colour synthesis, 5 iterations (target: at most 2 s).
 
-Run: /work/venv/bin/python benchmarks/bench_heeger_bergen.py [--repeat 3]
+Run: python benchmarks/bench_heeger_bergen.py [--repeat 3]
 
 Exemplar: embark/1.jpg (water, 300x300 colour) and lcv/metal.pgm (256x256 grey), output 512x512,
 4 scales x 4 orientations, 5 iterations, periodic+smooth exemplar. Prints the best of ``--repeat``

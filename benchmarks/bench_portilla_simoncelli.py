@@ -1,6 +1,6 @@
 """Portilla-Simoncelli synthesis: time of 256x256 grey, 50 iterations (target <= 30 s).
 
-Run: /work/venv/bin/python benchmarks/bench_portilla_simoncelli.py [--repeat 2] [--size 256]
+Run: python benchmarks/bench_portilla_simoncelli.py [--repeat 2] [--size 256]
 
 Rows: the statistics of the exemplar alone; one ``ps_step`` (one projection iteration, what
 Ruiters et al. interleave), on the whole image and with ``mask=`` on its left half; the whole synthesis (analysis + 50 iterations, paper defaults: 4

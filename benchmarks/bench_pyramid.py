@@ -1,6 +1,6 @@
 """Steerable pyramid: build + reconstruct, texsynth vs pyrtools' SteerablePyramidFreq.
 
-Run: /work/venv/bin/python benchmarks/bench_pyramid.py [--size 512] [--repeat 5]
+Run: python benchmarks/bench_pyramid.py [--size 512] [--repeat 5]
 
 Both decompose the same real texture (lcv/metal.pgm, tiled/cropped to the size) with 4 scales
 and 4 orientations and reconstruct it; the table gives the best time of ``--repeat`` runs and the
