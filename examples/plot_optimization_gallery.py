@@ -9,10 +9,12 @@ against the exemplar with :mod:`texsynth.metrics`, next to the two
 baselines: histogram-matched noise (worst coherence) and a random-block
 mosaic (naive patch pasting).
 
-A third column adds the two options against the paper's M-step's
-weaknesses: ``occurrence_weight=0.3`` (Kaspar et al. 2015, spreads the output
-over more of the exemplar: completeness) and ``copy_limit=0.2`` (breaks
-verbatim copies larger than about a third of the exemplar).
+A third column adds the two options against the weaknesses of eq. 1, which
+rewards coherence only: ``completeness_weight=1`` (the completeness half of
+Simakov et al.'s 2008 bidirectional similarity: every exemplar neighbourhood
+must appear somewhere in the output) and ``copy_limit=0.2`` (breaks verbatim
+copies larger than about a third of the exemplar, which the completeness
+term alone would favour).
 
 Saves ``examples/output/optimization_gallery.png`` (exemplar, output with
 the defaults, output with the options; one row per texture) and one PNG per
@@ -56,7 +58,7 @@ def load(name, crop):
     return img[crop] if crop is not None else img
 
 
-OPTIONS = dict(occurrence_weight=0.3, copy_limit=0.2)
+OPTIONS = dict(completeness_weight=1.0, copy_limit=0.2)
 rows = []
 fig, axes = plt.subplots(len(CASES), 3, figsize=(9, 3 * len(CASES)))
 for k, (name, kind, crop) in enumerate(CASES):

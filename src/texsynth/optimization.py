@@ -577,6 +577,40 @@ class _Occurrence:
         return np.where(self.offsets[k] == key, self.excess[k], 0.0)
 
 
+class _Completeness:
+    """The completeness term of the bidirectional similarity (Simakov et al. 2008) for one stage.
+
+    Every exemplar neighbourhood ``q_j`` whose corner lies on a grid of the
+    stage's spacing is matched to its nearest output neighbourhood ``x_p(j)``
+    among the grid centres ``X†``; the term is
+    ``scale * sum_j (||x_p(j) - q_j||^2 + ε²)^(r/2)`` with
+    ``scale = weight * |X†| / |J|``, so that ``weight = 1`` gives the two
+    directions equal weight per neighbourhood, as in Simakov et al.'s
+    ``d = d_complete / N_S + d_cohere / N_T`` multiplied by ``N_T``.
+    In the E-step ``q_j`` is one more neighbourhood averaged at the centre
+    ``p(j)`` (their eq. 4: every pixel the weighted mean of the colours the
+    coherence and the completeness votes give it).
+    """
+
+    def __init__(self, ex, centers, weight, spacing):
+        on_grid = (ex.corner[:, 0] % spacing == 0) & (ex.corner[:, 1] % spacing == 0)
+        self.jidx = np.flatnonzero(on_grid)
+        self.feats = _features(ex.patches(self.jidx), ex.mu).astype(np.float64, copy=False)
+        self.scale = weight * len(centers) / max(1, len(self.jidx))
+
+    def search(self, ex, q, current, rng):
+        """``p(j)`` of every ``q_j`` (never farther than the ``current`` one) and ``ρ_j``."""
+        index = PatchIndex(q.astype(np.float32), weights=ex.weights, method="auto", rng=rng)
+        found = index.query(self.feats.astype(np.float32), k=1)[0][:, 0]
+        rho = _weighted_sq(q[found], self.feats, ex.weights)
+        if current is not None:
+            keep = _weighted_sq(q[current], self.feats, ex.weights)
+            better = rho < keep
+            found = np.where(better, found, current)
+            rho = np.where(better, rho, keep)
+        return found, rho
+
+
 def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, occurrence=None):
     """z_p <- nearest exemplar neighbourhood of x_p (modified by Algorithm 2 under constraints).
 
@@ -857,6 +891,10 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
     occurrence = None
     if (weight > 0 or limit is not None) and coords is None:
         occurrence = _Occurrence(ex, centers, weight, limit)
+    completeness = None
+    if params.get("completeness", 0.0) > 0 and coords is None:
+        completeness = _Completeness(ex, centers, params["completeness"], spacing)
+    n = len(centers)
 
     def m_step(x, zidx):
         stage.m_steps += 1
@@ -874,48 +912,68 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
     ga = None if params.get("assembly") is None else gaussian_falloff(w, sigma=max(spacing, 1) * params["assembly"])
     g0 = None
     if x is None:  # bootstrap: z_p^0 <- random neighbourhood in Z
-        zidx = rng.integers(len(ex), size=len(centers))
-        rho = None
+        state, rho = (rng.integers(len(ex), size=n), None), None
         # The first x is assembled from these neighbourhoods with a sharp fall-off
         # (σ = spacing/4), so each pixel comes from the nearest centre: averaging ~16
         # random neighbourhoods per pixel gives a flat image whose nearest exemplar
         # neighbourhoods are the flattest ones, and the synthesis collapses onto them.
         g0 = gaussian_falloff(w, sigma=max(spacing, 1) / 4.0)
-    else:
-        t1 = time.perf_counter()
-        zidx, rho = m_step(x, None)
-        nn += time.perf_counter() - t1
     current = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
 
-    def e_step(zidx, omega, it):
+    def e_step(state, omega, it):
         nonlocal current
-        omega = np.ones(len(centers)) if omega is None else omega
+        zidx, pj = state
+        omega = np.ones(n) if omega is None else omega
+        at = centers
+        if pj is not None:  # the completeness votes: q_j averaged at its centre p(j)
+            zidx, at = np.concatenate([zidx, completeness.jidx]), np.concatenate([centers, centers[pj]])
+            omega = np.concatenate([omega[:n], completeness.scale * omega[n:]])
+            if occurrence is not None and occurrence.offsets is not None:
+                # no vote for an offset already copied beyond the copy limit
+                omega[n:] *= occurrence.copy_penalty(ex, completeness.jidx, pj) == 0
         g = g0 if it == 0 and g0 is not None else ga  # bootstrap assembly, frame assembly or ex.g
-        current = _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, current, g=g)
+        current = _e_step(ex, zidx, at, shape, omega, mode, mu, constraint, current, g=g)
         return current
 
-    def search(x, zidx):
+    def search(x, state):
+        """M-step: ``z_p`` of every centre and, with the completeness term, ``p(j)`` of every ``q_j``."""
         nonlocal nn
+        zidx, pj = state
         t1 = time.perf_counter()
         new, rho = m_step(x, zidx)
+        changed = not np.array_equal(new, zidx)
+        if completeness is not None:
+            q = _features(extract(x, centers, w, mode=mode), mu).astype(np.float64, copy=False)
+            new_pj, rho_j = completeness.search(ex, q, pj, rng)
+            changed = changed or not np.array_equal(new_pj, pj)
+            pj, rho = new_pj, np.concatenate([rho, rho_j])
         nn += time.perf_counter() - t1
-        return new, rho, not np.array_equal(new, zidx)
+        return (new, pj), rho, changed
+
+    if x is not None:
+        state, rho, _ = search(x, (None, None))
 
     def log(rho, x):
-        record["energy"].append(_energy(rho, r, eps2, x, constraint))
-        record["mse"].append(float(rho.mean()) / values)
+        e = _energy(rho[:n], r, eps2, x, constraint)
+        if completeness is not None:
+            e += completeness.scale * float(np.sum((rho[n:] + eps2) ** (r / 2.0)))
+        record["energy"].append(e)
+        record["mse"].append(float(rho[:n].mean()) / values)
         record["stage"].append(len(record["stages"]))
         return record["energy"][-1]
 
     max_it = params["max_iterations"]
+    # the penalised M-step may raise E on purpose (it breaks up copies): only the paper's
+    # test, unchanged z_p, ends such a stage early
+    tolerance = params["tolerance"] if occurrence is None else None
 
     def report(it, energy, stop):
         stage.iterations = it + 1
         progress.advance({"level": level, "size": w, "iteration": it, "energy": energy},
                          n=max_it - it if stop else 1)
 
-    x, zidx, _, _, stage.converged = expectation_maximization(
-        x, zidx, rho, e_step, search, log, max_iterations=max_it, tolerance=params["tolerance"], r=r, eps2=eps2,
+    x, (zidx, _), _, _, stage.converged = expectation_maximization(
+        x, state, rho, e_step, search, log, max_iterations=max_it, tolerance=tolerance, r=r, eps2=eps2,
         on_iteration=report,
     )
     stage.seconds = time.perf_counter() - t0 + build
@@ -1047,8 +1105,8 @@ def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
 def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3, grid_spacing=0.25,
                      irls_exponent=0.8, max_iterations=5, tolerance=5e-3, gradient_weight=0.0, mask=None, target=None,
                      constraint_weight=1.0, exemplar_mask=None, tileable=False, init=None, falloff=True,
-                     occurrence_weight=0.0, copy_limit=None, method="auto", rng=None, progress=False,
-                     return_info=False):
+                     occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0, method="auto", rng=None,
+                     progress=False, return_info=False):
     """Synthesise a texture by texture optimization (Kwatra et al. 2005).
 
     Minimises the texture energy (eq. 1) of the output over its
@@ -1087,7 +1145,8 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         A stage also stops when one iteration lowers the energy by less than
         this fraction (default 5e-3; an addition to the paper's test, which
         rarely fires with thousands of neighbourhoods). 0 keeps only the
-        paper's criterion.
+        paper's criterion. Not used with ``occurrence_weight > 0`` or
+        ``copy_limit``, whose penalties raise the energy on purpose.
     gradient_weight : float
         ``μ`` of the gradient energy ``μ sum_p ||D x_p - D z_p||^2``
         (Section 3). Default 0 (off): the paper's Algorithm 1, its robust
@@ -1128,17 +1187,16 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         neighbourhood; the kd-tree's 4 nearest and the 4 coherent candidates
         (the grid neighbours' ``z`` shifted) compete. It spreads the output
         over more of the exemplar (completeness). Default 0 (off, the paper's
-        M-step), because it does not help every texture: measured at
-        128 -> 192 px with the defaults on 8 real textures x 2 seeds, 0.3
-        lowered completeness (relative to a random-block mosaic, median over
-        the runs) from 1.68 to 1.13 (bread 2.04 -> 0.77, metal 1.63 -> 0.93,
-        lcv text 1.26 -> 0.91) at a median +11 % texture energy, but it broke
-        the letters of ``rohitrango/t16.png`` (text on a plain background:
-        the background's neighbourhoods are the most used, and the penalty
-        replaces them with rarer ones, 4.9 -> 8.0) and it does not limit
-        verbatim copies (largest 0.66 -> 0.73). With ``occurrence_weight >
-        0`` or ``copy_limit``, the energy is no longer guaranteed to fall
-        within a stage (the M-step minimises another criterion).
+        M-step). Measured at 128 -> 192 px with the defaults on 8 real
+        textures x 2 seeds: 0.3 lowered completeness (relative to a
+        random-block mosaic, median over the runs) from 1.72 to 0.77 (better
+        than the mosaic in 13 of 16 runs; reptile skin stays above it, 1.22)
+        at a median +7 % texture energy, but it does not limit verbatim
+        copies (largest 0.66 -> 0.75). ``completeness_weight`` with
+        ``copy_limit`` does both. With ``occurrence_weight > 0`` or
+        ``copy_limit``, the energy is no longer guaranteed to fall within a
+        stage (the M-step minimises another criterion), and a stage ends
+        only by the paper's test or ``max_iterations``.
     copy_limit : float in (0, 1], optional
         Limit the size of verbatim copies: a penalty grows on every exemplar
         offset (exemplar position minus output position of ``z_p``) shared by
@@ -1147,12 +1205,36 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         (off, the paper's M-step). Measured at 128 -> 192 px with the
         defaults on 8 real textures x 2 seeds: ``copy_limit=0.2`` brought the
         largest copied region (:func:`texsynth.metrics.verbatim_copy`, which
-        also counts the neighbourhoods' margins) from 0.51-0.66 of the
-        exemplar on pebbles, bricks, metal and text down to 0.34-0.38, and
-        below 0.5 on every run, at a median +13 % texture energy (up to
-        +85 % on pebbles; still a quarter of the random-block mosaic's) and
-        unchanged completeness. With ``occurrence_weight=0.3`` too: copies at
-        most 0.47, completeness median 1.27 of the mosaic's, energy +20 %.
+        also counts the neighbourhoods' margins) from up to 0.66 of the
+        exemplar down to at most 0.26, at a median +2 % texture energy (up
+        to +78 % on pebbles; still well below the random-block mosaic's),
+        but completeness got worse (median 1.97 of the mosaic's). With
+        ``occurrence_weight=0.3`` too: copies at most 0.28, completeness
+        median 0.78 of the mosaic's (11 of 16 runs better), energy +14 %.
+        Paired with ``completeness_weight`` it also withholds the
+        completeness votes of over-limit offsets (see that parameter).
+    completeness_weight : float
+        ``λ_b >= 0``: adds the completeness half of the bidirectional
+        similarity of Simakov et al. 2008 [3]_ to the energy: every exemplar
+        neighbourhood ``q_j`` on the ``w/4`` grid must appear somewhere in
+        the output, ``λ_b (|X†| / |J|) sum_j ||x_p(j) - q_j||^r`` with
+        ``x_p(j)`` its nearest output neighbourhood on ``X†``. The M-step
+        also finds ``p(j)``, and the E-step averages ``q_j`` at ``p(j)``
+        with the ``z_p`` (Simakov et al.'s update rule, eq. 4 there); 1
+        weighs both directions equally per neighbourhood. Default 0 (off,
+        the paper's eq. 1). Alone it makes the output contain the whole
+        exemplar verbatim (largest copy 0.8-1.0 of the exemplar at
+        64 -> 96 px), so use it with ``copy_limit``: an exemplar offset
+        copied beyond the limit then gets no completeness votes. Measured at
+        128 -> 192 px on 8 real textures (pebbles, bread, metal, brick,
+        apples, reptile skin, two texts) x 2 seeds:
+        ``completeness_weight=1, copy_limit=0.2`` kept every largest copy at
+        most 0.31 of the exemplar (defaults: up to 0.66) and every
+        completeness at most 0.38 of the random-block mosaic's (defaults:
+        median 1.72, 13 of 16 runs worse than the mosaic), at a median +33 %
+        texture energy (-26 % to +93 %; at most 0.37 of the mosaic's) and
+        about 1.5x the time. Without ``copy_limit`` the energy never rises
+        within a stage, as for eq. 1.
     method : {"auto", "exact", "kdtree", "tsvq"}
         Nearest-neighbour backend of the M-step
         (:class:`texsynth.nearest.PatchIndex`), chosen per (level, size)
@@ -1190,7 +1272,8 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         than it, ``mask``/``target``/``init`` of another shape than the
         output, NaN in any input, ``constraint_weight < 0``,
         ``irls_exponent`` outside (0, 2], ``gradient_weight < 0``,
-        ``occurrence_weight < 0``, ``copy_limit`` outside (0, 1].
+        ``occurrence_weight < 0``, ``completeness_weight < 0``, ``copy_limit`` outside
+        (0, 1].
     TypeError
         Unsupported dtypes or argument types.
 
@@ -1249,6 +1332,9 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     .. [2] A. Kaspar, B. Neubert, D. Lischinski, M. Pauly and J. Kopf, "Self
        tuning texture optimization", Computer Graphics Forum (Eurographics
        2015) 34(2), pp. 349-359. :doi:`10.1111/cgf.12565`
+    .. [3] D. Simakov, Y. Caspi, E. Shechtman and M. Irani, "Summarizing visual
+       data using bidirectional similarity", CVPR 2008.
+       :doi:`10.1109/CVPR.2008.4587842`
 
     Examples
     --------
@@ -1269,6 +1355,7 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     params["occurrence"] = check_positive_float(occurrence_weight, "occurrence_weight", allow_zero=True)
     params["copy_limit"] = None if copy_limit is None else check_in_range(copy_limit, "copy_limit", 0.0, 1.0,
                                                                           low_open=True)
+    params["completeness"] = check_positive_float(completeness_weight, "completeness_weight", allow_zero=True)
     rng = as_rng(rng)
     x, info = _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, falloff, method, rng,
                           progress, {}, "optimize_texture")
