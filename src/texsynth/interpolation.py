@@ -357,13 +357,20 @@ def _warps(t1, t2, c1, c2, size, max_points, rng, rpm_options, margin=0):
 
 
 def _sample(image, corners, coords):
-    """Bilinear samples of ``image`` at patch-local ``coords`` (B, P, 2) offset by ``corners``."""
+    """Cubic samples of ``image`` at patch-local ``coords`` (B, P, 2) offset by ``corners``.
+
+    Cubic rather than bilinear: a warp moves most pixels by a fraction of a
+    pixel, and bilinear sampling there is a small blur (the warped patches'
+    sharpness at alpha = 0.5 rose from 0.070 to 0.086, see
+    :func:`interpolate_textures`). The overshoot of the cubic spline is
+    clipped to each channel's range.
+    """
     rows = coords[..., 0] + corners[:, None, 0]
     cols = coords[..., 1] + corners[:, None, 1]
     out = np.empty(coords.shape[:2] + (image.shape[-1],))
     for ch in range(image.shape[-1]):
-        out[..., ch] = ndimage.map_coordinates(image[..., ch], [rows, cols], order=1, mode="mirror")
-    return out
+        out[..., ch] = ndimage.map_coordinates(image[..., ch], [rows, cols], order=3, mode="mirror")
+    return np.clip(out, image.min(axis=(0, 1)), image.max(axis=(0, 1)))
 
 
 def _blend_pairs(t1, t2, c1, c2, fwd, bwd, grid, alpha, feature_weight):
@@ -381,6 +388,14 @@ def _blend_pairs(t1, t2, c1, c2, fwd, bwd, grid, alpha, feature_weight):
     n1[..., :-1] = (n1[..., :-1] - t1.mean) / t1.std * std + mean
     n2[..., :-1] = (n2[..., :-1] - t2.mean) / t2.std * std + mean
     blended = (1.0 - alpha) * n1 + alpha * n2
+    # contrast-preserving blend: the average of two partly uncorrelated patches has less contrast
+    # than either; restore the patch's deviation from its mean to the interpolated deviation of the
+    # two warped patches (at most by 1 / sqrt((1 - a)^2 + a^2), the gain for uncorrelated patches)
+    colour = blended[..., :-1]
+    centre = colour.mean(1, keepdims=True)
+    target = (1.0 - alpha) * _deviation(n1[..., :-1]) + alpha * _deviation(n2[..., :-1])
+    gain = np.clip(target / np.maximum(_deviation(colour), 1e-12), 1.0, 1.0 / np.hypot(1.0 - alpha, alpha))
+    blended[..., :-1] = centre + gain[:, None, None] * (colour - centre)
     # similarity: warped distance channels and normalized cross-correlation of the colours
     dist = np.sqrt(np.mean((n1[..., -1] - n2[..., -1]) ** 2, axis=1)) / max(float(t1.image[..., -1].std()), 1e-6)
     a = n1[..., :-1].reshape(len(n1), -1)
@@ -390,6 +405,11 @@ def _blend_pairs(t1, t2, c1, c2, fwd, bwd, grid, alpha, feature_weight):
     ncc = (a * b).sum(1) / np.maximum(np.sqrt((a * a).sum(1) * (b * b).sum(1)), 1e-12)
     dissimilarity = feature_weight * dist + (1.0 - feature_weight) * (1.0 - ncc) / 2.0
     return np.clip(blended, 0.0, None), dissimilarity
+
+
+def _deviation(colour):
+    """Root of the summed squared deviation of each patch ``(B, P, C)`` from its mean colour: (B,)."""
+    return np.sqrt(((colour - colour.mean(1, keepdims=True)) ** 2).sum((1, 2)))
 
 
 def _shifts(t1, t2, pairs, n_alphas, max_set_size):
@@ -674,21 +694,50 @@ def _relax(centres, z, weights, shape, radius, spring, max_sweeps):
     return centres
 
 
-def _mean_shift_update(z, centres, weights, shape, bandwidth, iterations, n_colour):
+def _mean_shift_update(z, centres, weights, shape, bandwidth, iterations, n_colour, chunk=4096):
     """Per-pixel mode of the overlapping patch values (mean shift, Kopf et al. 2007).
 
-    Starts from the IRLS-weighted mean (the Kwatra E-step) and moves each
-    pixel towards the densest mode of the values pasted there with a Gaussian
-    kernel of width ``bandwidth`` on the colour channels.
+    The values pasted on each pixel, weighted by the patch's IRLS weight and
+    Kwatra et al.'s Gaussian fall-off, are gathered per pixel; the mean shift
+    (Gaussian kernel of width ``bandwidth`` on the colour channels) starts at
+    the value of highest kernel density among them and climbs to its mode.
+    Started at the weighted mean instead, it climbed to the mode nearest the
+    mean, which for two disagreeing groups of patches is the mean itself (a
+    blur): see :func:`interpolate_textures`. ``iterations = 0`` returns the
+    weighted mean (the Kwatra E-step). Pixels are processed ``chunk`` at a time.
     """
     g = gaussian_falloff(z.shape[1])  # Kwatra et al.'s Gaussian fall-off of each neighbourhood
-    x, _ = accumulate(z, centres, shape, patch_weights=weights, pixel_weights=g, mode="wrap")
-    for _ in range(iterations):
-        here = extract(x, centres, z.shape[1], mode="wrap")
-        d2 = ((z[..., :n_colour] - here[..., :n_colour]) ** 2).sum(-1)
-        k = np.exp(-d2 / (2.0 * bandwidth**2))
-        x, wsum = accumulate(z, centres, shape, patch_weights=weights, pixel_weights=k * g, mode="wrap")
-    return x
+    if iterations == 0:
+        return accumulate(z, centres, shape, patch_weights=weights, pixel_weights=g, mode="wrap")[0]
+    s, c = z.shape[1], z.shape[-1]
+    h, w = shape
+    rows = (centres[:, :1] - s // 2 + np.arange(s)) % h
+    cols = (centres[:, 1:] - s // 2 + np.arange(s)) % w
+    pixel = (rows[:, :, None] * w + cols[:, None, :]).ravel()
+    order = np.argsort(pixel, kind="stable")
+    pixel = pixel[order]
+    count = np.bincount(pixel, minlength=h * w)
+    slot = np.arange(len(pixel)) - (np.cumsum(count) - count)[pixel]
+    values = np.zeros((h * w, count.max(), c), np.float32)  # the values pasted on each pixel, zero-padded
+    wts = np.zeros((h * w, count.max()), np.float32)
+    values[pixel, slot] = z.reshape(-1, c)[order]
+    wts[pixel, slot] = (weights[:, None, None] * g).ravel()[order]
+    scale = -0.5 / bandwidth**2
+    x = np.zeros((h * w, c), np.float32)
+    for lo in range(0, h * w, chunk):
+        v, wt = values[lo : lo + chunk], wts[lo : lo + chunk]
+        col = v[..., :n_colour]
+        sq = (col**2).sum(-1)
+        d2 = np.maximum(sq[:, :, None] + sq[:, None, :] - 2.0 * np.einsum("pkc,pjc->pkj", col, col), 0.0)
+        density = np.einsum("pkj,pj->pk", np.exp(scale * d2), wt)
+        density[wt == 0] = -1.0  # padding
+        mode = v[np.arange(len(v)), density.argmax(1)]
+        for _ in range(iterations):
+            k = wt * np.exp(scale * ((col - mode[:, None, :n_colour]) ** 2).sum(-1))
+            total = k.sum(1)[:, None]
+            mode = np.where(total > 0, np.einsum("pk,pkc->pc", k, v) / np.maximum(total, 1e-30), mode)
+        x[lo : lo + chunk] = mode
+    return x.reshape(h, w, c).astype(np.float64)
 
 
 # --------------------------------------------------------------------------- Section 4.5
@@ -729,7 +778,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
                          iterations=10, distance_weight=1.0, k=1, keep_fraction=0.5, feature_weight=0.5,
                          max_feature_points=24, max_neighborhoods=1024, max_set_size=16384, alpha_steps=20, alpha_weight=4.0,
                          statistics_bands=5, grid_spacing=0.25, candidate_stride=2, relaxation_radius=2,
-                         spring_weight=0.002, mean_shift_bandwidth=0.1, mean_shift_iterations=3,
+                         spring_weight=0.002, mean_shift_bandwidth=0.03, mean_shift_iterations=3,
                          min_improvement=0.0, statistics=True, rpm_options=None, rng=None, progress=False, return_info=False):
     """Interpolate two textures by warping and blending their neighbourhoods (Ruiters et al. 2010).
 
@@ -814,7 +863,11 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         Weight of the spring term keeping a centre's displacement near its
         neighbours' (per squared pixel, against mean squared colour error).
     mean_shift_bandwidth : float
-        Colour bandwidth of the per-pixel mean shift.
+        Colour bandwidth of the per-pixel mean shift (Gaussian kernel on
+        the colour distance, colours in [0, 1]). Default 0.03: with 0.1 the
+        kernel spans the disagreement of the overlapping patches and the
+        mode is their mean; 0.05 gave sharpness 0.092 instead of 0.100
+        (Notes).
     mean_shift_iterations : int
         Mean-shift steps per update (0 keeps the IRLS-weighted mean). One
         step instead of 3 changed the texture energy by less than the
@@ -880,7 +933,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     The synthesis per iteration: irregular centres (best centre per grid
     cell), relaxation with a spring term, IRLS weights ``(rho + eps)^((r-2)/2)``
     with ``r = 0.8`` (Kwatra et al. 2005) and a per-pixel mean-shift mode
-    (Kopf et al. 2007), then one Portilla-Simoncelli step with linearly
+    (Kopf et al. 2007) started at the densest pasted value, then one Portilla-Simoncelli step with linearly
     interpolated statistics.
 
     Departures for speed, all options: TPS-RPM anneals faster than the
@@ -903,6 +956,32 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     iteration (after it, as listed in Pseudocode 1, its colour fringes and
     broken lines stayed in the output). The output is periodic.
 
+    Departures against blur (measured 2026-11-23 on 96 px pebbles <->
+    paving with the settings of ``examples/plot_interpolation_pairs.py``;
+    sharpness = mean absolute difference of vertically plus horizontally
+    neighbouring grey values; inputs 0.168 and 0.088, linear blend 0.099):
+    the output at alpha = 0.5 had 0.063, less than the blend, because every
+    averaging step of the method removes contrast. Three changes bring it
+    to 0.100, each alone to at most 0.079. (1) The warps sample with cubic
+    splines (bilinear sampling at the fractional positions of a warp is a
+    blur; ``N'`` 0.070 -> 0.086). (2) Contrast-preserving blend: after the
+    colour adjustment both warped patches have the interpolated deviation,
+    but their blend has less where they are not perfectly correlated
+    (variance ``((1-a)^2 + a^2 + 2 a (1-a) corr) std^2``, the observation
+    behind Heitz and Neyret's variance-preserving blending); each blended
+    patch's deviation from its mean is rescaled to ``(1-a)`` times that of
+    the warped ``N1`` plus ``a`` times that of ``N2`` (gain between 1 and
+    ``1 / sqrt((1-a)^2 + a^2)``, the gain of uncorrelated patches), so
+    that ``N'`` has the contrast the colour adjustment intended (with (1):
+    ``N'`` 0.113). (3) The per-pixel mean shift starts at the densest of
+    the pasted values rather than at their weighted mean, with a bandwidth
+    of 0.03 rather than 0.1: the overlapping interpolated patches disagree
+    by more than their own detail, and from the mean with a wide kernel the
+    "mode" was the mean. The price is texture energy at alpha = 0.5 of
+    0.0066 / 0.0053 against the inputs instead of 0.0052 / 0.0038 (the
+    blurred output was closer to the flat patches of the inputs; the linear
+    blend has 0.0060 / 0.0048), and about 20 % more time.
+
     References
     ----------
     .. [1] R. Ruiters, R. Schnabel and R. Klein, "Patch-based texture
@@ -917,6 +996,9 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     .. [5] J. Portilla and E. P. Simoncelli, "A parametric texture model
        based on joint statistics of complex wavelet coefficients", IJCV
        40(1), 2000. :doi:`10.1023/A:1026553619983`
+    .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
+       a histogram-preserving blending operator", HPG 2018.
+       :doi:`10.1145/3233304`
 
     Examples
     --------
