@@ -12,7 +12,9 @@ With ``--caps``: what the cost caps cost in quality. The alpha = 0.5 256x256 run
 defaults (``max_feature_points=24, max_neighborhoods=1024``) and with both doubled (48, 2048),
 two seeds each: time, stage times, and texture energy against I1 and I2.
 
-Run:  python benchmarks/bench_interpolation.py [--quick] [--caps]
+With ``--save DIR`` the 256x256 texture and the strip are written there as PNG (to look at).
+
+Run:  python benchmarks/bench_interpolation.py [--quick] [--caps] [--save DIR]
 """
 
 import argparse
@@ -23,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth.interpolation import interpolate_textures, linear_blend, transition_alpha_map
-from texsynth.io import load_image
+from texsynth.io import load_image, save_image
 from texsynth.metrics import texture_energy
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -47,6 +49,7 @@ def main():
     parser.add_argument("--quick", action="store_true", help="64x64 exemplars, stages (2,17),(1,17), 3 iterations")
     parser.add_argument("--caps", action="store_true",
                         help="alpha = 0.5 with default and doubled max_feature_points / max_neighborhoods")
+    parser.add_argument("--save", type=Path, help="folder for the outputs (PNG)")
     args = parser.parse_args()
     if args.caps:
         return caps(args.quick)
@@ -67,8 +70,12 @@ def main():
         (texture_energy(mid, a), texture_energy(mid, b)))
     amap = transition_alpha_map((n, 4 * n))
     t0 = time.perf_counter()
-    _, info = interpolate_textures(a, b, amap, rng=0, return_info=True, **opts)
+    strip, info = interpolate_textures(a, b, amap, rng=0, return_info=True, **opts)
     row(f"transition strip {4 * n}x{n} (20 alphas)", time.perf_counter() - t0, info)
+    if args.save is not None:
+        args.save.mkdir(parents=True, exist_ok=True)
+        save_image(args.save / "interpolation_mid.png", mid, overwrite=True)
+        save_image(args.save / "interpolation_strip.png", strip, overwrite=True)
     print(f"load average at the end {load():.2f}")
     print("paper: 1024x256 sequence, 3.5 h on a 4-core Q6600 (20 min patch interpolation, C++)")
 
