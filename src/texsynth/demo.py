@@ -73,6 +73,12 @@ def _optimize(exemplar, seed):
     return optimize_texture(exemplar, (128, 128), rng=seed)
 
 
+def _optimize_complete(exemplar, seed):
+    from .optimization import optimize_texture
+
+    return optimize_texture(exemplar[:96, :96], (144, 144), completeness_weight=1.0, copy_limit=0.2, rng=seed)
+
+
 def _animate(exemplar, seed):
     from . import flows
     from .optimization import animate_texture
@@ -159,6 +165,11 @@ def _entries():
               "Wei, SIGGRAPH 2002 sketch (texture synthesis from multiple sources)", "bread", _solid),
         Entry("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
               "Kwatra et al., SIGGRAPH 2005 (doi:10.1145/1073204.1073263)", "bread", _optimize),
+        Entry("optimize_text_complete", "Kwatra texture optimization with the completeness term of the "
+              "bidirectional similarity and a copy limit (completeness_weight=1, copy_limit=0.2): all of the "
+              "96x96 exemplar, in pieces of at most a third of it",
+              "Kwatra et al., SIGGRAPH 2005; Simakov et al., CVPR 2008 (doi:10.1109/CVPR.2008.4587842)", "text",
+              _optimize_complete),
         Entry("animate_bumpy", "Kwatra flow-guided animation, rotation 0.06 rad/frame: frames 1, 4 and 8 "
               "(elements follow the flow; they soften over the frames)",
               "Kwatra et al., SIGGRAPH 2005, Section 4.1", "bumpy", _animate),
