@@ -13,7 +13,7 @@ from texsynth.interpolation import (
     linear_blend,
     transition_alpha_map,
 )
-from texsynth.metrics import texture_energy
+from texsynth.metrics import mosaic_baseline, noise_baseline, texture_energy
 from texsynth.nearest import PatchIndex
 from texsynth.neighborhood import accumulate, all_patches, extract, grid_centers
 from texsynth.optimization import optimize_texture
@@ -79,27 +79,28 @@ def results(pair):
     return {al: interpolate_textures(a, b, al, **SMALL) for al in (0.0, 0.5, 1.0)}
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
 @pytest.mark.parametrize("alpha", [0.0, 1.0])
-def test_endpoints_match_texture_optimization(pair, results, alpha):
+def test_endpoints_match_texture_optimization(pair, results, alpha, seed):
     a, b = pair
     ref, other = (a, b) if alpha == 0 else (b, a)
-    ours = results[alpha]
+    ours = results[alpha] if seed == 0 else interpolate_textures(a, b, alpha, **{**SMALL, "rng": seed})
     # our output is periodic (wrap), so the reference is periodic texture optimization
     # with the same two scales (16 then 8 px at half, then full resolution)
-    kwatra = optimize_texture(ref, 48, neighborhood_sizes=(16, 8), levels=2, tileable=True, rng=0)
-    noise = np.random.default_rng(0).permutation(ref.reshape(-1, 3)).reshape(ref.shape)
-    e_ours = texture_energy(ours, ref, patch_size=8)
-    e_kwatra = texture_energy(kwatra, ref, patch_size=8)
-    e_noise = texture_energy(noise, ref, patch_size=8)
-    # The ends are NOT as good as ordinary texture optimization, only within a factor: measured
-    # (seeds 0 as here, 2026-11-23) alpha=0 0.00092 vs Kwatra 0.00081 (1.14x; noise 0.0063),
-    # alpha=1 0.0071 vs 0.0049 (1.45x; noise 0.048). Seeds 1 and 2 give 1.29-2.05x, and at
-    # 64 px on other textures the ratio reaches 2.9x (docs/methods/interpolation.md,
-    # Quality). The bound 1.8 is therefore a regression guard for this pair, size and seed,
-    # not a claim of parity: before the fixes (noise
-    # initialisation, unscaled distance channel, a set of 1/stride^2 of the patches) the ends
-    # were 0.0023 and 0.010, i.e. 2.8x and 2.0x Kwatra, and fail it.
-    assert e_ours < 1.8 * e_kwatra
+    kwatra = optimize_texture(ref, 48, neighborhood_sizes=(16, 8), levels=2, tileable=True, rng=seed)
+    energy = lambda x: texture_energy(x, ref, patch_size=8)  # noqa: E731
+    e_ours, e_kwatra = energy(ours), energy(kwatra)
+    e_mosaic = energy(mosaic_baseline(ref, 48, rng=seed))
+    e_noise = energy(noise_baseline(ref, 48, rng=seed))
+    # Measured 2026-11-23 (seeds 0, 1, 2): ours / Kwatra 1.09, 1.38, 1.29 at alpha = 0 and 1.11,
+    # 1.39, 1.27 at alpha = 1. On the scale that matters, from Kwatra's energy to a random-block
+    # mosaic's (mosaic 0.0022-0.017, noise 0.0066-0.055), ours is 0.05-0.19 of the way. Before
+    # the last stage dropped the Portilla-Simoncelli step at the ends (see _statistics_weight)
+    # the ratios were 1.14-1.93 and 3 of these 6 cases failed (seeds 1 and 2: 1.73-1.93x);
+    # before the earlier fixes (noise initialisation, unscaled distance channel, a set of
+    # 1/stride^2 of the patches) the ends were 2.0-2.8x Kwatra.
+    assert e_ours < 1.6 * e_kwatra
+    assert e_ours - e_kwatra < 0.3 * (e_mosaic - e_kwatra)
     assert e_ours < 0.25 * e_noise
     assert e_ours < 0.3 * texture_energy(ours, other, patch_size=8)  # and it is not the other texture
 
@@ -129,9 +130,16 @@ def test_alpha_map_transition(pair):
     amap = transition_alpha_map((24, 72))
     out = interpolate_textures(a, b, amap, alpha_steps=3, statistics=True, **SMALL)
     assert out.shape == (24, 72, 3)
-    left, right = out[:, :24], out[:, -24:]
-    assert texture_energy(left, a, patch_size=8) < texture_energy(left, b, patch_size=8)
-    assert texture_energy(right, b, patch_size=8) < texture_energy(right, a, patch_size=8)
+    # share of I2 in each third: E(band, I1) / (E(band, I1) + E(band, I2)), 0 for a copy of I1 and
+    # 1 for a copy of I2. Measured (seeds 0, 1, 2): 0.04 / 0.36-0.47 / 0.76-0.89. A strip that
+    # ignored the map (one texture throughout) has the same share in every third; the middle
+    # must be a mixture, at most three times closer to either input than to the other.
+    share = []
+    for band in (out[:, :24], out[:, 24:48], out[:, 48:]):
+        e1, e2 = texture_energy(band, a, patch_size=8), texture_energy(band, b, patch_size=8)
+        share.append(e1 / (e1 + e2))
+    assert share[0] < 0.15 and share[2] > 0.6
+    assert 0.25 < share[1] < 0.75
 
 
 def test_same_seed_same_output_and_grey(pair):
