@@ -310,6 +310,31 @@ def _weighted_d2(t_src, t_dst, corners, size, weights):
     return d2, view.shape[:2]
 
 
+@pytest.mark.parametrize("size", [9, 17])
+def test_warps_do_not_squeeze_the_patches(pair, size):
+    # The feature points of a patch lie along a few mortar lines, which leave TPS-RPM's affine
+    # part free across them. With Chui and Rangarajan's affine_lambda_init = 0.01 a third to a
+    # half of the warps squeezed one axis below half (smallest singular value of the warp's
+    # linear fit; measured here 0.31 / 0.37 at s = 9, 0.50 / 0.34 at s = 17), and N' filled
+    # with stretched, smeared patches. The defaults of interpolate_textures (10): 0.01 / 0.11
+    # and 0.05 / 0.17.
+    from texsynth.interpolation import _correspondences, _warps
+
+    a, b = pair
+    p, t1, t2 = _stage(a, b, size, max_neighborhoods=96)
+    rng = np.random.default_rng(0)
+    c1, c2 = _correspondences(t1, t2, size, p["channel_weights"], 1, rng)
+    fwd, bwd, grid, ok = _warps(t1, t2, c1, c2, size, 24, rng, p["rpm"])
+    assert ok.mean() > 0.5  # most pairs have feature points to align
+    g = grid.reshape(-1, 2) - grid.reshape(-1, 2).mean(0)
+    for warp in (fwd, bwd):
+        w = warp[ok].reshape(ok.sum(), -1, 2)
+        w = w - w.mean(1, keepdims=True)
+        linear = np.einsum("bpi,pj->bij", w, g) / (g**2).sum(0)  # least-squares fit on the square grid
+        squeezed = np.linalg.svd(linear, compute_uv=False)[:, 1] < 0.5
+        assert squeezed.mean() < 0.25
+
+
 @pytest.mark.parametrize("k", [1, 2])
 def test_correspondences_are_the_k_nearest_in_both_directions(pair, k):
     # Section 4.1: for every (capped) neighbourhood of I1 its k nearest among all neighbourhoods
