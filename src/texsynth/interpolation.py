@@ -763,17 +763,25 @@ class _Statistics:
         colour = np.clip(colour, 0.0, 1.0)
         if len(self.stats) == 1:
             return ps_step(colour, self.stats[0])
-        # one PS step per alpha band, blended by tent weights of the distribution map
-        out = np.zeros_like(colour)
+        # Section 4.5: "the statistical synthesis independently for several equidistantly sampled
+        # values of alpha, each time only on the relevant parts of the image according to the
+        # distribution map. Then, the results are blended using alpha as blending weight." Band k
+        # measures and imposes its statistics on the pixels nearest to its alpha (tent weight
+        # w_k > 1/2) and its change is blended in with w_k (ps_step's fractional mask)
+        change = np.zeros_like(colour)
         total = np.zeros(colour.shape[:2])
         spacing = self.alphas[1] - self.alphas[0]
         for al, st in zip(self.alphas, self.stats):
             w = np.maximum(0.0, 1.0 - np.abs(alpha_map - al) / spacing)
-            if w.max() <= 0:
+            if not np.any(w > 0.5):
                 continue
-            out += w[..., None] * ps_step(colour, st)
+            try:
+                projected = ps_step(colour, st, mask=w)
+            except ValueError:  # a region too thin for the autocorrelation window (small coarse images)
+                projected = colour + w[..., None] * (ps_step(colour, st) - colour)  # the whole image's step
+            change += projected - colour
             total += w
-        return out / np.maximum(total, 1e-12)[..., None]
+        return colour + change / np.maximum(total, 1e-12)[..., None]
 
 
 # --------------------------------------------------------------------------- public
@@ -853,7 +861,9 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         transitions.
     statistics_bands : int
         Alphas (equidistant) with their own statistical synthesis step for a
-        distribution map; the results are blended by alpha (Section 4.5).
+        distribution map, each run "only on the relevant parts of the image"
+        (the pixels nearest to its alpha); the results are blended by alpha
+        (Section 4.5).
     grid_spacing : float
         Cell size of the irregular-centre grid as a fraction of ``s``
         (Kwatra et al.'s ``w/4``).
