@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from texsynth.heeger_bergen import heeger_bergen
+from texsynth.statistical import heeger_bergen
 from texsynth.io import load_image
 from texsynth.metrics import spectrum_distance
 

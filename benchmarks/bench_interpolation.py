@@ -22,9 +22,8 @@ import os
 import time
 from pathlib import Path
 
-import numpy as np
 
-from texsynth.interpolation import interpolate_textures, linear_blend, transition_alpha_map
+from texsynth.optimization import interpolate_textures, linear_blend, transition_alpha_map
 from texsynth.io import load_image, save_image
 from texsynth.metrics import texture_energy
 

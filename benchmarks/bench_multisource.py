@@ -19,7 +19,7 @@ import numpy as np
 
 from texsynth.io import load_image
 from texsynth.metrics import noise_baseline, texture_energy
-from texsynth.multisource import mix_textures, synthesize_pixels, synthesize_solid
+from texsynth.pixel import mix_textures, synthesize_pixels, synthesize_solid
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 

@@ -35,7 +35,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from texsynth.io import load_image
-from texsynth.nearest import PatchIndex
+from texsynth.core.search import PatchIndex
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 

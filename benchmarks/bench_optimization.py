@@ -41,8 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
-from texsynth import flows
-from texsynth import optimization as opt
+from texsynth.core import flows
+from texsynth.optimization import _kwatra as opt
 from texsynth.io import load_image
 from texsynth.metrics import completeness, texture_energy, verbatim_copy
 from texsynth.optimization import animate_texture, optimize_texture

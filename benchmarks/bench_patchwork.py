@@ -21,14 +21,12 @@ Exemplar: embark/2.jpg (ink, 400x400 colour); grid 64, f = 6 unless stated.
 """
 
 import argparse
-import importlib
 import time
 from pathlib import Path
 
 import numpy as np
 
-# texsynth.patchwork is the function (exported by texsynth/__init__.py); the module is looked up by name
-pw = importlib.import_module("texsynth.patchwork")
+from texsynth.patch import _patchwork as pw
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"

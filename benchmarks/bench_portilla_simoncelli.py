@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth.io import load_image
-from texsynth.portilla_simoncelli import SNR_GROUPS, portilla_simoncelli, ps_statistics, ps_step
+from texsynth.statistical import SNR_GROUPS, portilla_simoncelli, ps_statistics, ps_step
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 
@@ -63,7 +63,7 @@ def main():
         lambda: portilla_simoncelli(colour, iterations=iters, rng=0, return_info=True), 1)
     rows.append((f"portilla_simoncelli {colour.shape[0]}x{colour.shape[1]} colour, {iters} iterations", t_colour))
     try:
-        from texsynth.heeger_bergen import heeger_bergen
+        from texsynth.statistical import heeger_bergen
 
         t, _ = best_time(lambda: heeger_bergen(grey, rng=0), args.repeat)
         rows.append((f"heeger_bergen {n}x{n} grey, 5 iterations (for scale)", t))

@@ -18,7 +18,8 @@ import time
 import numpy as np
 
 from texsynth.procedural import gray_scott, perlin, reaction_diffusion, turbulence
-from texsynth.procedural.noise import FADES, _noise_points
+from texsynth.procedural import FADES
+from texsynth.procedural._noise import _noise_points
 
 # Perlin's reference permutation (Perlin 2002) and the `noise` package's
 # gradient table (Perlin's, with the last four entries in another order).

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth.io import load_image
-from texsynth.pyramid import SteerablePyramid, laplacian_pyramid, reconstruct_laplacian
+from texsynth.core.pyramid import SteerablePyramid, laplacian_pyramid, reconstruct_laplacian
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 

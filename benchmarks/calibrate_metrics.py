@@ -10,7 +10,6 @@ exemplar, and print a Markdown table. Run:
 import time
 from pathlib import Path
 
-import numpy as np
 
 from texsynth.io import load_image
 from texsynth.metrics import texture_report

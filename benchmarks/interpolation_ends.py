@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from texsynth.interpolation import interpolate_textures
+from texsynth.optimization import interpolate_textures
 from texsynth.io import load_image
 from texsynth.metrics import mosaic_baseline, noise_baseline, texture_energy, tiled_baseline
 from texsynth.optimization import optimize_texture

@@ -19,6 +19,9 @@ extensions = [
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
 autosummary_generate = True
+# the families and the core re-export their public names: document what __all__ lists
+autosummary_ignore_module_all = False
+templates_path = ["_templates"]
 numpydoc_show_class_members = False
 numpydoc_validation_checks = set()
 myst_heading_anchors = 3

@@ -36,9 +36,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from texsynth import flows, metrics  # noqa: E402
+from texsynth import metrics
+from texsynth.core import flows  # noqa: E402
 from texsynth.io import load_image, save_frames  # noqa: E402
-from texsynth.optimization import animate_texture  # noqa: E402
+from texsynth.optimization import animate_texture# noqa: E402
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"

@@ -24,7 +24,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from skimage.transform import resize
 
-from texsynth.heeger_bergen import heeger_bergen
+from texsynth.statistical import heeger_bergen
 from texsynth.io import load_image
 from texsynth.metrics import spectrum_distance
 

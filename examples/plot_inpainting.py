@@ -37,8 +37,8 @@ import numpy as np  # noqa: E402
 from scipy import ndimage  # noqa: E402
 
 from texsynth.io import load_image, save_image  # noqa: E402
-from texsynth.optimization import optimize_texture  # noqa: E402
-from texsynth.pyramid import downsample  # noqa: E402
+from texsynth.optimization import optimize_texture# noqa: E402
+from texsynth.core.pyramid import downsample# noqa: E402
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"

@@ -12,7 +12,7 @@ paving stones separated by thin dark cracks. Both are scaled to 96 px (the
 paving by 1/2, so that a crop holds several stones; the method does not
 compensate scale differences, paper Section 5). Top row: ours for alpha = 0,
 0.25, 0.5, 0.75, 1 with the default feature maps (ridge/valley centre lines,
-:func:`texsynth.interpolation.ridge_feature_map`); middle row: the linear
+:func:`texsynth.optimization.ridge_feature_map`); middle row: the linear
 blend; bottom row: the inputs and their feature maps. A second figure shows
 alpha = 0.5 of both at 3x.
 
@@ -29,7 +29,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from skimage.transform import resize
 
-from texsynth.interpolation import interpolate_textures, linear_blend, ridge_feature_map
+from texsynth.optimization import interpolate_textures, linear_blend, ridge_feature_map
 from texsynth.io import load_image
 from texsynth.metrics import texture_energy
 

@@ -7,9 +7,9 @@ brick wall and a slate wall for alpha = 0, 0.25, 0.5, 0.75, 1, computed by
 warping and blending neighbourhoods before texture optimization (top row),
 next to the plain linear cross-fade of the two images (bottom row), which
 ghosts the mortar lines of both walls on top of each other. Two automatic
-feature maps are compared: Canny edges (:func:`texsynth.interpolation.edge_feature_map`,
+feature maps are compared: Canny edges (:func:`texsynth.optimization.edge_feature_map`,
 the weaker kind of detector the paper found "not very satisfactory") and
-ridge/valley centre lines (:func:`texsynth.interpolation.ridge_feature_map`,
+ridge/valley centre lines (:func:`texsynth.optimization.ridge_feature_map`,
 the default of ``interpolate_textures``). The pebbles <-> paving pair is in
 ``plot_interpolation_pairs.py``.
 """
@@ -22,7 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from texsynth.interpolation import edge_feature_map, interpolate_textures, linear_blend, ridge_feature_map
+from texsynth.optimization import edge_feature_map, interpolate_textures, linear_blend, ridge_feature_map
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"

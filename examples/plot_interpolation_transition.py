@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from texsynth.interpolation import interpolate_textures, linear_blend, transition_alpha_map
+from texsynth.optimization import interpolate_textures, linear_blend, transition_alpha_map
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"

@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from texsynth.io import load_image  # noqa: E402
-from texsynth.optimization import optimize_texture  # noqa: E402
+from texsynth.optimization import optimize_texture# noqa: E402
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"

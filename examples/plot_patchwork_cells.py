@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from texsynth.patchwork import patchwork, voronoi_weights
+from texsynth.patch import patchwork, voronoi_weights
 
 OUT = Path(__file__).resolve().parent / "output"
 OUT.mkdir(exist_ok=True)

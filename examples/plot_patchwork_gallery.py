@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from texsynth.io import load_image
-from texsynth.patchwork import patchwork
+from texsynth.patch import patchwork
 
 HERE = Path(__file__).resolve().parent
 TEXTURES = HERE.parents[1] / "shared" / "textures"

@@ -32,7 +32,7 @@ from skimage import data as skdata
 from skimage.transform import resize
 
 from texsynth.io import load_image
-from texsynth.patchwork import patchwork_transfer
+from texsynth.patch import patchwork_transfer
 
 HERE = Path(__file__).resolve().parent
 TEXTURES = HERE.parents[1] / "shared" / "textures"

@@ -31,7 +31,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from texsynth.io import load_image, save_frames
-from texsynth.patchwork import patchwork_video
+from texsynth.patch import patchwork_video
 
 HERE = Path(__file__).resolve().parent
 TEXTURES = HERE.parents[1] / "shared" / "textures"

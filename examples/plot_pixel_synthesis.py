@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt
 
 from texsynth.io import load_image
 from texsynth.metrics import texture_energy
-from texsynth.multisource import synthesize_pixels
+from texsynth.pixel import synthesize_pixels
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"

@@ -29,16 +29,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from texsynth.io import load_image
-from texsynth.portilla_simoncelli import (
-    SNR_GROUPS,
-    interpolate_statistics,
-    portilla_simoncelli,
-    ps_statistics,
-    ps_step,
-)
+from texsynth.statistical import SNR_GROUPS, interpolate_statistics, portilla_simoncelli, ps_statistics, ps_step
 
 try:
-    from texsynth.heeger_bergen import heeger_bergen
+    from texsynth.statistical import heeger_bergen
 except ImportError:  # pragma: no cover - the Heeger-Bergen module is optional here
     heeger_bergen = None
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from texsynth.io import save_frames
 from texsynth.procedural import GRAY_SCOTT_PRESETS, apply_colormap, gray_scott, reaction_diffusion
-from texsynth.procedural.reaction_diffusion import RD_COLORS, meinhardt_stripes
+from texsynth.procedural import RD_COLORS, meinhardt_stripes
 
 OUT = Path(__file__).resolve().parent / "output"
 OUT.mkdir(exist_ok=True)

@@ -19,7 +19,7 @@ import numpy as np
 
 from texsynth.io import load_image
 from texsynth.metrics import mosaic_baseline, noise_baseline, texture_energy
-from texsynth.multisource import synthesize_solid
+from texsynth.pixel import synthesize_solid
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"

@@ -24,7 +24,7 @@ import numpy as np
 
 from texsynth.io import load_image
 from texsynth.metrics import texture_energy
-from texsynth.multisource import mix_textures
+from texsynth.pixel import mix_textures
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"

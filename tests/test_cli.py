@@ -222,7 +222,7 @@ def pair_files(tmp_path):
 
 
 def test_interpolate_number_alpha_end_to_end(tmp_path, pair_files, monkeypatch):
-    from texsynth import interpolation
+    import texsynth.optimization as interpolation
 
     calls = _spy(monkeypatch, interpolation, "interpolate_textures")
     out = tmp_path / "mid.png"
@@ -232,7 +232,7 @@ def test_interpolate_number_alpha_end_to_end(tmp_path, pair_files, monkeypatch):
 
 
 def test_interpolate_transition_end_to_end(tmp_path, pair_files, monkeypatch):
-    from texsynth import interpolation
+    import texsynth.optimization as interpolation
 
     calls = _spy(monkeypatch, interpolation, "interpolate_textures")
     out = tmp_path / "strip.png"
@@ -242,7 +242,7 @@ def test_interpolate_transition_end_to_end(tmp_path, pair_files, monkeypatch):
 
 
 def test_interpolate_alpha_map_from_an_rgb_file_end_to_end(tmp_path, pair_files, monkeypatch):
-    from texsynth import interpolation
+    import texsynth.optimization as interpolation
 
     calls = _spy(monkeypatch, interpolation, "interpolate_textures")
     yy, xx = np.mgrid[:24, :40]
@@ -257,7 +257,7 @@ def test_interpolate_alpha_map_from_an_rgb_file_end_to_end(tmp_path, pair_files,
 
 
 def test_interpolate_features_end_to_end(tmp_path, pair_files, monkeypatch):
-    from texsynth import interpolation
+    import texsynth.optimization as interpolation
 
     calls = _spy(monkeypatch, interpolation, "interpolate_textures")
     fa = np.zeros((32, 32, 3))
@@ -284,7 +284,7 @@ def test_interpolate_features_end_to_end(tmp_path, pair_files, monkeypatch):
 
 
 def test_interpolate_alpha_options_are_exclusive_and_ramp_is_an_alias(tmp_path, pair_files, monkeypatch, capsys):
-    from texsynth import interpolation
+    import texsynth.optimization as interpolation
 
     calls = _spy(monkeypatch, interpolation, "interpolate_textures", fake=lambda a, b, alpha, size, **kw: a)
     amap = str(save_image(tmp_path / "m.png", np.zeros((8, 8))))
@@ -306,7 +306,7 @@ def test_interpolate_alpha_options_are_exclusive_and_ramp_is_an_alias(tmp_path, 
 
 # --------------------------------------------------------------------------- optimize, animate
 def test_optimize_with_an_rgba_mask_and_tileable(tmp_path, monkeypatch):
-    from texsynth import optimization
+    import texsynth.optimization as optimization
 
     calls = _spy(monkeypatch, optimization, "optimize_texture")
     ex = save_image(tmp_path / "ex.png", data.load("bumpy")[:32, :32])

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from texsynth.flows import flow_sequence, rotation, sink, source, translation, vortex, warp, warp_coordinates
+from texsynth.core.flows import flow_sequence, rotation, sink, source, translation, vortex, warp, warp_coordinates
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"

@@ -9,10 +9,10 @@ from hypothesis import strategies as st
 from skimage.transform import resize
 
 from texsynth import cli
-from texsynth.heeger_bergen import HeegerBergenInfo, heeger_bergen, match_histogram
+from texsynth.statistical import HeegerBergenInfo, heeger_bergen, match_histogram
 from texsynth.io import load_image, save_image
 from texsynth.metrics import spectrum_distance
-from texsynth.pyramid import SteerablePyramid, periodic_smooth_decomposition
+from texsynth.core.pyramid import SteerablePyramid, periodic_smooth_decomposition
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 

@@ -4,18 +4,12 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from texsynth.interpolation import (
-    _relax,
-    edge_feature_map,
-    interpolate_neighborhoods,
-    ridge_feature_map,
-    interpolate_textures,
-    linear_blend,
-    transition_alpha_map,
-)
+from texsynth.optimization._ruiters import _relax
+
+from texsynth.optimization import edge_feature_map, interpolate_neighborhoods, ridge_feature_map, interpolate_textures, linear_blend, transition_alpha_map
 from texsynth.metrics import mosaic_baseline, noise_baseline, texture_energy
-from texsynth.nearest import PatchIndex
-from texsynth.neighborhood import accumulate, all_patches, extract, grid_centers
+from texsynth.core.search import PatchIndex
+from texsynth.core.neighborhood import accumulate, all_patches, extract, grid_centers
 from texsynth.optimization import optimize_texture
 
 from conftest import load_texture
@@ -152,7 +146,7 @@ def test_statistics_bands_work_on_their_own_part_of_the_map():
     # 0.0000 / 0.0006 and deviations 0.081 / 0.233 against 0.081 / 0.235). The same bands run on
     # the whole image, as before 2026-11-23, measured the mixture and shifted the means by
     # 0.016 / 0.027 and the slate's deviation to 0.273.
-    from texsynth.interpolation import _Statistics
+    from texsynth.optimization._ruiters import _Statistics
 
     a, b = load_texture("rohitrango/t1.png", 64), load_texture("rohitrango/t7.png", 64)
     image = np.concatenate([a, b], 1)
@@ -313,7 +307,7 @@ def test_stops_when_energy_stops_falling(pair):
 
 # --------------------------------------------------------------------------- Section 4.1: correspondences
 def _stage(a, b, size, k=1, max_neighborhoods=1024):
-    from texsynth.interpolation import _params, _stage_textures
+    from texsynth.optimization._ruiters import _params, _stage_textures
 
     p = _params(a, b, None, 1.0, k, 0.5, 0.5, 24, max_neighborhoods, 16384, None)
     return p, *_stage_textures(p, 1, size)
@@ -337,7 +331,7 @@ def test_warps_do_not_squeeze_the_patches(pair, size):
     # linear fit; measured here 0.31 / 0.37 at s = 9, 0.50 / 0.34 at s = 17), and N' filled
     # with stretched, smeared patches. The defaults of interpolate_textures (10): 0.01 / 0.11
     # and 0.05 / 0.17.
-    from texsynth.interpolation import _correspondences, _warps
+    from texsynth.optimization._ruiters import _correspondences, _warps
 
     a, b = pair
     p, t1, t2 = _stage(a, b, size, max_neighborhoods=96)
@@ -360,7 +354,7 @@ def test_correspondences_are_the_k_nearest_in_both_directions(pair, k):
     # of I2 under ||W_C (N1 - N2)|| (colour + distance channel), AND the same from I2 into I1
     # ("it is important to perform these searches ... in both textures"), checked against
     # a brute-force search written here
-    from texsynth.interpolation import _correspondences
+    from texsynth.optimization._ruiters import _correspondences
 
     a, b = pair
     s = 7
@@ -395,8 +389,8 @@ def test_correspondences_by_pca_kdtree_agree_with_exact_search(pair, monkeypatch
     # correspondence found per neighbourhood is on average 0.0 % / 3.7 % farther than the exact
     # nearest, 20 % at the 95th percentile. The bounds leave room for BLAS/platform rounding
     # of the near ties.
-    from texsynth import interpolation
-    from texsynth.interpolation import _correspondences
+    from texsynth.optimization import _ruiters as interpolation
+    from texsynth.optimization._ruiters import _correspondences
 
     a, b = pair
     s = 9
@@ -434,7 +428,7 @@ def test_correspondences_by_pca_kdtree_agree_with_exact_search(pair, monkeypatch
 
 # --------------------------------------------------------------------------- Section 4.2: colour adjustment
 def _identity_blend(t1, t2, c1, c2, size, alpha):
-    from texsynth.interpolation import _blend_pairs
+    from texsynth.optimization._ruiters import _blend_pairs
 
     grid = np.stack(np.indices((size, size)), -1).reshape(1, -1, 2).astype(float)
     g = np.broadcast_to(grid, (len(c1),) + grid.shape[1:])
@@ -522,7 +516,7 @@ def test_mean_shift_returns_the_dominant_mode_not_the_mean():
     # weights, same centre). The weighted mean is 0.44; the mean shift from the densest value
     # returns the larger group's 0.2, whereas started at the mean (the old update) it stayed
     # between the groups
-    from texsynth.interpolation import _mean_shift_update
+    from texsynth.optimization._ruiters import _mean_shift_update
 
     z = np.concatenate([np.full((3, 5, 5, 2), 0.2), np.full((2, 5, 5, 2), 0.8)])
     centres = np.full((5, 2), 4)

@@ -7,7 +7,8 @@ import pytest
 
 from texsynth.io import load_image
 from texsynth.metrics import histogram_distance, mosaic_baseline, noise_baseline, texture_energy
-from texsynth.multisource import _footprint, _noise, _prepare, mix_textures, synthesize_pixels, synthesize_solid
+from texsynth.pixel._wei_levoy import _footprint, _noise, _prepare
+from texsynth.pixel import mix_textures, synthesize_pixels, synthesize_solid
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 pytestmark = pytest.mark.skipif(not TEXTURES.exists(), reason="../shared/textures is absent")

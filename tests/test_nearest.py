@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from numpy.lib.stride_tricks import sliding_window_view
 
 from texsynth.io import load_image
-from texsynth.nearest import METHODS, PatchIndex, exact_chunk_rows, nearest
+from texsynth.core.search import METHODS, PatchIndex, exact_chunk_rows, nearest
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 
@@ -375,7 +375,7 @@ def test_tsvq_seed_changes_tree():
 
 
 def test_kdtree_pca_subsample_is_seeded(monkeypatch):
-    import texsynth.nearest as nearest_module
+    import texsynth.core.search._index as nearest_module
 
     monkeypatch.setattr(nearest_module, "_PCA_SAMPLE", 500)
     v = patches("jcjohnson/bumpy.png", 5, ((0, 79), (0, 60)))  # 75 x 56 = 4200 > 500
@@ -432,7 +432,7 @@ def test_randomized_pca_of_large_patches_matches_exact_subspace():
     # kd-tree PCA takes the randomized path; it must capture (almost) the variance of
     # the exact leading subspace. Measured: 0.9999 of it; a random 24-D basis captures
     # ~0.06 of it and a basis of the wrong sign/scale breaks orthonormality.
-    import texsynth.nearest as nearest_module
+    import texsynth.core.search._index as nearest_module
 
     v = patches("rohitrango/t4.png", 12, ((0, 64), (0, 64)))  # 53*53 = 2809 x 432
     assert v.shape[1] > nearest_module._PCA_COVARIANCE_MAX_DIM
@@ -456,7 +456,7 @@ def test_kdtree_recall_on_large_colour_patches(monkeypatch):
     # Measured (seeds 0-2): recall@1 0.72-0.74, distance ratio 1.012-1.014, the same as
     # with the exact PCA (0.737 / 1.012); the random baseline ratio is 2.1. Thresholds
     # sit below the worst seed with a margin; a broken PCA gives random candidates.
-    import texsynth.nearest as nearest_module
+    import texsynth.core.search._index as nearest_module
 
     v = patches("rohitrango/t4.png", 16, ((0, 64), (0, 128)))  # 49*113 = 5537 x 768
     q = patches("rohitrango/t4.png", 16, ((72, 128), (0, 128)), step=4)  # 11*29 = 319

@@ -5,9 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from texsynth.neighborhood import (
-    accumulate, all_patches, causal_mask, extract, gaussian_falloff, grid_centers, multilevel_vectors,
-)
+from texsynth.core.neighborhood import accumulate, all_patches, causal_mask, extract, gaussian_falloff, grid_centers, multilevel_vectors
 
 
 @pytest.fixture

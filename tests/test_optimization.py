@@ -10,18 +10,12 @@ import pytest
 from scipy import ndimage
 
 from texsynth import metrics
-from texsynth.flows import rotation, translation, warp
+from texsynth.core.flows import rotation, translation, warp
 from texsynth.io import load_image
-from texsynth.optimization import (
-    _Exemplar,
-    _m_step_frame,
-    _schedule,
-    _solve_gradient_system,
-    animate_texture,
-    optimize_texture,
-)
-from texsynth.neighborhood import extract, grid_centers
-from texsynth.pyramid import downsample
+from texsynth.optimization._kwatra import _Exemplar, _m_step_frame, _schedule, _solve_gradient_system
+from texsynth.optimization import animate_texture, optimize_texture
+from texsynth.core.neighborhood import extract, grid_centers
+from texsynth.core.pyramid import downsample
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 pytestmark = pytest.mark.skipif(not TEXTURES.is_dir(), reason="../shared/textures is not available")

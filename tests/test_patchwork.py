@@ -1,6 +1,5 @@
 """Harrison patchwork (texsynth.patchwork): eqs. 1-7 on real textures."""
 
-import sys
 
 import numpy as np
 import pytest
@@ -9,7 +8,8 @@ from hypothesis import strategies as st
 
 from texsynth import cli, data, metrics
 from texsynth.io import load_frames, load_image, save_frames, save_image
-from texsynth.patchwork import _prescale, patchwork, patchwork_transfer, patchwork_video, voronoi_weights
+from texsynth.patch._patchwork import _prescale
+from texsynth.patch import patchwork, patchwork_transfer, patchwork_video, voronoi_weights
 
 
 def _c(image):
@@ -121,7 +121,7 @@ def test_no_seams_where_the_block_of_summed_cells_changes(texture, monkeypatch):
     from skimage import data as skdata
     from skimage.transform import resize
 
-    module = sys.modules["texsynth.patchwork"]  # texsynth.patchwork is also the function's name
+    from texsynth.patch import _patchwork as module
     ink = texture("embark/2.jpg")  # white paper and red clouds: local means that vary a lot
     photo = np.repeat(resize(skdata.camera(), (256, 256), anti_aliasing=True)[..., None], 3, axis=-1)
     runs = {  # f = 2, where the weights fall off slowly; grid 16 (transfer's default) and 32

@@ -16,21 +16,10 @@ from hypothesis import strategies as st
 from scipy.ndimage import gaussian_filter
 
 from texsynth import cli
-from texsynth.heeger_bergen import heeger_bergen
+from texsynth.statistical import heeger_bergen
 from texsynth.io import load_image, save_image
-from texsynth.portilla_simoncelli import (
-    SNR_CAP,
-    SNR_GROUPS,
-    PSStatistics,
-    _impose_autocorrelation,
-    _impose_cross_covariance,
-    _impose_moment,
-    interpolate_statistics,
-    portilla_simoncelli,
-    ps_statistics,
-    ps_step,
-    statistics_snr,
-)
+from texsynth.statistical import SNR_CAP, SNR_GROUPS, PSStatistics, interpolate_statistics, portilla_simoncelli, ps_statistics, ps_step, statistics_snr
+from texsynth.statistical._portilla_simoncelli import _impose_autocorrelation, _impose_cross_covariance, _impose_moment
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 GREY_GROUPS = [g for g in SNR_GROUPS if g != "cross_channel"]

@@ -30,9 +30,10 @@ from texsynth.procedural import (
     turbulence,
     wood,
 )
-from texsynth.procedural.noise import _GRADIENTS, _GRADIENTS_2D, _permutation
-from texsynth.procedural.patterns import _OCTAVE_SHIFT
-from texsynth.procedural.reaction_diffusion import _PeriodicGrid, meinhardt_stripes
+from texsynth.procedural._noise import _GRADIENTS, _GRADIENTS_2D, _permutation
+from texsynth.procedural._patterns import _OCTAVE_SHIFT
+from texsynth.procedural._reaction_diffusion import _PeriodicGrid
+from texsynth.procedural import meinhardt_stripes
 
 
 # --------------------------------------------------------------------------

@@ -9,18 +9,7 @@ from hypothesis import strategies as st
 from skimage.transform import resize
 
 from texsynth.io import load_image
-from texsynth.pyramid import (
-    BINOMIAL_KERNEL,
-    SteerablePyramid,
-    downsample,
-    gaussian_pyramid,
-    laplacian_pyramid,
-    max_levels,
-    max_scales,
-    periodic_smooth_decomposition,
-    reconstruct_laplacian,
-    upsample,
-)
+from texsynth.core.pyramid import BINOMIAL_KERNEL, SteerablePyramid, downsample, gaussian_pyramid, laplacian_pyramid, max_levels, max_scales, periodic_smooth_decomposition, reconstruct_laplacian, upsample
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 EXACT = 1e-10  # the brief's bound; float64 rounding gives about 1e-15

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import RBFInterpolator
 
-from texsynth.tps import ThinPlateSpline, _solve_or_lstsq, fit_tps, tps_kernel, tps_rpm
+from texsynth.core.tps import ThinPlateSpline, _solve_or_lstsq, fit_tps, tps_kernel, tps_rpm
 
 
 def smooth_warp(p):

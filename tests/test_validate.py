@@ -6,10 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from texsynth._validate import (
-    as_float_array, as_image, as_rng, as_size, check_in_range, check_positive_float, check_positive_int,
-    restore_channels, with_channels,
-)
+from texsynth.core._validate import as_float_array, as_image, as_rng, as_size, check_in_range, check_positive_float, check_positive_int, restore_channels, with_channels
 
 
 def test_uint8_and_uint16_scale_to_unit_range():

@@ -1,48 +1,56 @@
 """texsynth: example-based texture synthesis on one shared numpy layer.
 
-The algorithms are functions at the top level (``texsynth.heeger_bergen``, ...);
-the shared layer and the tools are submodules: :mod:`texsynth.neighborhood`,
-:mod:`texsynth.pyramid`, :mod:`texsynth.nearest`, :mod:`texsynth.metrics`,
-:mod:`texsynth.testing`, :mod:`texsynth.io`, :mod:`texsynth.data`.
+The algorithms are functions at the top level (``texsynth.optimize_texture``,
+``texsynth.patchwork``, ...), each implemented in its family:
+
+=============================  ====================================================
+:mod:`texsynth.pixel`          pixel-based: Wei-Levoy, Wei's mixtures and solids
+:mod:`texsynth.patch`          patch-based: Harrison's patchwork
+:mod:`texsynth.optimization`   optimization-based: Kwatra, Ruiters
+:mod:`texsynth.statistical`    statistical: Heeger-Bergen, Portilla-Simoncelli
+:mod:`texsynth.procedural`     procedural: Perlin noise, marble, reaction-diffusion
+:mod:`texsynth.core`           the shared layer: neighbourhoods, pyramids, search, EM
+=============================  ====================================================
+
+and the tools :mod:`texsynth.metrics`, :mod:`texsynth.testing`,
+:mod:`texsynth.io` and :mod:`texsynth.data`. Everything loads on first use,
+so ``import texsynth`` is fast.
 """
 
-from . import data, flows, io, metrics, nearest, neighborhood, procedural, pyramid, testing, tps
-from .heeger_bergen import heeger_bergen
-from .interpolation import edge_feature_map, interpolate_textures, linear_blend, ridge_feature_map
-from .multisource import mix_textures, synthesize_pixels, synthesize_solid
-from .optimization import animate_texture, optimize_texture
-from .portilla_simoncelli import interpolate_statistics, portilla_simoncelli, ps_statistics, ps_step
-from .patchwork import patchwork, patchwork_transfer, patchwork_video
+from .core._deprecate import install_module_aliases
+from .core._lazy import attach
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "synthesize_pixels",
-    "mix_textures",
-    "synthesize_solid",
-    "optimize_texture",
-    "animate_texture",
-    "heeger_bergen",
-    "interpolate_textures",
-    "ridge_feature_map",
-    "edge_feature_map",
-    "linear_blend",
-    "portilla_simoncelli",
-    "ps_statistics",
-    "ps_step",
-    "interpolate_statistics",
-    "patchwork",
-    "patchwork_video",
-    "patchwork_transfer",
-    "data",
-    "flows",
-    "io",
-    "metrics",
-    "nearest",
-    "neighborhood",
-    "procedural",
-    "pyramid",
-    "testing",
-    "tps",
-    "__version__",
-]
+__getattr__, __dir__, __all__ = attach(
+    __name__,
+    submodules=["pixel", "patch", "optimization", "statistical", "procedural", "core",
+                "metrics", "testing", "io", "data"],
+    names={
+        **dict.fromkeys(["synthesize_pixels", "mix_textures", "synthesize_solid"], ".pixel"),
+        **dict.fromkeys(["patchwork", "patchwork_video", "patchwork_transfer"], ".patch"),
+        **dict.fromkeys(["optimize_texture", "animate_texture", "interpolate_textures", "ridge_feature_map",
+                         "edge_feature_map", "linear_blend"], ".optimization"),
+        **dict.fromkeys(["heeger_bergen", "portilla_simoncelli", "ps_statistics", "ps_step",
+                         "interpolate_statistics"], ".statistical"),
+    },
+)
+__all__.append("__version__")
+
+# Module paths of version 0.1, importable for one more release with a DeprecationWarning
+# that names the new spelling (``texsynth.patchwork`` and friends stay the functions).
+install_module_aliases({
+    "texsynth.multisource": ("texsynth.pixel._wei_levoy", "texsynth.pixel"),
+    "texsynth.patchwork": ("texsynth.patch._patchwork", "texsynth.patch"),
+    "texsynth.interpolation": ("texsynth.optimization._ruiters", "texsynth.optimization"),
+    "texsynth.heeger_bergen": ("texsynth.statistical._heeger_bergen", "texsynth.statistical"),
+    "texsynth.portilla_simoncelli": ("texsynth.statistical._portilla_simoncelli", "texsynth.statistical"),
+    "texsynth.nearest": ("texsynth.core.search", "texsynth.core.search"),
+    "texsynth.neighborhood": ("texsynth.core.neighborhood", "texsynth.core.neighborhood"),
+    "texsynth.pyramid": ("texsynth.core.pyramid", "texsynth.core.pyramid"),
+    "texsynth.flows": ("texsynth.core.flows", "texsynth.core.flows"),
+    "texsynth.tps": ("texsynth.core.tps", "texsynth.core.tps"),
+    "texsynth.procedural.noise": ("texsynth.procedural._noise", "texsynth.procedural"),
+    "texsynth.procedural.patterns": ("texsynth.procedural._patterns", "texsynth.procedural"),
+    "texsynth.procedural.reaction_diffusion": ("texsynth.procedural._reaction_diffusion", "texsynth.procedural"),
+})

@@ -105,21 +105,21 @@ class Method:
 
 #: Every method of the command, in the order ``texsynth list`` shows them.
 METHODS: dict[str, Method] = {
-    "patchwork": Method("patchwork:patchwork",
+    "patchwork": Method("patch:patchwork",
                         "Harrison 2002: Voronoi patchwork with invisible joins (fast, tileable)"),
-    "patchwork-video": Method("patchwork:patchwork_video",
+    "patchwork-video": Method("patch:patchwork_video",
                               "Harrison 2002: seamlessly looping video texture from a frame sequence",
                               inputs="frames", output="frames"),
-    "patchwork-transfer": Method("patchwork:patchwork_transfer",
+    "patchwork-transfer": Method("patch:patchwork_transfer",
                                  "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
                                  "pattern is repeated to the texture's channels)",
                                  inputs="pair", size=None),
-    "pixels": Method("multisource:synthesize_pixels",
+    "pixels": Method("pixel:synthesize_pixels",
                      "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)"),
-    "mix": Method("multisource:mix_textures",
+    "mix": Method("pixel:mix_textures",
                   "Wei 2002: mixture of two or more textures (--weights equal | ramp | w1.png,w2.png)",
                   inputs="images", mixing="weights"),
-    "solid": Method("multisource:synthesize_solid",
+    "solid": Method("pixel:synthesize_solid",
                     "Wei 2002: solid texture from 1-3 views along z, y, x (.npy volume plus PNG slices)",
                     inputs="images", output="volume", size="shape"),
     "optimize": Method("optimization:optimize_texture",
@@ -128,14 +128,14 @@ METHODS: dict[str, Method] = {
     "animate": Method("optimization:animate_texture",
                       "Kwatra 2005: flow-guided animation, e.g. --flows sink:1.5 --frames 16 --size 128",
                       output="frames", size=None, flow="flows", files=("first_frame",)),
-    "interpolate": Method("interpolation:interpolate_textures",
+    "interpolate": Method("optimization:interpolate_textures",
                           "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --transition | --alpha-map map.png; "
                           "--features FA FB)",
                           inputs="pair", skip=("rpm_options",), maps=("alpha",), ramps=("alpha",),
                           map_pairs=("features",), spatial="alpha"),
-    "heeger-bergen": Method("heeger_bergen:heeger_bergen",
+    "heeger-bergen": Method("statistical:heeger_bergen",
                             "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)"),
-    "portilla-simoncelli": Method("portilla_simoncelli:portilla_simoncelli",
+    "portilla-simoncelli": Method("statistical:portilla_simoncelli",
                                   "Portilla-Simoncelli 2000: joint wavelet statistics by iterated projections"),
     "perlin": Method("procedural:perlin", "Perlin gradient noise (2-D image, or 3-D volume with --size WxHxD)",
                      inputs="none", size="shape", skip=("points", "offset", "dtype"), values="signed"),
@@ -334,7 +334,7 @@ def _add_method_parser(sub, name, method):
 
 
 def parse_flow(text, shape):
-    """``KIND:AMOUNT`` to a flow field of the given shape (texsynth.flows).
+    """``KIND:AMOUNT`` to a flow field of the given shape (texsynth.core.flows).
 
     KIND is ``sink``, ``source``, ``vortex`` (AMOUNT: speed in pixels per
     frame), ``rotation`` (radians per frame) or ``translation`` (AMOUNT: one
@@ -343,7 +343,7 @@ def parse_flow(text, shape):
     >>> parse_flow("translation:(1, 0)", (4, 6)).shape
     (4, 6, 2)
     """
-    from . import flows
+    from .core import flows
 
     kinds = {"sink": flows.sink, "source": flows.source, "vortex": flows.vortex, "rotation": flows.rotation,
              "translation": flows.translation}

@@ -38,14 +38,14 @@ class Entry:
 
 
 def _heeger_bergen(exemplar, seed):
-    from .heeger_bergen import heeger_bergen
+    from .statistical import heeger_bergen
 
     return heeger_bergen(exemplar, (192, 192), rng=seed)
 
 
 def _patchwork(grid_spacing):
     def make(exemplar, seed):
-        from .patchwork import patchwork
+        from .patch import patchwork
 
         return patchwork(exemplar, (256, 256), grid_spacing=grid_spacing, tileable=True, rng=seed)
 
@@ -53,7 +53,7 @@ def _patchwork(grid_spacing):
 
 
 def _portilla_simoncelli(exemplar, seed):
-    from .portilla_simoncelli import portilla_simoncelli
+    from .statistical import portilla_simoncelli
 
     return portilla_simoncelli(exemplar, (128, 128), iterations=30, rng=seed)
 
@@ -80,7 +80,7 @@ def _optimize_complete(exemplar, seed):
 
 
 def _animate(exemplar, seed):
-    from . import flows
+    from .core import flows
     from .optimization import animate_texture
 
     frames = animate_texture(exemplar[:96, :96], flows.rotation((96, 96), 0.06), frames=8, rng=seed)
@@ -88,7 +88,7 @@ def _animate(exemplar, seed):
 
 
 def _pixels(exemplar, seed):
-    from .multisource import synthesize_pixels
+    from .pixel import synthesize_pixels
 
     return synthesize_pixels(exemplar[:64, :64], (160, 160), rng=seed)
 
@@ -96,7 +96,7 @@ def _pixels(exemplar, seed):
 def _mixture(exemplar, seed):
     import numpy as np
 
-    from .multisource import mix_textures
+    from .pixel import mix_textures
 
     ramp = np.broadcast_to(np.linspace(0.0, 1.0, 192), (96, 192))
     other = data.load("bread")[:64, :64]
@@ -104,7 +104,7 @@ def _mixture(exemplar, seed):
 
 
 def _interpolate(exemplar, seed):
-    from .interpolation import interpolate_textures
+    from .optimization import interpolate_textures
 
     other = data.load("bumpy")[:64, :64]
     return interpolate_textures(exemplar[:64, :64], other, 0.5, size=(64, 64), stages=((2, 17), (1, 17)), rng=seed)
@@ -122,7 +122,7 @@ def _side_by_side(images, gap=4):
 
 
 def _solid(exemplar, seed):
-    from .multisource import synthesize_solid
+    from .pixel import synthesize_solid
 
     volume = synthesize_solid(exemplar[:64, :64], 32, rng=seed)
     # three faces of the cube, one per axis: each should look like the exemplar
@@ -132,7 +132,7 @@ def _solid(exemplar, seed):
 def _patchwork_video(exemplar, seed):
     import numpy as np
 
-    from .patchwork import patchwork_video
+    from .patch import patchwork_video
 
     clip = np.stack([exemplar[:128, 4 * t:4 * t + 128] for t in range(16)])  # a window drifting over the photo
     video = patchwork_video(clip, (128, 128), 12, grid_spacing=32, rng=seed)

@@ -1,7 +1,7 @@
 """Loading and saving images, volumes and frame sequences.
 
 Loading converts to float in [0, 1] with the conventions of
-:mod:`texsynth._validate`. Saving converts float [0, 1] to the file type's
+:mod:`texsynth.core._validate`. Saving converts float [0, 1] to the file type's
 integer format (uint8 for PNG/JPEG/GIF/BMP, uint16 for 16-bit PNG and TIFF),
 writes to a temporary name next to the target and renames it, so a file is
 never half-written. Nothing is overwritten unless ``overwrite=True``.
@@ -19,7 +19,7 @@ from pathlib import Path
 import imageio.v3 as iio
 import numpy as np
 
-from ._validate import as_float_array, as_image
+from .core._validate import as_float_array, as_image
 
 __all__ = ["load_image", "save_image", "load_frames", "save_frames", "to_uint"]
 

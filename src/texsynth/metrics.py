@@ -33,9 +33,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ._validate import as_image, as_rng, as_size, check_positive_float, check_positive_int, with_channels
-from .nearest import PatchIndex
-from .neighborhood import all_patches, patch_shape
+from .core._validate import as_image, as_rng, as_size, check_positive_float, check_positive_int, with_channels
+from .core.search import PatchIndex
+from .core.neighborhood import all_patches, patch_shape
 
 __all__ = [
     "texture_energy",
@@ -99,7 +99,7 @@ def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact
         (the sparse grid of Kwatra et al. 2005). Every exemplar neighbourhood
         is a candidate.
     method : str
-        Nearest-neighbour backend (see :class:`texsynth.nearest.PatchIndex`);
+        Nearest-neighbour backend (see :class:`texsynth.core.search.PatchIndex`);
         ``"exact"`` by default so the metric is a reference.
     rng : int or numpy.random.Generator
         Only used by approximate backends.

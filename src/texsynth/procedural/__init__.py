@@ -13,10 +13,11 @@ Textures" to "Solid Textures"):
   1993) -- patterns grown by two reacting, diffusing chemicals.
 """
 
-from .noise import FADES, band_limit_octaves, perlin
-from .patterns import MARBLE_COLORS, WOOD_COLORS, apply_colormap, fbm, marble, turbulence, wood
-from .reaction_diffusion import (
+from ._noise import FADES, band_limit_octaves, perlin
+from ._patterns import MARBLE_COLORS, WOOD_COLORS, apply_colormap, fbm, marble, turbulence, wood
+from ._reaction_diffusion import (
     GRAY_SCOTT_PRESETS,
+    RD_COLORS,
     TURK_PRESETS,
     ReactionDiffusionInfo,
     gray_scott,
@@ -43,4 +44,5 @@ __all__ = [
     "WOOD_COLORS",
     "TURK_PRESETS",
     "GRAY_SCOTT_PRESETS",
+    "RD_COLORS",
 ]

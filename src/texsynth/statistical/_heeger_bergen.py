@@ -44,9 +44,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._progress import Progress
-from ._validate import as_image, as_rng, as_size, check_positive_int, restore_channels, with_channels
-from .pyramid import SteerablePyramid, max_scales, periodic_smooth_decomposition
+from ..core._progress import Progress
+from ..core._validate import as_image, as_rng, as_size, check_positive_int, restore_channels, with_channels
+from ..core.pyramid import SteerablePyramid, max_scales, periodic_smooth_decomposition
 
 __all__ = ["heeger_bergen", "HeegerBergenInfo", "match_histogram"]
 
@@ -241,7 +241,7 @@ def heeger_bergen(exemplar, size=None, *, scales=4, orientations=4, iterations=5
     becomes ``F_y^{-1}((k + 1/2) / n)``. It is applied to the image and to
     every sub-band of the steerable pyramid (high-pass residual, ``scales x
     orientations`` oriented bands, low-pass residual), with the pyramid of
-    :class:`texsynth.pyramid.SteerablePyramid` (a tight frame, so
+    :class:`texsynth.core.pyramid.SteerablePyramid` (a tight frame, so
     reconstruction is exact).
 
     Colour (Briand et al. 2014, sec. 3.3): with ``X`` the exemplar's

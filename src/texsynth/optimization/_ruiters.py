@@ -45,8 +45,8 @@ import numpy as np
 from scipy import ndimage
 from scipy.spatial import cKDTree
 
-from ._progress import Progress
-from ._validate import (
+from ..core._progress import Progress
+from ..core._validate import (
     as_image,
     as_rng,
     as_size,
@@ -56,11 +56,11 @@ from ._validate import (
     restore_channels,
     with_channels,
 )
-from .nearest import PatchIndex
-from .neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
-from .optimization import expectation_maximization
-from .portilla_simoncelli import interpolate_statistics, ps_statistics, ps_step
-from .tps import tps_rpm
+from ..core.search import PatchIndex
+from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
+from ..core.em import expectation_maximization
+from ..statistical import interpolate_statistics, ps_statistics, ps_step
+from ..core.tps import tps_rpm
 
 __all__ = [
     "interpolate_textures",
@@ -75,7 +75,7 @@ __all__ = [
 # Correspondence search (Section 4.1): exact up to this many neighbourhoods of the other texture,
 # PCA + kd-tree above. Measured for 784 queries into the 12544 neighbourhoods (17 x 17 x 4) of a
 # 128 px texture: exact 0.55-0.6 s, kd-tree 0.9-1.2 s (build + query) with recall@1 0.27-0.91
-# (brick -> slate vs slate -> brick). texsynth.nearest's "auto" (kd-tree above 5000) assumes
+# (brick -> slate vs slate -> brick). texsynth.core.search's "auto" (kd-tree above 5000) assumes
 # about N / 2 queries; here there are at most max_neighborhoods.
 _CORRESPONDENCE_EXACT_MAX = 20_000
 _EPS = 1e-3  # ε² of the IRLS weights (texsynth.optimization.irls_weights): finite for perfect matches
@@ -900,7 +900,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         statistics per iteration (Section 4.5); in the last stage it is
         weighted by ``2 min(alpha, 1 - alpha)`` (see Notes).
     rpm_options : dict, optional
-        Options of :func:`texsynth.tps.tps_rpm`; defaults here anneal faster
+        Options of :func:`texsynth.core.tps.tps_rpm`; defaults here anneal faster
         than Chui and Rangarajan's (``anneal_rate=0.8,
         iterations_per_temperature=3, sinkhorn_iterations=10``) and hold the
         affine part 1000 times stiffer (``affine_lambda_init=10``; theirs
@@ -930,7 +930,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     -----
     Correspondences use ``||W_C (N_i^(1) - N_j^(2))||_2`` over colour and
     distance channels (Section 4.1), searched in both directions through
-    :class:`texsynth.nearest.PatchIndex`: exact when the other texture has
+    :class:`texsynth.core.search.PatchIndex`: exact when the other texture has
     at most 20000 neighbourhoods (every texture up to about 150 px per
     stage; with at most ``max_neighborhoods`` queries this is faster than
     building a kd-tree), the paper's PCA + kd-tree above. The synthesis

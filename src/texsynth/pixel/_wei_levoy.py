@@ -48,11 +48,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._progress import Progress
-from ._validate import as_image, as_rng, as_size, check_positive_int, restore_channels, with_channels
-from .nearest import PatchIndex
-from .neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
-from .pyramid import gaussian_pyramid
+from ..core._progress import Progress
+from ..core._validate import as_image, as_rng, as_size, check_positive_int, restore_channels, with_channels
+from ..core.search import PatchIndex
+from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
+from ..core.pyramid import gaussian_pyramid
 
 __all__ = [
     "synthesize_pixels",
@@ -66,7 +66,7 @@ __all__ = [
 
 #: Visiting orders: Wei & Levoy 2000 (scanline) and 2002 (order-independent).
 ORDERS = ("scanline", "independent")
-#: Nearest-neighbour search: ``"auto"``/``"exact"`` or an approximate backend of :class:`~texsynth.nearest.PatchIndex`.
+#: Nearest-neighbour search: ``"auto"``/``"exact"`` or an approximate backend of :class:`~texsynth.core.search.PatchIndex`.
 SEARCHES = ("auto", "exact", "kdtree", "tsvq")
 #: Neighbourhood footprints inside the ``(h, w)`` box: the whole box, or the inscribed disc (ellipse).
 SHAPES = ("square", "disc")
@@ -900,7 +900,7 @@ def synthesize_pixels(
         ``"independent"``: Wei & Levoy 2002 [2]_, non-causal neighbourhoods,
         every pixel of a level updated at once per pass.
     search : {"auto", "exact", "kdtree", "tsvq"}
-        Nearest-neighbour search (:class:`texsynth.nearest.PatchIndex`).
+        Nearest-neighbour search (:class:`texsynth.core.search.PatchIndex`).
         In scanline order ``"auto"`` is exact search done one scanline at a
         time (the fastest here); ``"kdtree"``/``"tsvq"`` query per pixel.
         In independent order ``"auto"`` is exact for small problems and

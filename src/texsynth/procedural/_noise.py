@@ -47,7 +47,7 @@ import numbers
 
 import numpy as np
 
-from .._validate import as_rng, as_size, check_positive_float
+from ..core._validate import as_rng, as_size, check_positive_float
 
 __all__ = ["perlin", "FADES", "band_limit_octaves"]
 

@@ -57,7 +57,7 @@ import numbers
 
 import numpy as np
 
-from ._validate import as_rng, check_positive_float, check_positive_int
+from .._validate import as_rng, check_positive_float, check_positive_int
 
 __all__ = ["PatchIndex", "nearest", "METHODS"]
 

@@ -64,10 +64,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._progress import Progress
-from .._validate import as_rng, as_size, check_positive_float, check_positive_int
-from .noise import _check_dtype
-from .patterns import apply_colormap
+from ..core._progress import Progress
+from ..core._validate import as_rng, as_size, check_positive_float, check_positive_int
+from ._noise import _check_dtype
+from ._patterns import apply_colormap
 
 __all__ = [
     "reaction_diffusion",
@@ -495,7 +495,7 @@ def meinhardt_stripes(shape, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.0
 
     Examples
     --------
-    >>> from texsynth.procedural.reaction_diffusion import meinhardt_stripes
+    >>> from texsynth.procedural import meinhardt_stripes
     >>> img, info = meinhardt_stripes((24, 24), steps=100, rng=0, return_info=True)
     >>> img.shape, sorted(info.concentrations)
     ((24, 24, 3), ['a', 'b', 'c', 'd', 'e'])

@@ -72,17 +72,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import (
+from ..core._validate import (
     as_image,
     as_rng,
     as_size,
-    check_positive_float,
     check_positive_int,
     restore_channels,
     with_channels,
 )
-from ._progress import Progress
-from .neighborhood import extract
+from ..core._progress import Progress
+from ..core.neighborhood import extract
 
 __all__ = ["patchwork", "patchwork_video", "patchwork_transfer", "voronoi_weights", "PatchworkInfo"]
 
@@ -614,7 +613,7 @@ def patchwork(
     ----------
     exemplar : array_like
         Input texture ``I``: ``(H, W)`` grey or ``(H, W, C)``; any accepted
-        dtype (see :func:`texsynth._validate.as_image`).
+        dtype (see :func:`texsynth.core._validate.as_image`).
     size : int or (int, int)
         Output size ``(height, width)``; any size.
     grid_spacing : int

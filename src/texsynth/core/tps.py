@@ -484,7 +484,6 @@ def _tps_rpm(X, Y, x_weights, y_weights, initial_temperature, final_temperature,
 
     sys_x = _TPSSystem(Xc)
     phi_x = sys_x.phi
-    weights_x = xv.astype(np.float64)
     coef = np.zeros(X.shape)
     affine = np.zeros(X.shape[:-2] + (3, 2))
     affine[..., 1:, :] = np.eye(2)

@@ -35,8 +35,8 @@ import numbers
 
 import numpy as np
 
-from .._validate import check_positive_float, check_positive_int
-from .noise import (
+from ..core._validate import check_positive_float, check_positive_int
+from ._noise import (
     _check_dtype,
     _check_fade,
     _check_offset,

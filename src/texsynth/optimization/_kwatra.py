@@ -14,7 +14,7 @@ E-step
     gradient term is on).
 M-step
     ``z_p <- nearest exemplar neighbourhood of x_p`` for every ``p``
-    (:class:`texsynth.nearest.PatchIndex`, built once per level and size).
+    (:class:`texsynth.core.search.PatchIndex`, built once per level and size).
 
 until the set ``{z_p}`` stops changing. Section 3.1 makes it robust: the
 squared norm becomes ``||x_p - z_p||^r`` (``r = 0.8``), minimised by
@@ -77,8 +77,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import fft as sfft
 
-from ._progress import Progress
-from ._validate import (
+from ..core._progress import Progress
+from ..core._validate import (
     as_float_array,
     as_image,
     as_rng,
@@ -89,18 +89,14 @@ from ._validate import (
     restore_channels,
     with_channels,
 )
-from .flows import flow_sequence, warp, warp_coordinates
-from .nearest import METHODS, PatchIndex
-from .neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
-from .pyramid import gaussian_pyramid, max_levels, upsample
+from ..core.em import expectation_maximization
+from ..core.flows import flow_sequence, warp, warp_coordinates
+from ..core.search import METHODS, PatchIndex
+from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
+from ..core.pyramid import gaussian_pyramid, max_levels, upsample
 
-__all__ = [
-    "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo",
-    "expectation_maximization", "irls_weights", "IRLS_EXPONENT",
-]
+__all__ = ["optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo"]
 
-#: r of Section 3.1, the default robust exponent (the paper's 0.8).
-IRLS_EXPONENT = 0.8
 # IRLS guard: RMS difference per weighted value below which a neighbourhood
 # counts as matched (1e-3 = a quarter of an 8-bit grey level).
 _EPS_RMS = 1e-3
@@ -801,76 +797,6 @@ def _energy(rho, r, eps2, x, constraint):
     return e
 
 
-# --------------------------------------------------------------------------- Algorithm 1's loop
-def irls_weights(rho, r=IRLS_EXPONENT, eps2=0.0):
-    """IRLS weights of Section 3.1: ``ω_p = (r/2) (ρ_p + ε²)^((r-2)/2)``.
-
-    With these weights the quadratic energy ``Σ ω_p ρ_p`` majorises the robust
-    energy ``Σ (ρ_p + ε²)^(r/2)`` of eq. 1 at the current ``ρ_p = ||x_p - z_p||²``,
-    so the weighted E-step never raises it. ``ε²`` keeps the weight of a
-    perfect match finite.
-    """
-    return (r / 2.0) * (rho + eps2) ** ((r - 2.0) / 2.0)
-
-
-def expectation_maximization(x, state, rho, e_step, m_step, energy, *, max_iterations, tolerance,
-                             r=IRLS_EXPONENT, eps2=0.0, on_iteration=None):
-    """The alternation of Algorithm 1 (Kwatra et al. 2005), shared by every method that minimises a patch energy.
-
-    Texture optimization and Ruiters et al.'s interpolation (which plugs in its
-    own search and pixel update) both run this loop.
-
-    Parameters
-    ----------
-    x : numpy.ndarray or None
-        The current image (None before the first E-step of a bootstrap).
-    state, rho
-        The current neighbourhoods ``z_p`` (whatever ``m_step`` returns) and
-        their squared distances ``ρ_p`` (None for a random start: every
-        ``ω_p = 1`` then).
-    e_step : callable
-        ``e_step(state, omega, iteration) -> x``: minimise the weighted energy over ``x``.
-    m_step : callable
-        ``m_step(x, state) -> (state, rho, changed)``: the nearest neighbourhoods of ``x``.
-    energy : callable
-        ``energy(rho, x) -> float``: the energy after an M-step (also the place to log it).
-    max_iterations : int
-        At most this many E-steps.
-    tolerance : float or None
-        Stop when ``E`` falls by at most this fraction of its previous value
-        (None: run every iteration unless the ``z_p`` stop changing).
-    r, eps2 : float
-        IRLS exponent and ``ε²`` (:func:`irls_weights`).
-    on_iteration : callable, optional
-        ``on_iteration(iteration, energy, stop)`` after every M-step of the loop.
-
-    Returns
-    -------
-    x, state, rho
-        After the last E-step and the M-step that followed it.
-    iterations : int
-    converged : bool
-        True if the loop ended because the ``z_p`` no longer changed (the paper's criterion).
-    """
-    energies = [] if rho is None else [energy(rho, x)]
-    iterations, converged = 0, False
-    for iterations in range(1, max_iterations + 1):
-        omega = None if rho is None else irls_weights(rho, r, eps2)
-        x = e_step(state, omega, iterations - 1)
-        state, rho, changed = m_step(x, state)
-        energies.append(energy(rho, x))
-        # the paper stops when {z_p} no longer changes; we also stop when E has stopped falling
-        flat = (tolerance is not None and len(energies) >= 2
-                and energies[-2] - energies[-1] <= tolerance * abs(energies[-2]))
-        stop = not changed or flat
-        if on_iteration is not None:
-            on_iteration(iterations - 1, energies[-1], stop)
-        if stop:
-            converged = not changed
-            break
-    return x, state, rho, iterations, converged
-
-
 # --------------------------------------------------------------------------- one stage
 def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
     """Algorithm 1 (or 2) at one level with one neighbourhood size."""
@@ -1124,7 +1050,7 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     ----------
     exemplar : array_like
         ``(h, w)`` grey or ``(h, w, C)`` input texture ``Z``, any accepted
-        dtype (see :func:`texsynth._validate.as_image`).
+        dtype (see :func:`texsynth.core._validate.as_image`).
     size : int or (int, int)
         Output size ``(H, W)``, independent of the exemplar's size.
     neighborhood_sizes : sequence of int
@@ -1242,7 +1168,7 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         within a stage, as for eq. 1.
     method : {"auto", "exact", "kdtree", "tsvq"}
         Nearest-neighbour backend of the M-step
-        (:class:`texsynth.nearest.PatchIndex`), chosen per (level, size)
+        (:class:`texsynth.core.search.PatchIndex`), chosen per (level, size)
         stage. ``"auto"`` (default) searches exactly when the exemplar
         level holds at most 5000 neighbourhoods (the coarse levels) and uses
         the PCA kd-tree above (full resolution; 16 candidates of a
@@ -1433,7 +1359,7 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     texture elements move with the flow but keep their shape. The exemplar
     indexes are built once for the whole sequence, and frame ``i``'s
     correspondence with the exemplar (where each ``z_p`` came from), carried
-    along ``f_i`` by :func:`texsynth.flows.warp_coordinates`, gives every
+    along ``f_i`` by :func:`texsynth.core.flows.warp_coordinates`, gives every
     neighbourhood of frame ``i + 1`` coherent candidates, so the index is
     searched only once per neighbourhood size and frame.
 
@@ -1445,7 +1371,7 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
         ``(L-1, H, W, 2)`` flows (one per transition, may vary over time),
         one ``(H, W, 2)`` stationary flow, or a callable ``i -> (H, W, 2)``;
         displacements ``(d_row, d_col)`` in pixels per frame (see
-        :mod:`texsynth.flows` for sink, source, vortex, rotation,
+        :mod:`texsynth.core.flows` for sink, source, vortex, rotation,
         translation). The frame size is the flows' ``(H, W)``.
     frames : int, optional
         Number of frames ``L``; required for a single flow or a callable.
@@ -1512,7 +1438,7 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     x(f_i(p), i + 1))^2``, couples a frame only to the previous one, which is
     known when the frame is synthesised; it is the soft constraint (2) with
     the previous frame warped along ``f_i`` as the target ``x^c``. Warping
-    is backward with :func:`texsynth.flows.warp`.
+    is backward with :func:`texsynth.core.flows.warp`.
 
     The M-step of a frame ranks, for every ``x_p``, the current ``z_p``, the
     previous frame's ``z`` carried along the flow, the ``z`` of the four grid
@@ -1530,7 +1456,8 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
 
     Examples
     --------
-    >>> from texsynth import data, flows
+    >>> from texsynth import data
+    >>> from texsynth.core import flows
     >>> ex = data.load("bumpy")[:32, :32]
     >>> f = flows.translation((24, 24), (0.0, 2.0))
     >>> video = animate_texture(ex, f, frames=3, neighborhood_sizes=(8,), levels=1,

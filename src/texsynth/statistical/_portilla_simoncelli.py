@@ -70,7 +70,7 @@ projections set). Synthesis works in the principal components; the result is
 mapped back to the input's colours and clipped to the exemplar's range.
 
 Differences from textureSynth, all deliberate: the pyramid is
-:class:`texsynth.pyramid.SteerablePyramid` (any image size, not only
+:class:`texsynth.core.pyramid.SteerablePyramid` (any image size, not only
 multiples of ``2^(scales+2)``); values are in image units (above); the
 exemplar is analysed as it is, without the MATLAB code's tiny added noise
 (so statistics are deterministic; eigenvalues are clamped instead); the phase
@@ -103,9 +103,9 @@ import scipy.fft as sfft
 from numpy.polynomial import polynomial as npoly
 from threadpoolctl import threadpool_limits
 
-from ._progress import Progress
-from ._validate import as_image, as_rng, as_size, check_in_range, check_positive_int, restore_channels, with_channels
-from .pyramid import SteerableCoefficients, SteerablePyramid, max_scales, periodic_smooth_decomposition
+from ..core._progress import Progress
+from ..core._validate import as_image, as_rng, as_size, check_in_range, check_positive_int, restore_channels, with_channels
+from ..core.pyramid import SteerableCoefficients, SteerablePyramid, max_scales, periodic_smooth_decomposition
 
 __all__ = [
     "PSStatistics",
@@ -862,7 +862,6 @@ def _step(comps, stats, plan, snr, region=None):
     decomposed = [plan.decompose(comps[c]) for c in range(C)]
     highpass = [d[0] for d in decomposed]
     bands = [np.stack([d[1][s] for d in decomposed]) for s in range(S)]  # per scale (C, K, h, w)
-    lows = []
 
     def adjust_lowpass(low, s):
         """Autocorrelation, cross-channel covariance, skewness and kurtosis of l_s (sec. 4, step 1)."""

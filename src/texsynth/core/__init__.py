@@ -1,0 +1,21 @@
+"""The shared layer every algorithm family stands on.
+
+=============================  ==========================================================
+:mod:`texsynth.core.neighborhood`  patches of an image (valid / wrap / reflect), causal
+                                   masks, fall-off weights, and their weighted average back
+                                   into an image (the E-step of texture optimization)
+:mod:`texsynth.core.pyramid`       Gaussian, Laplacian and steerable pyramids
+:mod:`texsynth.core.search`        the one place a nearest neighbour is chosen:
+                                   :class:`~texsynth.core.search.PatchIndex` and its backends
+:mod:`texsynth.core.em`            the EM loop of patch-energy synthesis and its IRLS weights
+:mod:`texsynth.core.flows`         flow fields and warping along them
+:mod:`texsynth.core.tps`           thin-plate splines and TPS-RPM point matching
+=============================  ==========================================================
+
+The core imports no algorithm family; the families import the core (see
+``docs/architecture.md``). Submodules load on first use.
+"""
+
+from ._lazy import attach
+
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps"])

@@ -1,0 +1,100 @@
+"""Deprecations: old module paths and old parameter names keep working for one release.
+
+Every deprecated spelling warns with a :class:`DeprecationWarning` that names
+the new spelling, so a user can fix the call from the message alone.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+import importlib.machinery
+import inspect
+import sys
+import types
+import warnings
+
+__all__ = ["DeprecatedModule", "install_module_aliases", "renamed_parameters", "warn"]
+
+
+def warn(message, stacklevel=3):
+    """Emit a :class:`DeprecationWarning` pointing at the user's call (two frames up by default)."""
+    warnings.warn(message, DeprecationWarning, stacklevel=stacklevel)
+
+
+class DeprecatedModule(types.ModuleType):
+    """An old module path: every attribute comes from the new module, with a warning.
+
+    Parameters
+    ----------
+    old : str
+        The old dotted path, e.g. ``"texsynth.multisource"``.
+    new : str
+        The module that now holds the code (private names are found there too).
+    public : str
+        The public spelling to recommend, e.g. ``"texsynth.pixel"``.
+    """
+
+    def __init__(self, old, new, public):
+        super().__init__(old, f"Deprecated alias of {public}.")
+        self.__spec__ = importlib.machinery.ModuleSpec(old, None)  # importlib.util.find_spec works on it
+        self._new, self._public = new, public
+
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        module = importlib.import_module(self._new)
+        value = getattr(module, name)
+        where = self._new if name.startswith("_") else self._public
+        warn(f"{self.__name__} is deprecated; use {where}.{name} instead", stacklevel=3)
+        return value
+
+    def __dir__(self):
+        return dir(importlib.import_module(self._new))
+
+
+def install_module_aliases(aliases):
+    """Register ``{old: (new, public)}`` as importable deprecated modules (nothing is imported yet)."""
+    for old, (new, public) in aliases.items():
+        sys.modules.setdefault(old, DeprecatedModule(old, new, public))
+
+
+def renamed_parameters(**renames):
+    """Decorator: accept old keyword names ``old=new`` for one release, with a warning.
+
+    The old name's value is passed on under the new name; giving both is an
+    error. ``func.renamed_parameters`` keeps the table (the command line reads
+    it to accept the old option names too).
+
+    Examples
+    --------
+    >>> @renamed_parameters(frames="n_frames")
+    ... def f(*, n_frames=1):
+    ...     return n_frames
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     f(frames=3), str(caught[0].message)
+    (3, 'f(frames=...) is deprecated; use n_frames=... instead')
+    """
+
+    def decorate(func):
+        params = inspect.signature(func).parameters
+        for new in renames.values():
+            if new not in params:
+                raise TypeError(f"{func.__qualname__} has no parameter {new!r} to rename to")
+
+        @functools.wraps(func)
+        def wrapper(*args, **kwargs):
+            for old, new in renames.items():
+                if old in kwargs:
+                    if new in kwargs:
+                        raise TypeError(f"{func.__name__}() got both {old}= (deprecated) and {new}=; pass only {new}=")
+                    warn(f"{func.__name__}({old}=...) is deprecated; use {new}=... instead")
+                    kwargs[new] = kwargs.pop(old)
+            return func(*args, **kwargs)
+
+        wrapper.renamed_parameters = dict(renames)
+        return wrapper
+
+    return decorate

@@ -1,0 +1,39 @@
+"""Optimization-based synthesis: minimise a patch energy by the EM loop of :mod:`texsynth.core.em`.
+
+- :func:`optimize_texture`, :func:`animate_texture`: Kwatra et al. 2005,
+  texture optimization (constraints, hole filling) and flow-guided animation.
+- :func:`interpolate_textures`: Ruiters et al. 2010, patch-based texture
+  interpolation (with :func:`interpolate_neighborhoods`, the feature maps
+  :func:`ridge_feature_map` and :func:`edge_feature_map`, the baseline
+  :func:`linear_blend` and :func:`transition_alpha_map`).
+"""
+
+from ..core._deprecate import warn
+from ._kwatra import AnimationInfo, OptimizationInfo, StageInfo, animate_texture, optimize_texture
+from ._ruiters import (
+    InterpolationInfo,
+    edge_feature_map,
+    interpolate_neighborhoods,
+    interpolate_textures,
+    linear_blend,
+    ridge_feature_map,
+    transition_alpha_map,
+)
+
+__all__ = [
+    "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo",
+    "interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
+    "linear_blend", "transition_alpha_map", "InterpolationInfo",
+]
+
+_MOVED = {"expectation_maximization": "texsynth.core.em", "irls_weights": "texsynth.core.em",
+          "IRLS_EXPONENT": "texsynth.core.em"}
+
+
+def __getattr__(name):
+    if name in _MOVED:  # deprecated in 0.2: the EM loop moved to the shared core
+        import importlib
+
+        warn(f"texsynth.optimization.{name} is deprecated; use {_MOVED[name]}.{name} instead")
+        return getattr(importlib.import_module(_MOVED[name]), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

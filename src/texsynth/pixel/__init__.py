@@ -1,0 +1,11 @@
+"""Pixel-based synthesis: each output pixel chosen by matching its neighbourhood.
+
+- :func:`synthesize_pixels`: Wei & Levoy 2000, multi-resolution, scanline or
+  order-independent.
+- :func:`mix_textures`: Wei 2002, a mixture of several sources (eq. 1).
+- :func:`synthesize_solid`: Wei 2002, a solid texture from 2-D views.
+"""
+
+from ._wei_levoy import ORDERS, SHAPES, PixelSynthesisInfo, mix_textures, synthesize_pixels, synthesize_solid
+
+__all__ = ["synthesize_pixels", "mix_textures", "synthesize_solid", "PixelSynthesisInfo", "ORDERS", "SHAPES"]

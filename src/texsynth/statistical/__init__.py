@@ -1,0 +1,26 @@
+"""Statistical (parametric) synthesis: impose the exemplar's statistics on noise.
+
+- :func:`heeger_bergen`: Heeger & Bergen 1995, steerable-pyramid histograms.
+- :func:`portilla_simoncelli`: Portilla & Simoncelli 2000, joint wavelet
+  statistics (:func:`ps_statistics`, :func:`ps_step` and
+  :func:`interpolate_statistics` for methods that use them).
+"""
+
+from ._heeger_bergen import PERIODIC_EXEMPLAR, HeegerBergenInfo, heeger_bergen, match_histogram
+from ._portilla_simoncelli import (
+    SNR_CAP,
+    SNR_GROUPS,
+    PSInfo,
+    PSStatistics,
+    interpolate_statistics,
+    portilla_simoncelli,
+    ps_statistics,
+    ps_step,
+    statistics_snr,
+)
+
+__all__ = [
+    "heeger_bergen", "HeegerBergenInfo", "match_histogram",
+    "portilla_simoncelli", "ps_statistics", "ps_step", "interpolate_statistics", "statistics_snr",
+    "PSStatistics", "PSInfo", "SNR_GROUPS", "SNR_CAP", "PERIODIC_EXEMPLAR",
+]
