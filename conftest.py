@@ -2,7 +2,7 @@
 
 The suite runs on 2 cores with two pytest-xdist workers; multi-threaded BLAS in
 each worker oversubscribes the cores and made small matrix products 100x slower
-under load (measured for texsynth.nearest, docs/methods/nearest.md), so each
+under load (measured for texsynth.core.search, docs/methods/search.md), so each
 worker uses one BLAS thread.
 """
 

@@ -49,7 +49,7 @@ def pixel_rows(quick):
         if quick and size == 64 and search == "exact" and order == "scanline" and rows:
             continue  # same as the first row
         noise = texture_energy(noise_baseline(pebbles, size, rng=0), pebbles)
-        out, sec = timed(lambda: synthesize_pixels(pebbles, size, order=order, search=search, rng=0))
+        out, sec = timed(lambda: synthesize_pixels(pebbles, size, order=order, method=search, rng=0))
         rows.append((f"pixels 64->{size} {order}", search, sec, texture_energy(out, pebbles), noise))
     return rows
 
@@ -64,7 +64,7 @@ def mix_rows(quick):
     for order, search in [("scanline", "exact"), ("independent", "exact"), ("independent", "kdtree"),
                           ("independent", "tsvq")]:
         out, sec = timed(lambda: mix_textures([brick, gravel], n, weights=[1 - ramp, ramp], order=order,
-                                              search=search, rng=0))
+                                              method=search, rng=0))
         rows.append((f"mix 2x64 -> {n} ramp {order}", search, sec, texture_energy(out[:, :32], brick), noise))
     return rows
 
@@ -79,9 +79,9 @@ def solid_rows(quick):
     noise = texture_energy(noise_baseline(bread, n, rng=0), bread)
     rows = []
     for search in ["auto", "tsvq", "exact"]:
-        (vol, info), sec = timed(lambda: synthesize_solid(bread, n, search=search, rng=0, return_info=True))
+        (vol, info), sec = timed(lambda: synthesize_solid(bread, n, method=search, rng=0, return_info=True))
         e = np.mean([texture_energy(s, bread) for s in (vol[n // 2], vol[:, n // 2], vol[:, :, n // 2])])
-        rows.append((f"solid 64 -> {n}^3", info.search if search != "auto" else f"auto={info.search}", sec, e, noise))
+        rows.append((f"solid 64 -> {n}^3", info.method if search != "auto" else f"auto={info.method}", sec, e, noise))
     return rows
 
 

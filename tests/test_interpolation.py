@@ -307,9 +307,11 @@ def test_stops_when_energy_stops_falling(pair):
 
 # --------------------------------------------------------------------------- Section 4.1: correspondences
 def _stage(a, b, size, k=1, max_neighborhoods=1024):
-    from texsynth.optimization._ruiters import _params, _stage_textures
+    from texsynth.optimization._ruiters import _check_inputs, _stage_textures
 
-    p = _params(a, b, None, 1.0, k, 0.5, 0.5, 24, max_neighborhoods, 16384, None)
+    p = _check_inputs(a, b, features=None, distance_weight=1.0, k=k, keep_fraction=0.5, feature_weight=0.5,
+                      max_feature_points=24, max_neighborhoods=max_neighborhoods, max_set_size=16384,
+                      rpm_options=None, method="auto")
     return p, *_stage_textures(p, 1, size)
 
 
@@ -336,8 +338,8 @@ def test_warps_do_not_squeeze_the_patches(pair, size):
     a, b = pair
     p, t1, t2 = _stage(a, b, size, max_neighborhoods=96)
     rng = np.random.default_rng(0)
-    c1, c2 = _correspondences(t1, t2, size, p["channel_weights"], 1, rng)
-    fwd, bwd, grid, ok = _warps(t1, t2, c1, c2, size, 24, rng, p["rpm"])
+    c1, c2 = _correspondences(t1, t2, size, p.channel_weights, 1, rng)
+    fwd, bwd, grid, ok = _warps(t1, t2, c1, c2, size, 24, rng, p.rpm)
     assert ok.mean() > 0.5  # most pairs have feature points to align
     g = grid.reshape(-1, 2) - grid.reshape(-1, 2).mean(0)
     for warp in (fwd, bwd):
@@ -360,11 +362,11 @@ def test_correspondences_are_the_k_nearest_in_both_directions(pair, k):
     s = 7
     p, t1, t2 = _stage(a[:32, :32], b[:32, :32], s, k=k, max_neighborhoods=64)
     assert len(t1.corners) == len(t2.corners) == 49  # 26 x 26 neighbourhoods, capped to a stride of 4
-    c1, c2 = _correspondences(t1, t2, s, p["channel_weights"], k, np.random.default_rng(0))
+    c1, c2 = _correspondences(t1, t2, s, p.channel_weights, k, np.random.default_rng(0))
     pairs = {tuple(r) for r in np.concatenate([c1, c2], 1)}
     assert len(pairs) == len(c1) <= 2 * k * 49  # unique pairs; a pair found both ways counts once
     for src, dst, forward in ((t1, t2, True), (t2, t1, False)):
-        d2, grid = _weighted_d2(src, dst, src.corners, s, p["channel_weights"])
+        d2, grid = _weighted_d2(src, dst, src.corners, s, p.channel_weights)
         for q, row in zip(src.corners, d2):
             mine = [r[2:] if forward else r[:2] for r in pairs if tuple(r[:2] if forward else r[2:]) == tuple(q)]
             found = np.sort([row[np.ravel_multi_index(m, grid)] for m in mine])
@@ -395,7 +397,7 @@ def test_correspondences_by_pca_kdtree_agree_with_exact_search(pair, monkeypatch
     a, b = pair
     s = 9
     p, t1, t2 = _stage(a, b, s)
-    w = p["channel_weights"]
+    w = p.channel_weights
     exact = _correspondences(t1, t2, s, w, 1, np.random.default_rng(0))
     used = []
 
@@ -405,8 +407,7 @@ def test_correspondences_by_pca_kdtree_agree_with_exact_search(pair, monkeypatch
             used.append(self.method)
 
     monkeypatch.setattr(interpolation, "PatchIndex", Spy)
-    monkeypatch.setattr(interpolation, "_CORRESPONDENCE_EXACT_MAX", 1000)  # below the 1600 neighbourhoods
-    approx = _correspondences(t1, t2, s, w, 1, np.random.default_rng(0))
+    approx = _correspondences(t1, t2, s, w, 1, np.random.default_rng(0), method="kdtree")
     assert used == ["kdtree", "kdtree"]  # both directions took the kd-tree path
     e = {tuple(r) for r in np.concatenate(exact, 1)}
     k = {tuple(r) for r in np.concatenate(approx, 1)}

@@ -85,8 +85,8 @@ def test_output_tiles(bread):
 
 
 def test_approximate_search_runs_and_matches_quality(bread):
-    exact = synthesize_pixels(bread, 24, levels=2, order="independent", search="exact", rng=0)
-    approx = synthesize_pixels(bread, 24, levels=2, order="independent", search="kdtree", rng=0)
+    exact = synthesize_pixels(bread, 24, levels=2, order="independent", method="exact", rng=0)
+    approx = synthesize_pixels(bread, 24, levels=2, order="independent", method="kdtree", rng=0)
     e_exact = texture_energy(exact, bread, patch_size=6)
     assert texture_energy(approx, bread, patch_size=6) < 2.0 * e_exact
 
@@ -129,9 +129,9 @@ def test_initial_noise_of_a_mixture_follows_the_weights(brick, gravel):
 def test_scanline_kdtree_and_tsvq_close_to_exact(bread):
     # Wei & Levoy 2000 search one causal neighbourhood per pixel with TSVQ; here each approximate
     # backend is queried per pixel (PatchIndex), exact search is organised by scanline.
-    outs = {s: synthesize_pixels(bread, 24, levels=2, search=s, rng=0, return_info=True)
+    outs = {s: synthesize_pixels(bread, 24, levels=2, method=s, rng=0, return_info=True)
             for s in ("exact", "kdtree", "tsvq")}
-    assert {s: info.search for s, (_, info) in outs.items()} == {"exact": "exact", "kdtree": "kdtree", "tsvq": "tsvq"}
+    assert {s: info.method for s, (_, info) in outs.items()} == {"exact": "exact", "kdtree": "kdtree", "tsvq": "tsvq"}
     e = {s: texture_energy(out, bread, patch_size=6) for s, (out, _) in outs.items()}
     noise = texture_energy(noise_baseline(bread, 24, rng=0), bread, patch_size=6)
     # Measured at 24x24 (approximate / exact, seeds 0 and 1): kd-tree bread 1.06, 1.23, pebbles t4
@@ -146,8 +146,8 @@ def test_scanline_kdtree_and_tsvq_close_to_exact(bread):
 
 def test_scanline_kdtree_mixture_runs(brick, gravel):
     # the multi-source path of approximate scanline search ([N_i(p), p] indexes)
-    out, info = mix_textures([brick, gravel], 16, levels=2, search="kdtree", iterations=2, rng=0, return_info=True)
-    assert out.shape == (16, 16) and info.search == "kdtree" and np.all(np.isfinite(out))
+    out, info = mix_textures([brick, gravel], 16, levels=2, method="kdtree", iterations=2, rng=0, return_info=True)
+    assert out.shape == (16, 16) and info.method == "kdtree" and np.all(np.isfinite(out))
     assert min(brick.min(), gravel.min()) - 1e-9 <= out.min() and out.max() <= max(brick.max(), gravel.max()) + 1e-9
 
 
@@ -292,9 +292,9 @@ def test_solid_slices_look_like_exemplar(bread):
 def test_solid_shared_view_equals_separate_copies(bread):
     # One image for all three axes builds each index once; equal copies build three.
     # Sharing is only a saving: exact search gives the same volume bit for bit.
-    shared = synthesize_solid(bread, 12, levels=2, passes=1, iterations=1, search="exact", rng=0)
+    shared = synthesize_solid(bread, 12, levels=2, passes=1, iterations=1, method="exact", rng=0)
     copies = synthesize_solid([bread, bread.copy(), bread.copy()], 12, levels=2, passes=1, iterations=1,
-                              search="exact", rng=0)
+                              method="exact", rng=0)
     assert np.array_equal(shared, copies)
 
 
@@ -309,10 +309,10 @@ def test_solid_keeps_input_dtype(bread):
 
 # ---------------------------------------------------------------- tsvq search (Wei & Levoy 2000, Sec. 4)
 def test_tsvq_pixels_far_below_noise_and_close_to_exact(bread):
-    exact = synthesize_pixels(bread, 40, levels=2, order="independent", search="exact", rng=0)
-    tsvq, info = synthesize_pixels(bread, 40, levels=2, order="independent", search="tsvq", rng=0,
+    exact = synthesize_pixels(bread, 40, levels=2, order="independent", method="exact", rng=0)
+    tsvq, info = synthesize_pixels(bread, 40, levels=2, order="independent", method="tsvq", rng=0,
                                    return_info=True)
-    assert info.search == "tsvq"
+    assert info.method == "tsvq"
     e_exact, e_tsvq = (texture_energy(x, bread, patch_size=6) for x in (exact, tsvq))
     noise = texture_energy(noise_baseline(bread, 40, rng=0), bread, patch_size=6)
     # Measured (bread, seeds 0/1): tsvq 0.24-0.25x noise, 1.02-1.08x exact (pebbles t4: 1.12-1.17x,
@@ -326,8 +326,8 @@ def test_tsvq_solid_close_to_exact(bread):
         return np.mean([texture_energy(s, bread, patch_size=5) for s in (vol[8], vol[:, 8], vol[:, :, 8])])
 
     kw = dict(levels=2, passes=1, iterations=1, rng=0)
-    e_exact = slices_energy(synthesize_solid(bread, 16, search="exact", **kw))
-    e_tsvq = slices_energy(synthesize_solid(bread, 16, search="tsvq", **kw))
+    e_exact = slices_energy(synthesize_solid(bread, 16, method="exact", **kw))
+    e_tsvq = slices_energy(synthesize_solid(bread, 16, method="tsvq", **kw))
     noise = texture_energy(noise_baseline(bread, 16, rng=0), bread, patch_size=5)
     # Measured: exact 0.0012, tsvq 0.0013, noise 0.0074 (tsvq 0.17x noise, 1.08x exact).
     assert e_tsvq < 0.5 * noise
@@ -335,10 +335,10 @@ def test_tsvq_solid_close_to_exact(bread):
 
 
 def test_tsvq_solid_grey_near_duplicates():
-    # Grey nuts: near-identical float32 neighbourhoods once made the TSVQ k-means collapse
-    # (IndexError inside nearest._TSVQ); the solid's indexes are built in float64.
+    # Grey nuts: near-identical float32 neighbourhoods make the TSVQ k-means collapse; the
+    # tree build then splits the node evenly (it raised IndexError before 0.2)
     nuts = _load("lcv/nuts.pgm")
-    vol = synthesize_solid(nuts, 16, levels=2, passes=1, iterations=1, search="tsvq", rng=0)
+    vol = synthesize_solid(nuts, 16, levels=2, passes=1, iterations=1, method="tsvq", rng=0)
     noise = texture_energy(noise_baseline(nuts, 16, rng=0), nuts, patch_size=5)
     # measured 0.0081 vs noise 0.128 (exact: 0.0072)
     assert texture_energy(vol[8], nuts, patch_size=5) < 0.3 * noise
@@ -385,8 +385,8 @@ def test_bad_sources(bread):
         synthesize_pixels(bread[:12, :12], 16, levels=3)
     with pytest.raises(ValueError, match="order"):
         synthesize_pixels(bread, 16, order="random")
-    with pytest.raises(ValueError, match="search"):
-        synthesize_pixels(bread, 16, search="ball")
+    with pytest.raises(ValueError, match="method"):
+        synthesize_pixels(bread, 16, method="ball")
 
 
 def test_bad_views(bread):

@@ -12,7 +12,7 @@ from scipy import ndimage
 from texsynth import metrics
 from texsynth.core.flows import rotation, translation, warp
 from texsynth.io import load_image
-from texsynth.optimization._kwatra import _Exemplar, _m_step_frame, _schedule, _solve_gradient_system
+from texsynth.optimization._kwatra import _Exemplar, _m_step_frame, _Options, _schedule, _solve_gradient_system
 from texsynth.optimization import animate_texture, optimize_texture
 from texsynth.core.neighborhood import extract, grid_centers
 from texsynth.core.pyramid import downsample
@@ -386,7 +386,8 @@ def test_frame_m_step_never_worse_than_the_current_neighbourhoods(bread):
     # the coherent-candidate M-step of animation frames keeps z_p unless a candidate
     # scores strictly better on ρ(x_p, v) + λ E_c, and the index's answer is a
     # candidate: compare the criterion before and after on a real texture
-    ex = _Exemplar(bread, np.ones(bread.shape[:2]), 8, 0.0, True, "exact", np.random.default_rng(0), frame=True)
+    opts = _Options(r=0.8, mu=0.0, spacing=0.25, max_iterations=1, tolerance=0.0, method="exact")
+    ex = _Exemplar(bread, np.ones(bread.shape[:2]), 8, opts, np.random.default_rng(0), frame=True)
     x = texture("jcjohnson/bread.png", 40, 8, 8)
     target = texture("jcjohnson/bread.png", 40, 0, 0)
     centers = grid_centers((40, 40), 8, 2, mode="valid")

@@ -40,7 +40,7 @@ __all__.append("__version__")
 # Module paths of version 0.1, importable for one more release with a DeprecationWarning
 # that names the new spelling (``texsynth.patchwork`` and friends stay the functions).
 install_module_aliases({
-    "texsynth.multisource": ("texsynth.pixel._wei_levoy", "texsynth.pixel"),
+    "texsynth.multisource": ("texsynth.pixel._wei_levoy", "texsynth.pixel", {"SEARCHES": "texsynth.core.search.METHODS"}),
     "texsynth.patchwork": ("texsynth.patch._patchwork", "texsynth.patch"),
     "texsynth.interpolation": ("texsynth.optimization._ruiters", "texsynth.optimization"),
     "texsynth.heeger_bergen": ("texsynth.statistical._heeger_bergen", "texsynth.statistical"),

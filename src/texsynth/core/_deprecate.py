@@ -33,18 +33,24 @@ class DeprecatedModule(types.ModuleType):
         The module that now holds the code (private names are found there too).
     public : str
         The public spelling to recommend, e.g. ``"texsynth.pixel"``.
+    renamed : dict, optional
+        ``{old_name: "module.new_name"}`` for names that moved elsewhere.
     """
 
-    def __init__(self, old, new, public):
+    def __init__(self, old, new, public, renamed=None):
         super().__init__(old, f"Deprecated alias of {public}.")
         self.__spec__ = importlib.machinery.ModuleSpec(old, None)  # importlib.util.find_spec works on it
-        self._new, self._public = new, public
+        self._new, self._public, self._renamed = new, public, dict(renamed or {})
 
     def __getattr__(self, name):
         if name.startswith("__"):
             raise AttributeError(name)
-        module = importlib.import_module(self._new)
-        value = getattr(module, name)
+        if name in self._renamed:
+            module_name, _, new_name = self._renamed[name].rpartition(".")
+            value = getattr(importlib.import_module(module_name), new_name)
+            warn(f"{self.__name__}.{name} is deprecated; use {self._renamed[name]} instead", stacklevel=3)
+            return value
+        value = getattr(importlib.import_module(self._new), name)
         where = self._new if name.startswith("_") else self._public
         warn(f"{self.__name__} is deprecated; use {where}.{name} instead", stacklevel=3)
         return value
@@ -54,9 +60,9 @@ class DeprecatedModule(types.ModuleType):
 
 
 def install_module_aliases(aliases):
-    """Register ``{old: (new, public)}`` as importable deprecated modules (nothing is imported yet)."""
-    for old, (new, public) in aliases.items():
-        sys.modules.setdefault(old, DeprecatedModule(old, new, public))
+    """Register ``{old: (new, public[, renamed])}`` as importable deprecated modules (nothing is imported yet)."""
+    for old, spec in aliases.items():
+        sys.modules.setdefault(old, DeprecatedModule(old, *spec))
 
 
 def renamed_parameters(**renames):

@@ -70,6 +70,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import numbers
 import time
 from dataclasses import dataclass, field
@@ -91,7 +92,8 @@ from ..core._validate import (
 )
 from ..core.em import expectation_maximization
 from ..core.flows import flow_sequence, warp, warp_coordinates
-from ..core.search import METHODS, PatchIndex
+from ..core import search
+from ..core.search import PatchIndex, nearest_candidates, sq_distances
 from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
 
@@ -110,17 +112,6 @@ _OCCURRENCE_CANDIDATES = 4
 # copy_limit: penalty per unit of excess (offset count / limit - 1), in units of the
 # occurrence scale (exemplar variance x summed weights of a neighbourhood)
 _COPY_PENALTY = 3.0
-# Index of the animation frames (PatchIndex kd-tree options): the frames also rank coherent
-# candidates, so the tree only has to offer one fresh candidate per neighbourhood; 4
-# re-ranked tree candidates and a (1 + 2)-approximate search cost a third of the defaults.
-_FRAME_INDEX = dict(candidates=4, eps=2.0)
-# Index of optimize_texture's stages (kd-tree options): 16 candidates of a (1 + 2)-approximate
-# search instead of PatchIndex's (1 + 1): measured at 128 -> 192 on 6 textures x 3 seeds, final
-# texture energy -0.3 % (geometric mean; -4.9 % to +4.9 %) at 0.78 of the CPU time, with the
-# skipped searches. 8 candidates were faster still (0.66) but +1.3 % (up to +19 % on text).
-# Not with the gradient energy: on the 3x longer (values, differences) vectors eps = 2 costs
-# +7 % (8 candidates: +17 %), so mu > 0 keeps PatchIndex's defaults.
-_INDEX = dict(candidates=16, eps=2.0)
 # Conjugate gradients of the gradient-energy E-step: relative residual and cap.
 _CG_RTOL = 1e-10
 _CG_MAXITER = 500
@@ -260,6 +251,39 @@ class AnimationInfo:
     frame_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
+# --------------------------------------------------------------------------- options
+@dataclass(frozen=True)
+class _Options:
+    """The settings of one synthesis (a call, or one frame of an animation), checked once."""
+
+    r: float  # irls_exponent (Section 3.1)
+    mu: float  # gradient_weight
+    spacing: float  # grid spacing of X† as a fraction of the neighbourhood size (w/4)
+    max_iterations: int
+    tolerance: float
+    tileable: bool = False
+    falloff: bool = True
+    method: str = "auto"  # the search backend (texsynth.core.search)
+    occurrence: float = 0.0  # occurrence_weight
+    copy_limit: float | None = None
+    completeness: float = 0.0  # completeness_weight
+    coords: np.ndarray | None = field(default=None, repr=False)  # a frame: last frame's correspondence, warped
+    assembly: float | None = None  # a frame: frame_falloff
+
+    @property
+    def frame(self):
+        """True for the constrained single-resolution synthesis of an animation frame."""
+        return self.coords is not None
+
+    @property
+    def mode(self):
+        return "wrap" if self.tileable else "valid"
+
+    def grid(self, size):
+        """Spacing in pixels of the centres of ``size``-wide neighbourhoods."""
+        return max(1, int(round(size * self.spacing)))
+
+
 # --------------------------------------------------------------------------- features
 def _difference_weights(g):
     """Fall-off weights of the horizontal and vertical pixel differences of a patch."""
@@ -292,16 +316,11 @@ def _feature_weights(g, channels, mu):
     return np.concatenate([rep(g), rep(gx), rep(gy)])
 
 
-def _weighted_sq(a, b, weights):
-    """Row-wise ``sum_d w_d (a_d - b_d)^2`` in float64."""
-    d = a - b
-    return np.einsum("ij,ij,j->i", d, d, weights)
-
-
 class _Exemplar:
     """The searchable neighbourhoods of one exemplar level for one size (built once)."""
 
-    def __init__(self, image, valid, size, mu, falloff, method, rng, frame=False):
+    def __init__(self, image, valid, size, opts, rng, frame=False):
+        mu = opts.mu
         self.image, self.size, self.mu = image, size, mu
         self.view = all_patches(image, size)  # (Ny, Nx, w, w, C), a view
         ok = all_patches(valid[..., None].astype(np.float64), size).min(axis=(2, 3, 4)) > 0.5
@@ -309,7 +328,7 @@ class _Exemplar:
         self.build_seconds = 0.0
         if len(self.corner) == 0:
             return
-        self.g = gaussian_falloff(size) if falloff else np.ones((size, size))
+        self.g = gaussian_falloff(size) if opts.falloff else np.ones((size, size))
         self.weights = _feature_weights(self.g, image.shape[-1], mu)
         self.eps2 = _EPS_RMS**2 * float(self.weights.sum())
         t0 = time.perf_counter()
@@ -319,8 +338,10 @@ class _Exemplar:
         step = max(1, 2**24 // max(1, self.weights.shape[0] * 8))
         for a in range(0, len(self.corner), step):
             feats[a : a + step] = _features(self.patches(np.arange(a, min(a + step, len(self.corner)))), mu)
-        options = _FRAME_INDEX if frame else _INDEX if mu == 0 else {}
-        self.index = PatchIndex(feats, weights=self.weights, method=method, rng=rng, **options)
+        # the search layer's measured settings: "frame" (coherent candidates do most of the work),
+        # "stage", or the defaults for the gradient energy's longer vectors
+        profile = "frame" if frame else "stage" if mu == 0 else "default"
+        self.index = PatchIndex(feats, weights=self.weights, method=opts.method, profile=profile, rng=rng)
         if frame:  # animation frames rank coherent candidates on these features (_m_step_frame)
             self.feats = feats
         self.grid = np.full(self.view.shape[:2], -1, dtype=np.int64)  # corner -> neighbourhood index
@@ -601,9 +622,9 @@ class _Completeness:
         """``p(j)`` of every ``q_j`` (never farther than the ``current`` one) and ``ρ_j``."""
         index = PatchIndex(q.astype(np.float32), weights=ex.weights, method="auto", rng=rng)
         found = index.query(self.feats.astype(np.float32), k=1)[0][:, 0]
-        rho = _weighted_sq(q[found], self.feats, ex.weights)
+        rho = sq_distances(q[found], self.feats, ex.weights)
         if current is not None:
-            keep = _weighted_sq(q[current], self.feats, ex.weights)
+            keep = sq_distances(q[current], self.feats, ex.weights)
             better = rho < keep
             found = np.where(better, found, current)
             rho = np.where(better, rho, keep)
@@ -636,7 +657,7 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
     n = len(centers)
     stale = np.ones(n, dtype=bool)
     if memo is not None and zidx is not None and tolerance > 0:
-        moved = _weighted_sq(q, memo.q, ex.weights)
+        moved = sq_distances(q, memo.q, ex.weights)
         stale = ~np.isfinite(memo.rho) | (moved > tolerance**2 * (memo.rho + ex.eps2))
     constrained = np.zeros(n, dtype=bool)  # neighbourhoods that touch constrained pixels
     if constraint is not None:
@@ -652,13 +673,13 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
         score = np.full(n, np.inf)
     else:
         new = zidx.copy()
-        rho = _weighted_sq(q, _features(ex.patches(zidx), ex.mu), ex.weights)
+        rho = sq_distances(q, _features(ex.patches(zidx), ex.mu), ex.weights)
         score = rho.copy()
         if pen is not None:  # the current z_p's own share of its occurrence does not count
             score += pen[zidx] - occurrence.own + occurrence.copy_penalty(ex, zidx, np.arange(n))
 
     def rank(rows, cand):
-        r = _weighted_sq(q[rows], _features(ex.patches(cand), ex.mu), ex.weights)
+        r = sq_distances(q[rows], _features(ex.patches(cand), ex.mu), ex.weights)
         s = r if pen is None else r + pen[cand] + occurrence.copy_penalty(ex, cand, rows)
         better = s < score[rows]
         rows = rows[better]
@@ -708,7 +729,7 @@ def _m_step_constrained(ex, x, centers, mode, zidx, constraint, q, mp, sel, new,
     rhos = np.empty(cands.shape)
     for j in range(cands.shape[1]):
         v = ex.patches(cands[:, j])
-        rhos[:, j] = _weighted_sq(q[sel], _features(v, ex.mu), ex.weights)
+        rhos[:, j] = sq_distances(q[sel], _features(v, ex.mu), ex.weights)
         diff = v.reshape(len(sel), -1) - tflat
         scores[:, j] = rhos[:, j] + np.einsum("ij,ij->i", lm_flat * diff, diff)
     # ties keep the current z_p (the last column) or the nearer candidate
@@ -753,13 +774,9 @@ def _m_step_frame(ex, x, centers, mode, zidx, constraint, prior, search):
     if search or not cols:
         cols.append(ex.index.query(b, k=1)[0][:, 0])
     cands = np.stack(cols, axis=1)
-    scores = np.empty(cands.shape, dtype=np.float32)
-    for j in range(cands.shape[1]):
-        d = ex.feats[cands[:, j]] - b
-        scores[:, j] = np.einsum("ij,ij,ij->i", d, d, wq)
-    new = cands[np.arange(n), np.argmin(scores, axis=1)]  # first minimum: ties keep z_p
-    d = ex.feats[new] - q
-    return new, np.einsum("ij,ij,j->i", d, d, weights).astype(np.float64)
+    choice, _ = nearest_candidates(b, cands, vectors=ex.feats, weights=wq)  # first minimum: ties keep z_p
+    new = cands[np.arange(n), choice]
+    return new, sq_distances(ex.feats[new], q, weights).astype(np.float64)
 
 
 def _coherent_candidates(ex, centers, zidx):
@@ -798,31 +815,31 @@ def _energy(rho, r, eps2, x, constraint):
 
 
 # --------------------------------------------------------------------------- one stage
-def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
+def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
     """Algorithm 1 (or 2) at one level with one neighbourhood size."""
     t0 = time.perf_counter()
     w = ex.size
-    spacing = max(1, int(round(w * params["grid_spacing"])))
-    mode = "wrap" if params["tileable"] else "valid"
+    spacing = opts.grid(w)
+    mode = opts.mode
     centers = grid_centers(shape, w, spacing, mode=mode)
     stage = StageInfo(level=level, size=w, shape=tuple(shape), spacing=spacing, neighborhoods=len(centers),
                       exemplar_neighborhoods=len(ex), first=len(record["energy"]))
     build, ex.build_seconds = ex.build_seconds, 0.0  # an index reused later costs nothing more
     nn = build
-    r, mu, eps2 = params["r"], params["mu"], ex.eps2
+    r, mu, eps2 = opts.r, opts.mu, ex.eps2
     values = float(ex.weights.sum())
 
-    coords = params.get("coords")  # animation frame: the previous frame's correspondence, warped
+    coords = opts.coords  # animation frame: the previous frame's correspondence, warped
     prior = None if coords is None else ex.lookup(coords[centers[:, 0], centers[:, 1]] - w // 2, 0)
 
     memo = _SearchMemo(len(centers), ex.weights.shape[0])
-    weight, limit = params.get("occurrence", 0.0), params.get("copy_limit")
+    weight, limit = opts.occurrence, opts.copy_limit
     occurrence = None
     if (weight > 0 or limit is not None) and coords is None:
         occurrence = _Occurrence(ex, centers, weight, limit)
     completeness = None
-    if params.get("completeness", 0.0) > 0 and coords is None:
-        completeness = _Completeness(ex, centers, params["completeness"], spacing)
+    if opts.completeness > 0 and coords is None:
+        completeness = _Completeness(ex, centers, opts.completeness, spacing)
     n = len(centers)
 
     def m_step(x, zidx):
@@ -838,7 +855,7 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
         return _m_step_frame(ex, x, centers, mode, zidx, constraint, prior, search=zidx is None)
 
     # animation frames: the E-step may assemble the z_p with a narrower fall-off (frame_falloff)
-    ga = None if params.get("assembly") is None else gaussian_falloff(w, sigma=max(spacing, 1) * params["assembly"])
+    ga = None if opts.assembly is None else gaussian_falloff(w, sigma=max(spacing, 1) * opts.assembly)
     g0 = None
     if x is None:  # bootstrap: z_p^0 <- random neighbourhood in Z
         state, rho = (rng.integers(len(ex), size=n), None), None
@@ -891,10 +908,10 @@ def _run_stage(ex, x, shape, level, params, constraint, rng, record, progress):
         record["stage"].append(len(record["stages"]))
         return record["energy"][-1]
 
-    max_it = params["max_iterations"]
+    max_it = opts.max_iterations
     # the penalised M-step may raise E on purpose (it breaks up copies): only the paper's
     # test, unchanged z_p, ends such a stage early
-    tolerance = params["tolerance"] if occurrence is None else None
+    tolerance = opts.tolerance if occurrence is None else None
 
     def report(it, energy, stop):
         stage.iterations = it + 1
@@ -958,21 +975,47 @@ def _schedule(sizes, ex_shapes, out_shapes):
     return plan
 
 
-def _prepare(exemplar, size, neighborhood_sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance,
-             gradient_weight, constraint_weight, mask, target, exemplar_mask, init, method):
+@dataclass
+class _Problem:
+    """The checked inputs of one synthesis: exemplar, output, constraints."""
+
+    ex: np.ndarray  # (h, w, C) float
+    grey: bool  # the exemplar had no channel axis
+    shape: tuple  # output (H, W)
+    sizes: tuple  # neighbourhood widths, largest first
+    levels: int
+    valid: np.ndarray  # (h, w) 1 where exemplar pixels may be copied
+    constraint: tuple | None = None  # (mask, target, lambda) of eq. 2
+    x_init: np.ndarray | None = None
+
+
+def _check_options(*, irls_exponent, grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
+                   falloff=True, method="auto", occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0):
+    """The scalar options of :func:`optimize_texture`, checked, as an :class:`_Options`."""
+    return _Options(
+        r=check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True),
+        mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True),
+        spacing=check_in_range(grid_spacing, "grid_spacing", 0.0, 1.0, low_open=True),
+        max_iterations=check_positive_int(max_iterations, "max_iterations"),
+        tolerance=check_positive_float(tolerance, "tolerance", allow_zero=True),
+        tileable=bool(tileable),
+        falloff=bool(falloff),
+        method=search.check_method(method),
+        occurrence=check_positive_float(occurrence_weight, "occurrence_weight", allow_zero=True),
+        copy_limit=None if copy_limit is None else check_in_range(copy_limit, "copy_limit", 0.0, 1.0, low_open=True),
+        completeness=check_positive_float(completeness_weight, "completeness_weight", allow_zero=True),
+    )
+
+
+def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.0, mask=None, target=None,
+             exemplar_mask=None, init=None):
+    """The arrays of :func:`optimize_texture`, checked, as a :class:`_Problem`."""
     ex = as_image(exemplar, "exemplar")
     ex, grey = with_channels(ex)
     shape = as_size(size)
     sizes = _check_sizes(neighborhood_sizes)
     levels = check_positive_int(levels, "levels")
-    r = check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True)
-    grid_spacing = check_in_range(grid_spacing, "grid_spacing", 0.0, 1.0, low_open=True)
-    max_iterations = check_positive_int(max_iterations, "max_iterations")
-    tolerance = check_positive_float(tolerance, "tolerance", allow_zero=True)
-    mu = check_positive_float(gradient_weight, "gradient_weight", allow_zero=True)
     lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True)
-    if not isinstance(method, str) or method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
     smallest = sizes[-1]
     if smallest > min(ex.shape[:2]):
         raise ValueError(
@@ -991,7 +1034,7 @@ def _prepare(exemplar, size, neighborhood_sizes, levels, grid_spacing, irls_expo
         free = all_patches(valid[..., None], smallest).min(axis=(2, 3, 4)) > 0.5
         if not free.any():
             raise ValueError(
-                f"exemplar_mask leaves no {smallest}x{smallest} neighbourhood of the exemplar free of masked pixels; "
+                f"exemplar_mask leaves no {smallest}x{smallest} neighborhood of the exemplar free of masked pixels; "
                 "mark more pixels valid or pass smaller neighborhood_sizes"
             )
     channels = ex.shape[-1]
@@ -1003,8 +1046,7 @@ def _prepare(exemplar, size, neighborhood_sizes, levels, grid_spacing, irls_expo
         m = np.ones(shape) if mask is None else _check_mask(mask, shape, "mask")
         constraint = (m, t.astype(ex.dtype), lam)
     x_init = None if init is None else _check_like(init, shape, channels, "init").astype(ex.dtype)
-    params = dict(r=r, mu=mu, grid_spacing=grid_spacing, max_iterations=max_iterations, tolerance=tolerance)
-    return ex, grey, shape, sizes, levels, valid, constraint, x_init, params
+    return _Problem(ex, grey, shape, sizes, levels, valid, constraint, x_init)
 
 
 def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
@@ -1279,32 +1321,30 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     True
     """
     t_start = time.perf_counter()
-    ex, grey, shape, sizes, levels, valid, constraint, x_init, params = _prepare(
-        exemplar, size, neighborhood_sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance,
-        gradient_weight, constraint_weight, mask, target, exemplar_mask, init, method)
-    params["tileable"] = bool(tileable)
-    params["occurrence"] = check_positive_float(occurrence_weight, "occurrence_weight", allow_zero=True)
-    params["copy_limit"] = None if copy_limit is None else check_in_range(copy_limit, "copy_limit", 0.0, 1.0,
-                                                                          low_open=True)
-    params["completeness"] = check_positive_float(completeness_weight, "completeness_weight", allow_zero=True)
+    problem = _prepare(exemplar, size, neighborhood_sizes, levels, constraint_weight=constraint_weight, mask=mask,
+                       target=target, exemplar_mask=exemplar_mask, init=init)
+    opts = _check_options(irls_exponent=irls_exponent, grid_spacing=grid_spacing, max_iterations=max_iterations,
+                          tolerance=tolerance, gradient_weight=gradient_weight, tileable=tileable, falloff=falloff,
+                          method=method, occurrence_weight=occurrence_weight, copy_limit=copy_limit,
+                          completeness_weight=completeness_weight)
     rng = as_rng(rng)
-    x, info = _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, falloff, method, rng,
-                          progress, {}, "optimize_texture")
+    x, info = _synthesize(problem, opts, rng, progress=progress, desc="optimize_texture")
     info.seconds = time.perf_counter() - t_start
-    out = restore_channels(np.clip(x, 0.0, 1.0), grey)
+    out = restore_channels(np.clip(x, 0.0, 1.0), problem.grey)
     return (out, info) if return_info else out
 
 
-def _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, falloff, method, rng, progress,
-                cache, desc):
-    """Coarse-to-fine driver (Section 3.2); ``cache`` keeps indexes across calls."""
+def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc):
+    """Coarse-to-fine driver (Section 3.2); ``cache`` keeps indexes across calls (animation frames)."""
+    cache = {} if cache is None else cache
+    ex, shape = problem.ex, problem.shape
     ex_pyr, valid_pyr, out_shapes, cons_pyr, init_pyr = _pyramids(
-        ex, valid, shape, levels, constraint, x_init, params["tileable"])
-    plan = _schedule(sizes, [e.shape[:2] for e in ex_pyr], out_shapes)
+        ex, problem.valid, shape, problem.levels, problem.constraint, problem.x_init, opts.tileable)
+    plan = _schedule(problem.sizes, [e.shape[:2] for e in ex_pyr], out_shapes)
     if not any(plan):
-        raise ValueError(f"no neighborhood size in {sizes} fits the exemplar {ex.shape[:2]} and the output {shape}")
+        raise ValueError(f"no neighborhood size in {problem.sizes} fits the exemplar {ex.shape[:2]} and the output {shape}")
     record = dict(energy=[], mse=[], stage=[], stages=[], centers=None, sources=None)
-    bar = Progress(progress, sum(len(p) for p in plan) * params["max_iterations"], desc)
+    bar = Progress(progress, sum(len(p) for p in plan) * opts.max_iterations, desc)
     x, x_level = None, None
     try:
         for level in reversed(range(len(plan))):
@@ -1315,16 +1355,15 @@ def _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, fal
             elif x is not None:
                 # Section 3.2: up-sample the coarse result as the next level's initialisation
                 for finer in range(x_level - 1, level - 1, -1):
-                    x = upsample(x, out_shapes[finer], mode="wrap" if params["tileable"] else "reflect")
+                    x = upsample(x, out_shapes[finer], mode="wrap" if opts.tileable else "reflect")
             x_level = level
             for w in plan[level]:
                 key = (level, w)
                 if key not in cache:
-                    cache[key] = _Exemplar(ex_pyr[level], valid_pyr[level], w, params["mu"], falloff, method, rng,
-                                           frame="coords" in params)
+                    cache[key] = _Exemplar(ex_pyr[level], valid_pyr[level], w, opts, rng, frame=opts.frame)
                 if len(cache[key]) == 0:  # exemplar_mask leaves nothing at this level: skip it
                     continue
-                x = _run_stage(cache[key], x, out_shapes[level], level, params, cons_pyr[level], rng, record, bar)
+                x = _run_stage(cache[key], x, out_shapes[level], level, opts, cons_pyr[level], rng, record, bar)
     finally:
         bar.close()
     info = OptimizationInfo(
@@ -1335,13 +1374,11 @@ def _synthesize(ex, valid, shape, sizes, levels, constraint, x_init, params, fal
     return x, info
 
 
-def _first_sources(x, ex, valid, size, params, falloff, method, rng, cache):
+def _first_sources(x, problem, size, opts, rng, cache):
     """Correspondence of a given first frame: its nearest exemplar neighbourhoods (one M-step)."""
-    spacing = max(1, int(round(size * params["grid_spacing"])))
-    mode = "wrap" if params["tileable"] else "valid"
-    centers = grid_centers(x.shape[:2], size, spacing, mode=mode)
-    exm = cache[(0, size)] = _Exemplar(ex, valid, size, params["mu"], falloff, method, rng, frame=True)
-    zidx, _ = _m_step_frame(exm, x, centers, mode, None, None, None, search=True)
+    centers = grid_centers(x.shape[:2], size, opts.grid(size), mode=opts.mode)
+    exm = cache[(0, size)] = _Exemplar(problem.ex, problem.valid, size, opts, rng, frame=True)
+    zidx, _ = _m_step_frame(exm, x, centers, opts.mode, None, None, None, search=True)
     return _source_map(centers, exm.centers(zidx), x.shape[:2])
 
 
@@ -1476,21 +1513,20 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     warp_order = check_positive_int(warp_order, "warp_order", minimum=0)
     if frame_falloff is not None:
         frame_falloff = check_positive_float(frame_falloff, "frame_falloff")
-    ex, grey, shape, _, levels, valid, _, _, params = _prepare(
-        exemplar, shape, sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance,
-        gradient_weight, constraint_weight, None, None, None, None, method)
-    _prepare(exemplar, shape, fsizes, 1, grid_spacing, irls_exponent, frame_iterations, tolerance, gradient_weight,
-             constraint_weight, None, None, None, None, method)  # validates frame_sizes against the frame size
-    params["tileable"] = bool(tileable)
+    problem = _prepare(exemplar, shape, sizes, levels, constraint_weight=constraint_weight)
+    _prepare(exemplar, shape, fsizes, 1)  # validates frame_sizes against the frame size
+    opts = _check_options(irls_exponent=irls_exponent, grid_spacing=grid_spacing, max_iterations=max_iterations,
+                          tolerance=tolerance, gradient_weight=gradient_weight, tileable=tileable, falloff=falloff,
+                          method=method)
     lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True)
+    ex = problem.ex
     rng = as_rng(rng)
     count = seq.shape[0] + 1
     bar = Progress(progress, count, "animate_texture")
     info = AnimationInfo(first=None)
     try:
         if first_frame is None:
-            x, info.first = _synthesize(ex, valid, shape, sizes, levels, None, None, params, falloff, method, rng,
-                                        False, {}, "frame 1")
+            x, info.first = _synthesize(problem, opts, rng, desc="frame 1")
         else:
             x = _check_like(first_frame, shape, ex.shape[-1], "first_frame").astype(ex.dtype)
         x = np.clip(x, 0.0, 1.0)
@@ -1498,7 +1534,7 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
         if info.first is not None:
             sources = _source_map(info.first.centers, info.first.sources, shape)
         else:
-            sources = _first_sources(x, ex, valid, fsizes[-1], params, falloff, method, rng, cache)
+            sources = _first_sources(x, problem, fsizes[-1], opts, rng, cache)
         bar.advance({"frame": 1})
         video = [x]
         seconds = []
@@ -1511,9 +1547,10 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
             warped, ok = warp(x, seq[i], mode=wmode, order=warp_order, return_valid=True)
             constraint = (ok.astype(np.float64), warped, lam)
             coords = warp_coordinates(sources, seq[i], mode=wmode)
-            frame_params = dict(params, max_iterations=frame_iterations, coords=coords, assembly=frame_falloff)
-            x, finfo = _synthesize(ex, valid, shape, fsizes, 1, constraint, warped, frame_params, falloff, method,
-                                   rng, False, cache, f"frame {i + 2}")
+            frame = dataclasses.replace(problem, sizes=fsizes, levels=1, constraint=constraint, x_init=warped)
+            frame_opts = dataclasses.replace(opts, max_iterations=frame_iterations, coords=coords,
+                                             assembly=frame_falloff)
+            x, finfo = _synthesize(frame, frame_opts, rng, cache=cache, desc=f"frame {i + 2}")
             x = np.clip(x, 0.0, 1.0)
             sources = _source_map(finfo.centers, finfo.sources, shape)
             video.append(x)
@@ -1525,5 +1562,5 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     info.frame_seconds = np.asarray(seconds)
     if info.first is not None:
         info.first.seconds = time.perf_counter() - t_start - float(info.frame_seconds.sum())
-    out = np.stack([restore_channels(v, grey) for v in video])
+    out = np.stack([restore_channels(v, problem.grey) for v in video])
     return (out, info) if return_info else out

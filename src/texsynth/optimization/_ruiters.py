@@ -56,6 +56,7 @@ from ..core._validate import (
     restore_channels,
     with_channels,
 )
+from ..core import search
 from ..core.search import PatchIndex
 from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.em import expectation_maximization
@@ -72,12 +73,6 @@ __all__ = [
     "InterpolationInfo",
 ]
 
-# Correspondence search (Section 4.1): exact up to this many neighbourhoods of the other texture,
-# PCA + kd-tree above. Measured for 784 queries into the 12544 neighbourhoods (17 x 17 x 4) of a
-# 128 px texture: exact 0.55-0.6 s, kd-tree 0.9-1.2 s (build + query) with recall@1 0.27-0.91
-# (brick -> slate vs slate -> brick). texsynth.core.search's "auto" (kd-tree above 5000) assumes
-# about N / 2 queries; here there are at most max_neighborhoods.
-_CORRESPONDENCE_EXACT_MAX = 20_000
 _EPS = 1e-3  # ε² of the IRLS weights (texsynth.optimization.irls_weights): finite for perfect matches
 
 
@@ -299,18 +294,16 @@ def _prepare_texture(colour, feature, size, max_neighborhoods):
     return _Texture(img, feature, corners, mean, std, stride)
 
 
-def _correspondences(t1, t2, size, channel_weights, k, rng):
+def _correspondences(t1, t2, size, channel_weights, k, rng, method="auto"):
     """Pairs (corner in I1, corner in I2): k nearest in both directions (Section 4.1)."""
     pairs = []
     for src, dst, flip in ((t1, t2, False), (t2, t1, True)):
         view = all_patches(dst.image, size)  # every neighbourhood of the other texture
         vecs = view.reshape(-1, size * size * view.shape[-1]).astype(np.float32)
         weights = np.tile(channel_weights, size * size)
-        # exact search up to _CORRESPONDENCE_EXACT_MAX neighbourhoods, the paper's PCA + kd-tree
-        # above: with at most max_neighborhoods queries the exact search is the cheaper one
-        # (see the constant) and it finds every true nearest neighbour
-        method = "exact" if len(vecs) <= _CORRESPONDENCE_EXACT_MAX else "kdtree"
-        index = PatchIndex(vecs, weights=weights, method=method, rng=rng)
+        # with at most max_neighborhoods queries, exact search is the cheaper one up to 20000
+        # neighbourhoods (profile "correspondence"); the paper's PCA + kd-tree above
+        index = PatchIndex(vecs, weights=weights, method=method, profile="correspondence", rng=rng)
         q = all_patches(src.image, size)[src.corners[:, 0], src.corners[:, 1]]
         idx, _ = index.query(q.reshape(len(q), -1).astype(np.float32), k=k)
         other = np.stack(np.unravel_index(idx.ravel(), view.shape[:2]), 1)
@@ -434,17 +427,17 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
     ``max_set_size`` caps the result.
     """
     t0 = time.perf_counter()
-    c1, c2 = _correspondences(t1, t2, size, params["channel_weights"], params["k"], rng)
+    c1, c2 = _correspondences(t1, t2, size, params.channel_weights, params.k, rng, params.method)
     info.add("correspondences", t0)
     t0 = time.perf_counter()
     margin = max(t1.stride, t2.stride) // 2 + 1
-    if params["colour_only"]:
+    if params.colour_only:
         n = size + 2 * margin
         ax = np.arange(n, dtype=float) - margin
         grid = np.stack(np.meshgrid(ax, ax, indexing="ij"), -1)
         fwd = bwd = np.broadcast_to(grid, (len(c1),) + grid.shape)
     else:
-        fwd, bwd, grid, _ = _warps(t1, t2, c1, c2, size, params["max_feature_points"], rng, params["rpm"], margin)
+        fwd, bwd, grid, _ = _warps(t1, t2, c1, c2, size, params.max_feature_points, rng, params.rpm, margin)
     info.add("tps_rpm", t0)
     t0 = time.perf_counter()
     win = (slice(None), slice(margin, margin + size), slice(margin, margin + size))
@@ -455,13 +448,13 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
     out = []
     for alpha in alphas:
         blend, dis = _blend_pairs(t1, t2, c1, c2, flat(fwd[win]), flat(bwd[win]), flat(g[win]), alpha,
-                                  params["feature_weight"])
+                                  params.feature_weight)
         # keep the best fraction (the paper's 50 %) at alpha = 0.5; the filter removes pairs whose
         # blend would ghost, and a blend ghosts in proportion to min(alpha, 1 - alpha): at the
         # ends N' is the whole neighbourhood set of I1 (resp. I2), as in texture optimization
-        fraction = 1.0 - (1.0 - params["keep_fraction"]) * 2.0 * min(alpha, 1.0 - alpha)
+        fraction = 1.0 - (1.0 - params.keep_fraction) * 2.0 * min(alpha, 1.0 - alpha)
         keep = np.flatnonzero(dis <= np.quantile(dis, fraction))
-        offsets, _ = _shifts(t1, t2, len(keep), len(alphas), params["max_set_size"])
+        offsets, _ = _shifts(t1, t2, len(keep), len(alphas), params.max_set_size)
         patches = []
         for dr, dc in offsets:
             k1, k2 = c1[keep] + [dr, dc], c2[keep] + [dr, dc]
@@ -479,7 +472,7 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
             w = (sel, slice(margin + dr, margin + dr + size), slice(margin + dc, margin + dc + size))
             # sampled at the original corners: N1(c1 + theta'_21(x + d)), N2(c2 + theta'_12(x + d))
             p, _ = _blend_pairs(t1, t2, c1[sel], c2[sel], flat(fwd[w]), flat(bwd[w]), flat(g[w]), alpha,
-                                params["feature_weight"])
+                                params.feature_weight)
             patches.append(p)
         patches = np.concatenate(patches).reshape(-1, size, size, t1.image.shape[-1]).astype(np.float32)
         if len(alphas) > 1:
@@ -492,7 +485,7 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
 
 def interpolate_neighborhoods(a, b, alpha, size, *, features=None, resolution=1, distance_weight=1.0, k=1,
                               keep_fraction=0.5, feature_weight=0.5, max_feature_points=24,
-                              max_neighborhoods=1024, max_set_size=16384, rpm_options=None, rng=None):
+                              max_neighborhoods=1024, max_set_size=16384, rpm_options=None, method="auto", rng=None):
     """The interpolated neighbourhood set ``N'`` for one (r, s) (Sections 4.1-4.2).
 
     Parameters are those of :func:`interpolate_textures`; ``alpha`` is a
@@ -506,8 +499,10 @@ def interpolate_neighborhoods(a, b, alpha, size, *, features=None, resolution=1,
     >>> n.shape[1:], n.dtype.name
     ((7, 7, 2), 'float32')
     """
-    p = _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, max_feature_points,
-                max_neighborhoods, max_set_size, rpm_options)
+    p = _check_inputs(a, b, features=features, distance_weight=distance_weight, k=k, keep_fraction=keep_fraction,
+                      feature_weight=feature_weight, max_feature_points=max_feature_points,
+                      max_neighborhoods=max_neighborhoods, max_set_size=max_set_size, rpm_options=rpm_options,
+                      method=method)
     alpha = check_in_range(alpha, "alpha", 0.0, 1.0)
     rng = as_rng(rng)
     t1, t2 = _stage_textures(p, resolution, size)
@@ -516,19 +511,40 @@ def interpolate_neighborhoods(a, b, alpha, size, *, features=None, resolution=1,
 
 def _stage_textures(p, r, size):
     out = []
-    for img, feat in ((p["a"], p["fa"]), (p["b"], p["fb"])):
+    for img, feat in ((p.a, p.fa), (p.b, p.fb)):
         colour = _downsample(img, r)
         if min(colour.shape[:2]) < size:
             raise ValueError(
                 f"texture of shape {img.shape[:2]} downsampled by {r} is smaller than the neighbourhood size "
                 f"{size}; pass larger textures or smaller stages=((r, s), ...)"
             )
-        out.append(_prepare_texture(colour, _downsample_features(feat, r), size, p["max_neighborhoods"]))
+        out.append(_prepare_texture(colour, _downsample_features(feat, r), size, p.max_neighborhoods))
     return out
 
 
-def _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, max_feature_points,
-            max_neighborhoods, max_set_size, rpm_options):
+@dataclass(frozen=True)
+class _Inputs:
+    """The checked inputs of an interpolation: the two textures, their feature maps, the settings of N'."""
+
+    a: np.ndarray  # (H, W, C) I1
+    b: np.ndarray  # I2
+    grey: bool
+    fa: np.ndarray  # feature maps F1, F2 (bool)
+    fb: np.ndarray
+    colour_only: bool  # a feature map is empty: identity warps
+    channel_weights: np.ndarray  # W_C of the colour channels and the distance channel
+    k: int
+    keep_fraction: float
+    feature_weight: float
+    max_feature_points: int
+    max_neighborhoods: int
+    max_set_size: int
+    rpm: dict  # options of tps_rpm
+    method: str  # search backend
+
+
+def _check_inputs(a, b, *, features, distance_weight, k, keep_fraction, feature_weight, max_feature_points,
+                  max_neighborhoods, max_set_size, rpm_options, method):
     a, grey_a = with_channels(as_image(a, "a", min_size=8))
     b, grey_b = with_channels(as_image(b, "b", min_size=8))
     if a.shape[-1] != b.shape[-1]:
@@ -548,7 +564,7 @@ def _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, m
         )
     dw = check_positive_float(distance_weight, "distance_weight", allow_zero=True)
     c = a.shape[-1]
-    return dict(
+    return _Inputs(
         a=a, b=b, grey=grey_a and grey_b, fa=fa, fb=fb, colour_only=colour_only,
         channel_weights=np.array([1.0] * c + [0.0 if colour_only else dw], dtype=np.float64),
         k=check_positive_int(k, "k"),
@@ -558,6 +574,7 @@ def _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, m
         max_neighborhoods=check_positive_int(max_neighborhoods, "max_neighborhoods"),
         max_set_size=check_positive_int(max_set_size, "max_set_size"),
         rpm=dict(_RPM_DEFAULTS, **(rpm_options or {})),
+        method=search.check_method(method),
     )
 
 
@@ -572,11 +589,11 @@ _RPM_DEFAULTS = dict(anneal_rate=0.8, iterations_per_temperature=3, sinkhorn_ite
 class _PatchSet:
     """The searchable set N' (flattened patches) with per-channel weights."""
 
-    def __init__(self, patches, channel_weights, rng):
+    def __init__(self, patches, channel_weights, method, rng):
         self.patches = patches
         self.size = patches.shape[1]
         self.weights = np.tile(channel_weights, self.size * self.size)
-        self.index = PatchIndex(patches.reshape(len(patches), -1), weights=self.weights, method="auto", rng=rng)
+        self.index = PatchIndex(patches.reshape(len(patches), -1), weights=self.weights, method=method, rng=rng)
 
     def query(self, x, centers):
         # float32 before the copy of the (many, overlapping) candidate neighbourhoods: half the bytes
@@ -790,7 +807,8 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
                          max_feature_points=24, max_neighborhoods=1024, max_set_size=16384, alpha_steps=20, alpha_weight=4.0,
                          statistics_bands=5, grid_spacing=0.25, candidate_stride=2, relaxation_radius=2,
                          spring_weight=0.002, mean_shift_bandwidth=0.03, mean_shift_iterations=3,
-                         min_improvement=0.0, statistics=True, rpm_options=None, rng=None, progress=False, return_info=False):
+                         min_improvement=0.0, statistics=True, rpm_options=None, method="auto", rng=None, progress=False,
+                         return_info=False):
     """Interpolate two textures by warping and blending their neighbourhoods (Ruiters et al. 2010).
 
     Parameters
@@ -899,6 +917,11 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         Perform one Portilla-Simoncelli step with linearly interpolated
         statistics per iteration (Section 4.5); in the last stage it is
         weighted by ``2 min(alpha, 1 - alpha)`` (see Notes).
+    method : {"auto", "exact", "kdtree", "tsvq"}
+        Search backend (:mod:`texsynth.core.search`) of the correspondences
+        (``"auto"``: exact up to 20000 neighbourhoods of the other texture,
+        kd-tree above) and of the synthesis in ``N'`` (``"auto"``: exact up
+        to a few thousand neighbourhoods, kd-tree above).
     rpm_options : dict, optional
         Options of :func:`texsynth.core.tps.tps_rpm`; defaults here anneal faster
         than Chui and Rangarajan's (``anneal_rate=0.8,
@@ -1049,14 +1072,16 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     (24, 24)
     """
     info = InterpolationInfo()
-    p = _params(a, b, features, distance_weight, k, keep_fraction, feature_weight, max_feature_points,
-                max_neighborhoods, max_set_size, rpm_options)
-    info.colour_only = p["colour_only"]
+    p = _check_inputs(a, b, features=features, distance_weight=distance_weight, k=k, keep_fraction=keep_fraction,
+                      feature_weight=feature_weight, max_feature_points=max_feature_points,
+                      max_neighborhoods=max_neighborhoods, max_set_size=max_set_size, rpm_options=rpm_options,
+                      method=method)
+    info.colour_only = p.colour_only
     rng = as_rng(rng)
     alpha_map = None
     if np.ndim(alpha) == 0:
         alpha = check_in_range(alpha, "alpha", 0.0, 1.0)
-        out_shape = p["a"].shape[:2] if size is None else as_size(size)
+        out_shape = p.a.shape[:2] if size is None else as_size(size)
         alphas = [alpha]
     else:
         alpha_map = np.asarray(alpha, dtype=np.float64)
@@ -1082,8 +1107,8 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     ms_iterations = check_positive_int(mean_shift_iterations, "mean_shift_iterations", 0)
     if min_improvement is not None:
         min_improvement = check_in_range(min_improvement, "min_improvement", 0.0, 1.0)
-    n_colour = p["a"].shape[-1]
-    channel_weights = p["channel_weights"]
+    n_colour = p.a.shape[-1]
+    channel_weights = p.channel_weights
     if alpha_map is not None:
         channel_weights = np.append(channel_weights, alpha_weight)
     with Progress(progress, len(stages) * iterations, "interpolate") as bar:
@@ -1097,7 +1122,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
             patches = _interpolated_set(t1, t2, s, alphas, p, rng, info)
             info.kept.append(len(patches))
             t0 = time.perf_counter()
-            nset = _PatchSet(patches, channel_weights, rng)
+            nset = _PatchSet(patches, channel_weights, p.method, rng)
             amap = None if alpha_map is None else ndimage.zoom(alpha_map, (shape[0] / out_shape[0], shape[1] / out_shape[1]),
                                                                order=1)[: shape[0], : shape[1]]
             spacing = max(1, int(round(grid_spacing * s)))
@@ -1109,7 +1134,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
                 x = np.concatenate([x[..., : n_colour + 1], amap[..., None]], -1)
             info.add("synthesis", t0)
             t0 = time.perf_counter()
-            stats = _Statistics(_downsample(p["a"], r), _downsample(p["b"], r),
+            stats = _Statistics(_downsample(p.a, r), _downsample(p.b, r),
                                 alphas if alpha_map is None else np.linspace(0, 1, bands), shape) if statistics else None
             info.add("statistics", t0)
             ps_weight = _statistics_weight(alphas[0] if amap is None else amap[..., None], stage == len(stages) - 1)
@@ -1162,8 +1187,8 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
             info.energy.append(energies)
     if x.shape[:2] != out_shape:
         x = ndimage.zoom(x, (out_shape[0] / x.shape[0], out_shape[1] / x.shape[1], 1), order=1)
-    out = np.clip(x[..., :n_colour], 0.0, 1.0).astype(p["a"].dtype)
-    out = restore_channels(out, p["grey"])
+    out = np.clip(x[..., :n_colour], 0.0, 1.0).astype(p.a.dtype)
+    out = restore_channels(out, p.grey)
     return (out, info) if return_info else out
 
 

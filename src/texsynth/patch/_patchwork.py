@@ -82,6 +82,7 @@ from ..core._validate import (
 )
 from ..core._progress import Progress
 from ..core.neighborhood import extract
+from ..core.search import nearest_candidates
 
 __all__ = ["patchwork", "patchwork_video", "patchwork_transfer", "voronoi_weights", "PatchworkInfo"]
 
@@ -1014,8 +1015,7 @@ def _match_sources(geom, pattern, texture, candidates, patch, gen, progress):
         k = sl.stop - sl.start
         cand = np.stack([cy[sl].ravel(), cx[sl].ravel()], 1)
         patches = extract(texture, cand, patch, mode="reflect").reshape(k, candidates, -1)
-        ssd = np.einsum("nkd,nkd->nk", patches, patches) - 2 * np.einsum("nkd,nd->nk", patches, target[sl])
-        choice = np.argmin(ssd, axis=1)  # + ||P||^2, the same for every candidate
+        choice, _ = nearest_candidates(target[sl], patches)  # the SSD of eq. 7's matching
         best[sl] = choice
         chosen = patches[np.arange(k), choice].reshape(k, -1, texture.shape[-1])
         means[sl] = chosen.mean(1)  # local average a_i of the patch

@@ -44,15 +44,18 @@ import numbers
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core import search
+from ..core._deprecate import renamed_parameters, warn
 from ..core._progress import Progress
 from ..core._validate import as_image, as_rng, as_size, check_positive_int, restore_channels, with_channels
-from ..core.search import PatchIndex
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
+from ..core.search import PatchIndex, SequentialExact
 
 __all__ = [
     "synthesize_pixels",
@@ -60,14 +63,11 @@ __all__ = [
     "synthesize_solid",
     "PixelSynthesisInfo",
     "ORDERS",
-    "SEARCHES",
     "SHAPES",
 ]
 
 #: Visiting orders: Wei & Levoy 2000 (scanline) and 2002 (order-independent).
 ORDERS = ("scanline", "independent")
-#: Nearest-neighbour search: ``"auto"``/``"exact"`` or an approximate backend of :class:`~texsynth.core.search.PatchIndex`.
-SEARCHES = ("auto", "exact", "kdtree", "tsvq")
 #: Neighbourhood footprints inside the ``(h, w)`` box: the whole box, or the inscribed disc (ellipse).
 SHAPES = ("square", "disc")
 
@@ -81,9 +81,6 @@ def _one_blas_thread():
     return _threadpool_limits(1, user_api="blas") if _threadpool_limits else contextlib.nullcontext()
 
 
-# "auto" search for the order-independent variant: exact brute force while the
-# number of (query, candidate) pairs of one pass stays below this, kd-tree above.
-_AUTO_EXACT_PAIRS = 2e8
 # Relative tolerance of "E stops falling" (eq. 1 alternation).
 _STOP_TOLERANCE = 1e-9
 # Working precision of solid synthesis (the output keeps the views' dtype).
@@ -106,7 +103,7 @@ class PixelSynthesisInfo:
         Per level: mean number of eq. 1 alternation steps per pixel update.
     level_shapes : list of tuple
         Output shape of each level, coarsest first.
-    order, search : str
+    order, method : str
         Visiting order and search backend actually used.
     seconds : float
         Wall time.
@@ -116,8 +113,14 @@ class PixelSynthesisInfo:
     iterations: list = field(default_factory=list)
     level_shapes: list = field(default_factory=list)
     order: str = "scanline"
-    search: str = "exact"
+    method: str = "exact"
     seconds: float = 0.0
+
+    @property
+    def search(self):
+        """Deprecated name of :attr:`method`."""
+        warn("PixelSynthesisInfo.search is deprecated; use PixelSynthesisInfo.method instead")
+        return self.method
 
 
 # --------------------------------------------------------------------------- #
@@ -388,15 +391,37 @@ def _check_output_levels(sources, shape, out_pyr, levels):
             )
 
 
-def _resolve_search(search, order, n_pairs):
-    if search in ("auto", "exact"):
-        if order == "scanline" or search == "exact" or n_pairs <= _AUTO_EXACT_PAIRS:
-            return "exact"
-        return "kdtree"
-    return search
+@dataclass(frozen=True)
+class _Run:
+    """What every level of one synthesis shares."""
+
+    levels: int
+    order: str  # "scanline" or "independent"
+    method: str  # the search backend, resolved
+    profile: str  # its named setting (texsynth.core.search.PROFILES)
+    iterations: int  # most alternation steps of eq. 1 per pixel
+    passes: int  # order-independent passes per level
+    seed: int  # of the index builds (their own streams: the synthesis does not depend on them)
+
+    def index(self, vectors, *key):
+        """A search index over ``vectors``, seeded by ``key`` (level, source, which index)."""
+        return PatchIndex(vectors, method=self.method, profile=self.profile,
+                          rng=np.random.default_rng([self.seed, *key]))
 
 
-def _synthesize(sources, shape, channels, dtype, *, levels, order, search, iterations, passes, rng, progress, desc):
+@dataclass
+class _Level:
+    """One pyramid level of the output, synthesised in place."""
+
+    level: int
+    out: np.ndarray  # (H, W, C) or (D, H, W, C)
+    parent: np.ndarray | None  # the level above (None at the coarsest)
+    sources: list
+    centers: list  # per source: its candidate exemplar pixels at this level
+    weights: list  # per source: its normalised weight image at this level
+
+
+def _synthesize(sources, shape, channels, dtype, *, levels, order, method, iterations, passes, rng, progress, desc):
     """Multi-resolution synthesis minimising eq. 1 at every pixel, coarse to fine."""
     start = time.perf_counter()
     spatial_dims = len(shape)
@@ -408,93 +433,74 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, search, itera
     _check_output_levels(sources, shape, out_pyr, levels)
     tables = [[_candidates(s, level, levels) for s in sources] for level in range(levels)]
     total = sum(out_pyr[lv].shape[0] for lv in range(levels)) if order == "scanline" else levels * (passes + 1)
-    info = PixelSynthesisInfo(order=order)
-    n_pairs = max(int(np.prod(out_pyr[0].shape[:-1])) * len(t) for t in tables[0])
-    used = _resolve_search(search, order, n_pairs)
-    info.search = used
+    profile = "scanline" if order == "scanline" else "solid" if sources[0].axis is not None else "pixels"
+    used = search.resolve(method, max(len(t) for t in tables[0]), None, profile=profile,
+                          queries=int(np.prod(out_pyr[0].shape[:-1])))
+    info = PixelSynthesisInfo(order=order, method=used)
     # Index builds (PCA subsample, k-means) draw from their own streams, so the
     # synthesis stream does not depend on the search backend or on `iterations`.
-    index_seed = int(rng.integers(2**62))
+    run = _Run(levels, order, used, profile, iterations, passes, int(rng.integers(2**62)))
     with Progress(progress, total, desc) as bar:
         for level in range(levels - 1, -1, -1):
-            out = out_pyr[level]
-            parent = out_pyr[level + 1] if level + 1 < levels else None
+            lv = _Level(level, out_pyr[level], out_pyr[level + 1] if level + 1 < levels else None, sources,
+                        tables[level], weights[level])
             if order == "scanline":
                 with _one_blas_thread():
-                    energy, iters = _scanline_level(
-                        out, parent, sources, tables[level], weights[level], level, levels, iterations, used,
-                        index_seed, bar,
-                    )
+                    energy, iters = _scanline_level(lv, run, bar)
             else:
                 # tree searches make many small BLAS calls, which multi-threaded BLAS
                 # slows down on a busy machine (tsvq 64^3 at load 3: 31 s -> 13 s)
                 with _one_blas_thread() if used != "exact" else contextlib.nullcontext():
-                    energy, iters = _independent_level(
-                        out, parent, sources, tables[level], weights[level], level, levels, iterations, passes, used,
-                        index_seed, bar,
-                    )
+                    energy, iters = _independent_level(lv, run, bar)
             info.energy.append(float(energy))
             info.iterations.append(float(iters))
-            info.level_shapes.append(out.shape[:-1])
+            info.level_shapes.append(lv.out.shape[:-1])
     info.seconds = time.perf_counter() - start
     return out_pyr[0], info
 
 
-# kd-tree candidates re-ranked exactly for solids (PatchIndex default: 16).
-# Measured (bread, nuts, paving t13; 32^3 and 64^3): slice energy within
-# +-5 % of 16 candidates and of exact search, 1.7x faster (the re-ranking was
-# half the query time); the three views' answers are averaged. Not for 2-D
-# mixtures: there 4 candidates raise the energy by 25-35 % (brick/gravel ramp).
-_SOLID_KD_CANDIDATES = 4
+@dataclass
+class _LineTable:
+    """One source at one level in scanline order: its candidates and how they are searched.
 
-
-def _index(vectors, search, seed, *key, candidates=None):
-    opts = {"candidates": candidates} if search == "kdtree" and candidates else {}
-    try:
-        return PatchIndex(vectors, method=search, rng=np.random.default_rng([seed, *key]), **opts)
-    except IndexError:
-        if search != "tsvq" or vectors.dtype != np.float32:
-            raise
-        # Work-around of a nearest._TSVQ bug: on float32 near-duplicate vectors
-        # (grey nuts.pgm) its k-means collapses and the build fails. Building
-        # in float64 avoids it but searches 3x slower, so only on failure.
-        return PatchIndex(vectors.astype(np.float64), method=search, rng=np.random.default_rng([seed, *key]))
-
-
-def _scanline_level(out, parent, sources, centers, weights, level, levels, iterations, search, seed, bar):
-    """Wei & Levoy 2000, Table 1: visit pixels in scanline order, causal neighbourhoods.
-
-    The causal neighbourhood of pixel (r, j) splits into the rows above (and
-    the parent level), fixed once scanline r starts, and the few pixels left
-    of (r, j), which change as the line is written. Exact search computes the
-    first part for the whole line with one matrix product, so the per-pixel
-    work is a small dot product; approximate search queries the index pixel by
-    pixel.
+    The causal neighbourhood splits into the rows above (and the parent
+    level), fixed once a scanline starts, and the pixels left of the centre,
+    which change as the line is written. Exact search keeps the parts apart
+    (:class:`~texsynth.core.search.SequentialExact`: one matrix product per
+    line, a small dot product per pixel); an approximate index is queried
+    pixel by pixel with the joined vector.
     """
-    height, width, channels = out.shape
-    exact = search == "exact"
+
+    src: _Source
+    weight: np.ndarray  # a_i at this level
+    above: np.ndarray  # mask of the fixed part
+    pixels: np.ndarray  # candidate pixel values p_i
+    cols: np.ndarray  # per output column, the columns of its left part
+    exact: SequentialExact | None = None  # parts: fixed, left, pixel
+    index: PatchIndex | None = None  # [fixed, left]
+    index_p: PatchIndex | None = None  # [fixed, left, pixel], for eq. 1 with several sources
+    q: np.ndarray | None = None  # approximate search: this line's fixed parts
+
+
+def _scanline_level(lv, run, bar):
+    """Wei & Levoy 2000, Table 1: visit pixels in scanline order, causal neighbourhoods."""
+    height, width, channels = lv.out.shape
+    exact = run.method == "exact"
     tabs = []
-    for i, (src, cen, a) in enumerate(zip(sources, centers, weights)):
+    for i, (src, cen, a) in enumerate(zip(lv.sources, lv.centers, lv.weights)):
         above, left, _ = _masks(src.size, src.shape)
-        fixed = _exemplar_vectors(src, level, levels, cen, above)
-        lefts = extract(src.pyramid[level], cen, src.size, mode="valid")[:, left].reshape(len(cen), -1)
-        pixels = np.ascontiguousarray(src.pyramid[level][cen[:, 0], cen[:, 1]])
+        fixed = _exemplar_vectors(src, lv.level, run.levels, cen, above)
+        lefts = extract(src.pyramid[lv.level], cen, src.size, mode="valid")[:, left].reshape(len(cen), -1)
+        pixels = np.ascontiguousarray(src.pyramid[lv.level][cen[:, 0], cen[:, 1]])
         nw = src.size[1]
-        t = dict(
-            src=src, above=above, a=a, pixels=pixels, fixed_t=np.ascontiguousarray(fixed.T),
-            fixed_sq=np.einsum("nd,nd->n", fixed, fixed), lefts=np.ascontiguousarray(lefts),
-            cols=(np.arange(width)[:, None] - nw // 2 + np.arange(nw // 2)[None, :]) % width,
-        )
+        t = _LineTable(src, a, above, pixels, (np.arange(width)[:, None] - nw // 2 + np.arange(nw // 2)[None, :]) % width)
         if exact:
-            t["lefts_sq"] = np.einsum("nd,nd->n", lefts, lefts)
-            t["lefts_t"] = np.ascontiguousarray(lefts.T)
-            t["pixels_t"] = np.ascontiguousarray(pixels.T)
-            t["pixels_sq"] = np.einsum("nc,nc->n", pixels, pixels)
+            t.exact = SequentialExact(fixed, lefts, pixels)
         else:
             full = np.concatenate([fixed, lefts], axis=1)
-            t["index"] = _index(full, search, seed, level, i, 0)
-            if len(sources) > 1:
-                t["index_p"] = _index(np.concatenate([full, pixels], axis=1), search, seed, level, i, 1)
+            t.index = run.index(full, lv.level, i, 0)
+            if len(lv.sources) > 1:
+                t.index_p = run.index(np.concatenate([full, pixels], axis=1), lv.level, i, 1)
         tabs.append(t)
     single = len(tabs) == 1
     energy = 0.0
@@ -502,17 +508,15 @@ def _scanline_level(out, parent, sources, centers, weights, level, levels, itera
     line_centers = np.stack([np.zeros(width, np.intp), np.arange(width)], 1)
     for r in range(height):
         line_centers[:, 0] = r
-        row = out[r]
-        active = [t for t in tabs if t["a"][r].any()]
+        row = lv.out[r]
+        active = [t for t in tabs if t.weight[r].any()]
         for t in active:
-            src = t["src"]
-            q = _vectors(out, parent, line_centers, src.size, src.parent_size, t["above"], "wrap", src.parent_mask)
-            if exact:  # ||q - e||^2 for the fixed part, + ||e_left||^2 of the left part
-                t["base"] = (np.einsum("wd,wd->w", q, q)[:, None] - 2.0 * (q @ t["fixed_t"])) + (
-                    t["fixed_sq"] + t["lefts_sq"]
-                )
+            src = t.src
+            q = _vectors(lv.out, lv.parent, line_centers, src.size, src.parent_size, t.above, "wrap", src.parent_mask)
+            if exact:
+                t.exact.start(q)
             else:
-                t["q"] = q
+                t.q = q
         if single and exact:  # Wei & Levoy 2000: p = the exemplar pixel of nearest neighbourhood
             energy += _scanline_single(row, tabs[0])
             steps += width
@@ -520,27 +524,25 @@ def _scanline_level(out, parent, sources, centers, weights, level, levels, itera
             for j in range(width):
                 if single:
                     t = tabs[0]
-                    lv = row[t["cols"][j]].ravel()
-                    k, d_k = _query_one(t["index"], np.concatenate([t["q"][j], lv]))
-                    row[j] = t["pixels"][k]
+                    k, d_k = _query_one(t.index, np.concatenate([t.q[j], row[t.cols[j]].ravel()]))
+                    row[j] = t.pixels[k]
                     energy += d_k
                     steps += 1
                     continue
-                e, n_iter = _solve_pixel(row, j, r, active, iterations, exact)
+                e, n_iter = _solve_pixel(row, j, r, active, run.iterations, exact)
                 energy += e
                 steps += n_iter
-        bar.advance({"level": level, "row": r})
+        bar.advance({"level": lv.level, "row": r})
     n = height * width
     return energy / n, steps / n
 
 
 def _scanline_single(row, t):
     """One scanline of single-source exact synthesis: the per-pixel loop kept minimal."""
-    base, lefts_t, pixels, cols = t["base"], t["lefts_t"], t["pixels"], t["cols"]
+    exact, pixels, cols = t.exact, t.pixels, t.cols
     energy = 0.0
     for j in range(len(row)):
-        lv = row[cols[j]].ravel()
-        d = base[j] - 2.0 * (lv @ lefts_t) + lv @ lv  # ||N(p) - N(p_1)||^2 for every candidate p_1
+        d = exact.distances(j, row[cols[j]].ravel())  # ||N(p) - N(p_1)||^2 for every candidate p_1
         k = d.argmin()
         row[j] = pixels[k]
         energy += d[k]
@@ -562,44 +564,42 @@ def _solve_pixel(row, j, r, active, iterations, exact):
     """
     terms = []  # (table, a_i, neighbourhood distances to all candidates, or the query vector)
     for t in active:
-        a = t["a"][r, j]
+        a = t.weight[r, j]
         if a <= 0:
             continue
-        lv = row[t["cols"][j]].ravel()
+        lv = row[t.cols[j]].ravel()
         if exact:
-            nd = t["base"][j] - 2.0 * (lv @ t["lefts_t"]) + lv @ lv  # ||N_i(p) - N_i(p_i)||^2, all p_i
-            terms.append((t, a, nd))
+            terms.append((t, a, t.exact.distances(j, lv)))  # ||N_i(p) - N_i(p_i)||^2, all p_i
         else:
-            terms.append((t, a, np.concatenate([t["q"][j], lv])))
+            terms.append((t, a, np.concatenate([t.q[j], lv])))
     if len(terms) == 1:
         t, _, x = terms[0]
         if exact:
             k = x.argmin()
             nd = x[k]
         else:
-            k, nd = _query_one(t["index"], x)
-        row[j] = t["pixels"][k]
+            k, nd = _query_one(t.index, x)
+        row[j] = t.pixels[k]
         return nd, 1
     n_iter = 0
     # Wei's alternation needs a starting p; start from each source's own
     # direct solution (its p_i of nearest neighbourhood) and keep the end of
     # lowest E. With one source this is Wei & Levoy 2000 exactly.
     best = None
-    shifted = [x + t["pixels_sq"] for t, _, x in terms] if exact else terms
     for start in range(len(terms)):
         t, _, x = terms[start]
-        p = t["pixels"][x.argmin()] if exact else t["pixels"][_query_one(t["index"], x)[0]]
+        p = t.pixels[x.argmin()] if exact else t.pixels[_query_one(t.index, x)[0]]
         energy, n = np.inf, 0
         for _ in range(iterations):
             # fix p, choose each p_i minimising ||p - p_i||^2 + ||N_i(p) - N_i(p_i)||^2 (one term of eq. 1)
             chosen = []
-            for (t, _, x), xp in zip(terms, shifted):
-                if exact:  # ||p - p_i||^2 = ||p_i||^2 - 2 p.p_i + ||p||^2 (the last is constant)
-                    k = (xp - 2.0 * (p @ t["pixels_t"])).argmin()
+            for t, _, x in terms:
+                if exact:  # + ||p - p_i||^2 ranked on the pixel part
+                    k = t.exact.nearest_with(x, 2, p)
                     chosen.append((k, x[k]))
                 else:
-                    k, d = _query_one(t["index_p"], np.concatenate([x, p]))
-                    chosen.append((k, d - ((t["pixels"][k] - p) ** 2).sum()))
+                    k, d = _query_one(t.index_p, np.concatenate([x, p]))
+                    chosen.append((k, d - ((t.pixels[k] - p) ** 2).sum()))
             # fix {p_i}, p = weighted average (minimises eq. 1 over p)
             p_new, e_new = _average(terms, chosen)
             n += 1
@@ -615,7 +615,7 @@ def _solve_pixel(row, j, r, active, iterations, exact):
 
 def _average(terms, chosen):
     """p = sum_i a_i p_i (sum a_i = 1) and the energy of eq. 1 at that p."""
-    picks = [t["pixels"][k] for (t, _, _), (k, _) in zip(terms, chosen)]
+    picks = [t.pixels[k] for (t, _, _), (k, _) in zip(terms, chosen)]
     p = terms[0][1] * picks[0]
     for (_, a, _), q in zip(terms[1:], picks[1:]):
         p = p + a * q
@@ -625,7 +625,20 @@ def _average(terms, chosen):
     return p, energy
 
 
-def _independent_level(out, parent, sources, centers, weights, level, levels, iterations, passes, search, seed, bar):
+@dataclass
+class _PassTable:
+    """One source at one level in independent order: its candidates and their indexes."""
+
+    src: _Source
+    full: np.ndarray  # mask of the non-causal neighbourhood
+    pixels: np.ndarray  # candidate pixel values p_i
+    index: PatchIndex | None = None  # N_i(p) alone: a source's direct solution
+    index_p: PatchIndex | None = None  # [N_i(p), p]: one term of eq. 1 with p fixed
+    by_parity: list | None = None  # (candidate subset, index) per row/column parity: the parent alone
+    parity: np.ndarray | None = None  # row/column parity of every output pixel
+
+
+def _independent_level(lv, run, bar):
     """Wei & Levoy 2002: non-causal neighbourhoods, all pixels updated at once per pass.
 
     Every pass reads the previous pass's output (Jacobi order), so the
@@ -637,62 +650,61 @@ def _independent_level(out, parent, sources, centers, weights, level, levels, it
     pixels of the same row and column parity, so that the four children of
     one parent pixel become a coherent 2x2 block rather than four copies.
     """
+    out, parent = lv.out, lv.parent
     flat = out.reshape(-1, out.shape[-1])
-    a_flat = [w.reshape(-1) for w in weights]
-    volume = sources[0].axis is not None
+    a_flat = [w.reshape(-1) for w in lv.weights]
+    volume = lv.sources[0].axis is not None
     # A voxel of a solid has every view: the alternation of eq. 1 starts from
     # the previous pass, so the sources' direct solutions (the "index" search)
     # are needed only for pixels with a single source of positive weight.
     direct = not volume or bool(np.any(sum((a > 0).astype(int) for a in a_flat) == 1))
-    threads = (os.cpu_count() or 1) if search == "kdtree" else 1
+    threads = (os.cpu_count() or 1) if run.method == "kdtree" else 1
     shared = {}  # views given as one image share their tables and indexes (built once)
     tabs = []
-    for i, (src, cen) in enumerate(zip(sources, centers)):
-        key = (id(src.pyramid[level]), src.size, src.parent_size, src.shape)
+    for i, (src, cen) in enumerate(zip(lv.sources, lv.centers)):
+        key = (id(src.pyramid[lv.level]), src.size, src.parent_size, src.shape)
         if key not in shared:
-            shared[key] = _level_tables(
-                src, cen, level, levels, search, seed, i,
-                direct=direct, several=len(sources) > 1, with_parent=parent is not None,
-            )
-        t = dict(shared[key], src=src)
+            shared[key] = _level_table(src, cen, lv.level, run, i, direct=direct, several=len(lv.sources) > 1,
+                                       with_parent=parent is not None)
+        t = dataclasses.replace(shared[key], src=src)
         if parent is not None:
-            t["parity"] = _plane_parity(out.shape[:-1], src.axis)
+            t.parity = _plane_parity(out.shape[:-1], src.axis)
         tabs.append(t)
     if parent is None:
-        out[...] = _noise(sources, weights, out.shape[-1], out.dtype, np.random.default_rng([seed, level]), level)
+        out[...] = _noise(lv.sources, lv.weights, out.shape[-1], out.dtype, np.random.default_rng([run.seed, lv.level]),
+                          lv.level)
     energy = np.zeros(len(flat))
     n_iter = np.zeros(len(flat))
-    schedule = ([True] if parent is not None else []) + [False] * passes
+    schedule = ([True] if parent is not None else []) + [False] * run.passes
     for parent_only in schedule:
         queries = []
         for t in tabs:
-            mask = np.zeros(t["src"].size, bool) if parent_only else t["full"]
-            queries.append(_output_vectors(out, parent, t["src"], mask))
-        key = "index_parent" if parent_only else "index"
-        p, energy, n_iter = _solve_all(flat, tabs, a_flat, queries, key, 1 if parent_only else iterations, threads)
+            mask = np.zeros(t.src.size, bool) if parent_only else t.full
+            queries.append(_output_vectors(out, parent, t.src, mask))
+        p, energy, n_iter = _solve_all(flat, tabs, a_flat, queries, parent_only, 1 if parent_only else run.iterations,
+                                       threads)
         flat[:] = p
-        bar.advance({"level": level, "parent_only": parent_only})
+        bar.advance({"level": lv.level, "parent_only": parent_only})
     return energy.mean(), n_iter.mean()
 
 
-def _level_tables(src, cen, level, levels, search, seed, i, *, direct, several, with_parent):
+def _level_table(src, cen, level, run, i, *, direct, several, with_parent):
     """Candidate pixels and the indexes over their neighbourhoods at one level, for one source."""
     _, _, full = _masks(src.size, src.shape)
-    vec = _exemplar_vectors(src, level, levels, cen, full)
+    vec = _exemplar_vectors(src, level, run.levels, cen, full)
     pixels = np.ascontiguousarray(src.pyramid[level][cen[:, 0], cen[:, 1]])
-    t = dict(full=full, pixels=pixels)
-    kd = _SOLID_KD_CANDIDATES if src.axis is not None else None
+    t = _PassTable(src, full, pixels)
     if direct:  # N_i(p) alone: Wei & Levoy 2000, a source's direct solution
-        t["index"] = _index(vec, search, seed, level, i, 0, candidates=kd)
+        t.index = run.index(vec, level, i, 0)
     if several:  # [N_i(p), p]: one term of eq. 1 with p fixed
-        t["index_p"] = _index(np.concatenate([vec, pixels], axis=1), search, seed, level, i, 1, candidates=kd)
+        t.index_p = run.index(np.concatenate([vec, pixels], axis=1), level, i, 1)
     if with_parent:  # the parent's neighbourhood alone, per row/column parity of the candidate
-        coarse = _exemplar_vectors(src, level, levels, cen, np.zeros(src.size, bool))
-        t["index_parent"] = []
+        coarse = _exemplar_vectors(src, level, run.levels, cen, np.zeros(src.size, bool))
+        t.by_parity = []
         for c in range(4):
             subset = np.flatnonzero((cen[:, 0] % 2) * 2 + cen[:, 1] % 2 == c)
             subset = subset if subset.size else np.arange(len(cen))
-            t["index_parent"].append((subset, _index(coarse[subset], search, seed, level, i, 2, c, candidates=kd)))
+            t.by_parity.append((subset, run.index(coarse[subset], level, i, 2, c)))
     return t
 
 
@@ -703,14 +715,14 @@ def _plane_parity(shape, axis):
     return ((grids[plane[0]] % 2) * 2 + grids[plane[1]] % 2).reshape(-1)
 
 
-def _query(t, key, q, sel):
+def _query(t, parent_only, q, sel):
     """Nearest candidate of each query vector: (indices, squared distances)."""
-    if key != "index_parent":
-        idx, d2 = t[key].query(q, k=1)
+    if not parent_only:
+        idx, d2 = t.index.query(q, k=1)
         return idx[:, 0], d2[:, 0]
     k, d = np.empty(len(q), np.intp), np.empty(len(q))
-    parity = t["parity"][sel]
-    for c, (subset, index) in enumerate(t[key]):
+    parity = t.parity[sel]
+    for c, (subset, index) in enumerate(t.by_parity):
         m = parity == c
         if m.any():
             idx, d2 = index.query(q[m], k=1)
@@ -734,14 +746,14 @@ def _for_each_source(fn, n, threads):
         list(pool.map(fn, range(n)))  # list(): re-raise a worker's exception here
 
 
-def _solve_all(flat, tabs, a_flat, queries, key, iterations, threads=1):
+def _solve_all(flat, tabs, a_flat, queries, parent_only, iterations, threads=1):
     """Eq. 1 at every pixel at once (vectorized over pixels), as :func:`_solve_pixel`."""
     n = len(flat)
     everything = np.arange(n)
     n_on = sum((a > 0).astype(int) for a in a_flat)
     # A volume starts the alternation from the previous pass (below), so it
     # needs the direct solutions only where a single view has weight.
-    from_previous = key != "index_parent" and tabs[0]["src"].axis is not None
+    from_previous = not parent_only and tabs[0].src.axis is not None
     # Each source's direct solution: p_i of nearest neighbourhood (Wei & Levoy 2000).
     ks, nds = [np.zeros(n, np.intp) for _ in tabs], [np.zeros(n) for _ in tabs]
 
@@ -749,7 +761,7 @@ def _solve_all(flat, tabs, a_flat, queries, key, iterations, threads=1):
         a, q = a_flat[i], queries[i]
         on = np.flatnonzero((a > 0) & (n_on == 1)) if from_previous else np.flatnonzero(a > 0)
         if on.size:
-            ks[i][on], nds[i][on] = _query(tabs[i], key, q[on], on)
+            ks[i][on], nds[i][on] = _query(tabs[i], parent_only, q[on], on)
 
     _for_each_source(direct, len(tabs), threads)
     # One source at a pixel: that is the minimum of eq. 1. (The parent-only
@@ -757,7 +769,7 @@ def _solve_all(flat, tabs, a_flat, queries, key, iterations, threads=1):
     p, energy = _average_sel(tabs, a_flat, ks, nds, everything)
     n_iter = np.ones(n)
     multi = np.flatnonzero(n_on > 1)
-    if key == "index_parent" or multi.size == 0:
+    if parent_only or multi.size == 0:
         return p, energy, n_iter
     # Several sources: Wei's alternation from each source's direct solution; keep the lowest E.
     energy[multi] = np.inf
@@ -766,7 +778,7 @@ def _solve_all(flat, tabs, a_flat, queries, key, iterations, threads=1):
     starts = [(None, None, None)] if from_previous else list(zip(tabs, a_flat, ks))
     for start_tab, start_a, start_k in starts:
         sel = multi if start_tab is None else multi[start_a[multi] > 0]
-        cur_p = flat[sel].copy() if start_tab is None else start_tab["pixels"][start_k[sel]]
+        cur_p = flat[sel].copy() if start_tab is None else start_tab.pixels[start_k[sel]]
         cur_e = np.full(len(sel), np.inf)
         cur_k = [k[sel] for k in ks]
         cur_nd = [nd[sel] for nd in nds]
@@ -778,9 +790,9 @@ def _solve_all(flat, tabs, a_flat, queries, key, iterations, threads=1):
             def choose(i):
                 t, a, q = tabs[i], a_flat[i], queries[i]
                 m = todo[a[sel[todo]] > 0]
-                idx, d2 = t["index_p"].query(np.concatenate([q[sel[m]], cur_p[m]], axis=1), k=1)
+                idx, d2 = t.index_p.query(np.concatenate([q[sel[m]], cur_p[m]], axis=1), k=1)
                 new_k[i][m] = idx[:, 0]
-                new_nd[i][m] = d2[:, 0] - ((t["pixels"][idx[:, 0]] - cur_p[m]) ** 2).sum(1)
+                new_nd[i][m] = d2[:, 0] - ((t.pixels[idx[:, 0]] - cur_p[m]) ** 2).sum(1)
 
             _for_each_source(choose, len(tabs), threads)
             # fix {p_i}, p = weighted average
@@ -808,7 +820,7 @@ def _solve_all(flat, tabs, a_flat, queries, key, iterations, threads=1):
 
 def _average_sel(tabs, a_flat, ks, nds, sel):
     """At pixels ``sel``: p = sum_i a_i p_i (sum a_i = 1) and eq. 1 at that p."""
-    picks = [t["pixels"][k] for t, k in zip(tabs, ks)]
+    picks = [t.pixels[k] for t, k in zip(tabs, ks)]
     p = np.zeros_like(picks[0])
     for a, q in zip(a_flat, picks):
         p += a[sel, None].astype(p.dtype) * q
@@ -852,13 +864,14 @@ def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name, work_d
     return sources, channels, dtype, converted[0][1]
 
 
-def _check_order_search(order, search, passes, iterations=1):
+def _check_order_method(order, method, passes, iterations=1):
     _choice(order, ORDERS, "order")
-    _choice(search, SEARCHES, "search")
+    search.check_method(method)
     check_positive_int(passes, "passes")
     check_positive_int(iterations, "iterations")
 
 
+@renamed_parameters(search="method")
 def synthesize_pixels(
     exemplar,
     size,
@@ -868,7 +881,7 @@ def synthesize_pixels(
     parent_size=None,
     levels=3,
     order="scanline",
-    search="auto",
+    method="auto",
     passes=2,
     rng=None,
     progress=False,
@@ -899,12 +912,12 @@ def synthesize_pixels(
         ``"scanline"``: Wei & Levoy 2000, causal neighbourhoods, sequential.
         ``"independent"``: Wei & Levoy 2002 [2]_, non-causal neighbourhoods,
         every pixel of a level updated at once per pass.
-    search : {"auto", "exact", "kdtree", "tsvq"}
-        Nearest-neighbour search (:class:`texsynth.core.search.PatchIndex`).
-        In scanline order ``"auto"`` is exact search done one scanline at a
+    method : {"auto", "exact", "kdtree", "tsvq"}
+        Nearest-neighbour search backend (:mod:`texsynth.core.search`). In
+        scanline order ``"auto"`` is exact search done one scanline at a
         time (the fastest here); ``"kdtree"``/``"tsvq"`` query per pixel.
         In independent order ``"auto"`` is exact for small problems and
-        ``"kdtree"`` for large ones.
+        ``"kdtree"`` for large ones (profiles ``"scanline"`` and ``"pixels"``).
     passes : int
         ``order="independent"`` only: passes over each level (default 2).
     rng : None, int or numpy.random.Generator
@@ -957,7 +970,7 @@ def synthesize_pixels(
     """
     size = as_size(size)
     levels = _check_levels(levels)
-    _check_order_search(order, search, passes)
+    _check_order_method(order, method, passes)
     rng = as_rng(rng)
     sources, channels, dtype, grey = _prepare(
         [exemplar], ["exemplar"], [neighborhood_size], [parent_size], [None], levels, "neighborhood_size",
@@ -965,7 +978,7 @@ def synthesize_pixels(
     )
     sources[0].weights = 1.0
     out, info = _synthesize(
-        sources, size, channels, dtype, levels=levels, order=order, search=search, iterations=1,
+        sources, size, channels, dtype, levels=levels, order=order, method=method, iterations=1,
         passes=passes, rng=rng, progress=progress, desc="Wei-Levoy",
     )
     out = restore_channels(out, grey)
@@ -1012,6 +1025,7 @@ def _check_weights(weights, n, size):
     return result
 
 
+@renamed_parameters(search="method")
 def mix_textures(
     sources,
     size,
@@ -1023,7 +1037,7 @@ def mix_textures(
     levels=3,
     iterations=4,
     order="scanline",
-    search="auto",
+    method="auto",
     passes=2,
     rng=None,
     progress=False,
@@ -1068,7 +1082,7 @@ def mix_textures(
     iterations : int
         Most alternation steps of eq. 1 per pixel (default 4: the paper found
         1 to 4 enough). Stops earlier when E stops falling.
-    order, search, passes, rng, progress, return_info
+    order, method, passes, rng, progress, return_info
         As in :func:`synthesize_pixels`.
 
     Returns
@@ -1145,7 +1159,7 @@ def mix_textures(
     n = len(sources)
     size = as_size(size)
     levels = _check_levels(levels)
-    _check_order_search(order, search, passes, iterations)
+    _check_order_method(order, method, passes, iterations)
     rng = as_rng(rng)
     sizes = _per_source(neighborhood_sizes, n, "neighborhood_sizes")
     psizes = _per_source(parent_sizes, n, "parent_sizes")
@@ -1157,13 +1171,14 @@ def mix_textures(
     for src, w in zip(srcs, _check_weights(weights, n, size)):
         src.weights = w
     out, info = _synthesize(
-        srcs, size, channels, dtype, levels=levels, order=order, search=search, iterations=iterations,
+        srcs, size, channels, dtype, levels=levels, order=order, method=method, iterations=iterations,
         passes=passes, rng=rng, progress=progress, desc="Wei mixture",
     )
     out = restore_channels(out, grey)
     return (out, info) if return_info else out
 
 
+@renamed_parameters(search="method")
 def synthesize_solid(
     views,
     shape,
@@ -1175,7 +1190,7 @@ def synthesize_solid(
     levels=3,
     iterations=2,
     passes=2,
-    search="auto",
+    method="auto",
     rng=None,
     progress=False,
     return_info=False,
@@ -1202,8 +1217,9 @@ def synthesize_solid(
         Most alternation steps of eq. 1 per voxel and pass (default 2).
     passes : int
         Passes per level of the order-independent update (default 2).
-    search : {"auto", "exact", "kdtree", "tsvq"}
-        ``"auto"``: exact for small volumes, kd-tree for large ones.
+    method : {"auto", "exact", "kdtree", "tsvq"}
+        Search backend; ``"auto"``: exact for small volumes, kd-tree (4
+        re-ranked candidates, profile ``"solid"``) for large ones.
         ``"tsvq"`` is Wei & Levoy's tree-structured vector quantization;
         see Notes for measured speed and quality.
     rng, progress, return_info
@@ -1260,7 +1276,7 @@ def synthesize_solid(
     """
     shape = as_size(shape, "shape", ndim=3)
     levels = _check_levels(levels)
-    _check_order_search("independent", search, passes, iterations)
+    _check_order_method("independent", method, passes, iterations)
     rng = as_rng(rng)
     if isinstance(views, np.ndarray) or not isinstance(views, (list, tuple)):
         views = [views]
@@ -1288,7 +1304,7 @@ def synthesize_solid(
     for src in srcs:
         src.weights = 1.0
     out, info = _synthesize(
-        srcs, shape, channels, _SOLID_DTYPE, levels=levels, order="independent", search=search,
+        srcs, shape, channels, _SOLID_DTYPE, levels=levels, order="independent", method=method,
         iterations=iterations, passes=passes, rng=rng, progress=progress, desc="Wei solid",
     )
     out = restore_channels(out.astype(dtype, copy=False), grey)

@@ -1,5 +1,52 @@
-"""Nearest-neighbour search: the one place a neighbour is chosen."""
+"""Nearest-neighbour search: the one place in texsynth where a neighbour is chosen.
 
-from ._index import METHODS, PatchIndex, exact_chunk_rows, nearest
+Every neighbourhood-matching algorithm asks the same question, *which exemplar
+neighbourhood is closest to this one?*, and asks it here:
 
-__all__ = ["PatchIndex", "nearest", "METHODS", "exact_chunk_rows"]
+:class:`PatchIndex`
+    ``PatchIndex(vectors, weights=None, method="auto").query(queries, k)``
+    gives the k nearest vectors and their exact (weighted) squared distances,
+    ties broken by the lowest index, whatever the backend.
+:class:`SequentialExact`
+    Exact search for queries whose vectors become known in parts (scanline
+    synthesis: the rows above first, the pixels to the left one at a time).
+:func:`nearest_candidates`
+    The nearest of each query's own candidate list (coherent candidates,
+    random subsets).
+:func:`sq_distances`
+    Weighted squared distances of given pairs (a query and its match).
+
+Distances are ``sum_d w_d (q_d - v_d)^2``, implemented by scaling both sides
+by ``sqrt(w)`` once, so every backend works on plain Euclidean vectors.
+
+Backends and profiles
+---------------------
+A backend is one module that registers itself (:func:`register`):
+``"exact"`` (chunked BLAS, memory-bounded, exact re-ranking), ``"kdtree"``
+(PCA + kd-tree candidates, re-ranked exactly) and ``"tsvq"`` (tree-structured
+vector quantization, Wei & Levoy 2000). ``method="auto"`` is resolved by the
+rule of a named :data:`PROFILES` entry, which also holds each algorithm's
+measured tuning; :func:`use` makes ``"auto"`` mean one backend everywhere.
+
+>>> rng = np.random.default_rng(0)
+>>> vectors = rng.random((200, 12))
+>>> index = PatchIndex(vectors, method="exact")
+>>> idx, d2 = index.query(vectors[:3] + 0.001, k=2)
+>>> idx[:, 0].tolist()
+[0, 1, 2]
+"""
+
+from . import _exact, _kdtree, _tsvq  # noqa: F401  (each registers its backend)
+from ._common import sq_distances
+from ._exact import SequentialExact, exact_chunk_rows, nearest_candidates
+from ._index import PatchIndex, nearest
+from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
+from ._registry import methods as _methods
+
+#: Valid values of ``method``: ``"auto"`` and the registered backends.
+METHODS = _methods()
+
+__all__ = [
+    "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "sq_distances",
+    "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
+]

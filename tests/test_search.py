@@ -1,4 +1,4 @@
-"""Tests of the shared nearest-neighbour layer (texsynth.nearest)."""
+"""Tests of the shared nearest-neighbour layer (texsynth.core.search)."""
 
 from pathlib import Path
 
@@ -375,7 +375,7 @@ def test_tsvq_seed_changes_tree():
 
 
 def test_kdtree_pca_subsample_is_seeded(monkeypatch):
-    import texsynth.core.search._index as nearest_module
+    import texsynth.core.search._kdtree as nearest_module
 
     monkeypatch.setattr(nearest_module, "_PCA_SAMPLE", 500)
     v = patches("jcjohnson/bumpy.png", 5, ((0, 79), (0, 60)))  # 75 x 56 = 4200 > 500
@@ -406,7 +406,7 @@ def test_auto_resolves_by_size_and_dimension():
     rng = np.random.default_rng(0)
     big = PatchIndex(rng.random((30_000, 4)), rng=0)
     assert big.method == "kdtree"
-    # the measured crossover (docs/methods/nearest.md) lies at N ~ 2000 in 27-D and ~ 5000
+    # the measured crossover (docs/methods/search.md) lies at N ~ 2000 in 27-D and ~ 5000
     # in 147-D: 3000 vectors are searched exactly in high dimension, by kd-tree in low
     assert PatchIndex(rng.random((3_000, 147)), rng=0).method == "exact"
     assert PatchIndex(rng.random((3_000, 27)), rng=0).method == "kdtree"
@@ -432,7 +432,7 @@ def test_randomized_pca_of_large_patches_matches_exact_subspace():
     # kd-tree PCA takes the randomized path; it must capture (almost) the variance of
     # the exact leading subspace. Measured: 0.9999 of it; a random 24-D basis captures
     # ~0.06 of it and a basis of the wrong sign/scale breaks orthonormality.
-    import texsynth.core.search._index as nearest_module
+    import texsynth.core.search._kdtree as nearest_module
 
     v = patches("rohitrango/t4.png", 12, ((0, 64), (0, 64)))  # 53*53 = 2809 x 432
     assert v.shape[1] > nearest_module._PCA_COVARIANCE_MAX_DIM
@@ -456,7 +456,7 @@ def test_kdtree_recall_on_large_colour_patches(monkeypatch):
     # Measured (seeds 0-2): recall@1 0.72-0.74, distance ratio 1.012-1.014, the same as
     # with the exact PCA (0.737 / 1.012); the random baseline ratio is 2.1. Thresholds
     # sit below the worst seed with a margin; a broken PCA gives random candidates.
-    import texsynth.core.search._index as nearest_module
+    import texsynth.core.search._kdtree as nearest_module
 
     v = patches("rohitrango/t4.png", 16, ((0, 64), (0, 128)))  # 49*113 = 5537 x 768
     q = patches("rohitrango/t4.png", 16, ((72, 128), (0, 128)), step=4)  # 11*29 = 319
@@ -470,3 +470,146 @@ def test_kdtree_recall_on_large_colour_patches(monkeypatch):
     idx_e, d2_e = PatchIndex(v, method="kdtree", rng=0).query(q)
     recall_e, ratio_e, _ = recall_and_ratio(v, q, idx_e, d2_e)
     assert recall >= recall_e - 0.05 and ratio <= ratio_e + 0.01, (recall, recall_e, ratio, ratio_e)
+
+
+def test_tsvq_builds_on_near_duplicate_float32_vectors():
+    """Three float32 values a few 1e-4 apart: their distances tie in float32, k-means++ seeds
+    fewer codewords than branching and Lloyd collapses. The build raised IndexError before 0.2
+    (multisource worked around it by rebuilding in float64); it now splits such a node evenly."""
+    rng = np.random.default_rng(3)
+    base = rng.random(34).astype(np.float32)
+    k = rng.integers(2, 4)
+    values = [base + np.float32(rng.uniform(1e-5, 1e-3)) * (rng.random(34) < 0.2) for _ in range(k)]
+    x = np.stack([values[i % k] for i in range(200)]).astype(np.float32)
+    index = PatchIndex(x, method="tsvq", leaf_size=16, rng=3)
+    idx, d2 = index.query(x[:10], k=1)
+    # every query's own value exists in the index: the exact search in its leaf finds a copy
+    assert np.allclose(x[idx[:, 0]], x[:10]) and np.all(d2 <= 1e-10)
+
+
+
+# --------------------------------------------------------------------------- the layer's other query forms
+def test_sequential_exact_equals_brute_force_on_real_neighbourhoods():
+    """Scanline search: the first part for a batch, the second part one query at a time, exact."""
+    from texsynth.core.search import SequentialExact
+
+    v = patches("jcjohnson/bread.png", 5, ((0, 40), (0, 40)))  # 75-D colour neighbourhoods
+    fixed, second = v[:, :45], v[:, 45:]  # split like rows above | the rest
+    queries = patches("jcjohnson/bread.png", 5, ((60, 70), (60, 70)))[:30]
+    index = SequentialExact(fixed, second)
+    index.start(queries[:, :45])
+    for j in range(len(queries)):
+        d = index.distances(j, queries[j, 45:])
+        true = ((v - queries[j]) ** 2).sum(1)
+        np.testing.assert_allclose(d, true, atol=1e-9)
+        assert d.argmin() == true.argmin()
+
+
+def test_sequential_exact_ranks_a_further_part():
+    from texsynth.core.search import SequentialExact
+
+    rng = np.random.default_rng(0)
+    a, b, c = rng.random((60, 4)), rng.random((60, 3)), rng.random((60, 2))
+    q = rng.random(9)
+    index = SequentialExact(a, b, c)
+    index.start(q[None, :4])
+    d = index.distances(0, q[4:7])
+    full = ((np.concatenate([a, b, c], 1) - q) ** 2).sum(1)
+    assert index.nearest_with(d, 2, q[7:]) == full.argmin()
+
+
+@pytest.mark.parametrize("form", ["rows", "vectors"])
+def test_nearest_candidates_picks_the_nearest_of_each_list(form):
+    from texsynth.core.search import nearest_candidates
+
+    v = patches("jcjohnson/bread.png", 5, ((0, 30), (0, 30)))
+    queries = patches("jcjohnson/bread.png", 5, ((60, 69), (60, 69)))[:20]
+    cands = np.random.default_rng(1).integers(len(v), size=(20, 7))
+    true = ((v[cands] - queries[:, None]) ** 2).sum(-1)
+    if form == "rows":
+        choice, d2 = nearest_candidates(queries, cands, vectors=v)
+    else:
+        choice, d2 = nearest_candidates(queries, v[cands])
+    np.testing.assert_array_equal(choice, true.argmin(1))
+    np.testing.assert_allclose(d2, true.min(1), atol=1e-9)
+    # per-query weights (a constraint that differs from query to query)
+    w = np.random.default_rng(2).random(queries.shape)
+    choice, d2 = nearest_candidates(queries, cands, vectors=v, weights=w)
+    wtrue = (w[:, None] * (v[cands] - queries[:, None]) ** 2).sum(-1)
+    np.testing.assert_array_equal(choice, wtrue.argmin(1))
+    np.testing.assert_allclose(d2, wtrue.min(1), atol=1e-9)
+
+
+# --------------------------------------------------------------------------- registry, profiles, the switch
+def test_every_registered_backend_answers_through_the_same_protocol():
+    from texsynth.core import search
+
+    assert set(search.BACKENDS) == {"exact", "kdtree", "tsvq"} and search.METHODS == ("auto", "exact", "kdtree", "tsvq")
+    v = patches("jcjohnson/bread.png", 5, ((0, 60), (0, 60))).astype(np.float32)
+    for method in search.BACKENDS:
+        idx, d2 = PatchIndex(v, method=method, rng=0).query(v[:50] + 1e-3, k=3)
+        assert idx.shape == (50, 3) and np.all(np.diff(d2, axis=1) >= 0)
+        assert np.mean(idx[:, 0] == np.arange(50)) > 0.5  # itself (shifted by 1e-3), for most queries
+
+
+def test_profiles_decide_auto():
+    from texsynth.core import search
+
+    # the measured crossover of the default rule: 2000 vectors at 27-D, 5000 at 147-D
+    assert search.resolve("auto", 2000, 27) == "exact" and search.resolve("auto", 2001, 27) == "kdtree"
+    assert search.resolve("auto", 5000, 147) == "exact" and search.resolve("auto", 5001, 147) == "kdtree"
+    # correspondences have few queries: exact up to 20000 vectors whatever the dimension
+    assert search.resolve("auto", 20000, 300, profile="correspondence") == "exact"
+    assert search.resolve("auto", 20001, 300, profile="correspondence") == "kdtree"
+    # order-independent passes weigh queries x vectors
+    assert search.resolve("auto", 10**4, None, profile="pixels", queries=2 * 10**4) == "exact"
+    assert search.resolve("auto", 10**4, None, profile="pixels", queries=3 * 10**4) == "kdtree"
+    assert search.resolve("auto", 10**7, 300, profile="scanline") == "exact"
+    assert search.resolve("tsvq", 10, 2, profile="scanline") == "tsvq"  # an explicit method always wins
+    with pytest.raises(ValueError, match="profile"):
+        search.resolve("auto", 10, 2, profile="fast")
+
+
+def test_profiles_tune_their_backend():
+    from texsynth.core import search
+
+    v = patches("jcjohnson/bread.png", 5, ((0, 60), (0, 60)))
+    stage = PatchIndex(v, method="kdtree", profile="stage", rng=0)._backend
+    frame = PatchIndex(v, method="kdtree", profile="frame", rng=0)._backend
+    plain = PatchIndex(v, method="kdtree", rng=0)._backend
+    assert (stage.candidates, stage.eps) == (16, 2.0) and (frame.candidates, frame.eps) == (4, 2.0)
+    assert (plain.candidates, plain.eps) == (None, 1.0)
+    # the user's own options win over the profile's
+    assert PatchIndex(v, method="kdtree", profile="frame", candidates=9, rng=0)._backend.candidates == 9
+    assert set(search.PROFILES) >= {"default", "stage", "frame", "pixels", "scanline", "solid", "correspondence"}
+    with pytest.raises(TypeError, match="unknown search option"):
+        PatchIndex(v, candidate=4)
+
+
+def test_one_switch_changes_the_backend_of_every_algorithm(monkeypatch):
+    """search.use makes "auto" mean one backend in every algorithm; an explicit method still wins."""
+    import texsynth
+    from texsynth.core import search
+    from texsynth.core.search import _index
+
+    used = []
+    real = _index.PatchIndex.__init__
+
+    def spy(self, *args, **kwargs):
+        real(self, *args, **kwargs)
+        used.append(self.method)
+
+    monkeypatch.setattr(_index.PatchIndex, "__init__", spy)
+    bread = load_image(TEXTURES / "jcjohnson/bread.png")[:32, :32, :3]
+    with search.use("tsvq"):
+        texsynth.optimize_texture(bread, 32, neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)
+        texsynth.synthesize_pixels(bread, 16, levels=1, order="independent", passes=1, rng=0)
+        texsynth.interpolate_textures(bread, bread[::-1], 0.5, stages=((1, 9),), iterations=1, statistics=False,
+                                      rng=0)
+    assert used and set(used) == {"tsvq"}
+    used.clear()
+    with search.use("tsvq"):
+        texsynth.optimize_texture(bread, 32, neighborhood_sizes=(8,), levels=1, max_iterations=1, method="exact",
+                                  rng=0)
+    assert set(used) == {"exact"}
+    assert search.resolve("auto", 100, 8) == "exact"  # back to the rule outside the block
