@@ -20,6 +20,8 @@ Run:  python benchmarks/bench_interpolation.py [--quick] [--caps] [--save DIR]
 import argparse
 import os
 import time
+
+import numpy as np
 from pathlib import Path
 
 
@@ -31,9 +33,9 @@ TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 
 
 def row(name, seconds, info=None, energies=None):
-    stages = "" if info is None else "  ".join(f"{k}={v:.1f}s" for k, v in info.seconds.items())
+    stages = "" if info is None else "  ".join(f"{k}={v:.1f}s" for k, v in info.stage_seconds.items())
     if info is not None:
-        stages += f"  iterations={[len(e) for e in info.energy]}"
+        stages += f"  iterations={np.bincount(info.stage).tolist()}"
     if energies is not None:
         stages += "  texture energy vs a {:.5f}, vs b {:.5f}".format(*energies)
     print(f"{name:<44s} {seconds:8.1f} s   {stages}")
@@ -53,7 +55,7 @@ def main():
     if args.caps:
         return caps(args.quick)
     n = 64 if args.quick else 128
-    opts = dict(stages=((2, 17), (1, 17)), iterations=3) if args.quick else {}
+    opts = dict(stages=((2, 17), (1, 17)), max_iterations=3) if args.quick else {}
     a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
     b = load_image(TEXTURES / "rohitrango" / "t7.png")[:n, :n, :3]
     print(f"exemplars {n}x{n} brick <-> slate (rohitrango t1, t7); paper defaults unless noted; "
@@ -82,7 +84,7 @@ def main():
 def caps(quick):
     """Default vs doubled caps (max_feature_points, max_neighborhoods), two seeds each."""
     n = 64 if quick else 128
-    opts = dict(stages=((2, 17), (1, 17)), iterations=3) if quick else {}
+    opts = dict(stages=((2, 17), (1, 17)), max_iterations=3) if quick else {}
     a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
     b = load_image(TEXTURES / "rohitrango" / "t7.png")[:n, :n, :3]
     print(f"caps: exemplars {n}x{n} brick <-> slate, alpha = 0.5 -> {2 * n}x{2 * n}; load average {load():.2f}")

@@ -162,8 +162,8 @@ def main():
         for m in methods:
             if m == "before":
                 continue
-            video, ainfo = animate_texture(ex, rot, frames=5, first_frame=first, method=m, rng=0, return_info=True)
-            flicker = np.mean([np.mean(np.abs(video[i + 1] - flows.warp(video[i], rot, mode="nearest", order=3)))
+            video, ainfo = animate_texture(ex, rot, n_frames=5, first_frame=first, method=m, rng=0, return_info=True)
+            flicker = np.mean([np.mean(np.abs(video[i + 1] - flows.warp(video[i], rot, mode="nearest", spline_order=3)))
                                for i in range(len(video) - 1)])
             print(f"{m:24s} {ainfo.frame_seconds[0]:8.2f} {ainfo.frame_seconds[1:].mean():7.2f} "
                   f"{texture_energy(video[-1], ex):8.5f} {flicker:8.4f}")

@@ -1,4 +1,4 @@
-"""Benchmark of texsynth.procedural against other noise libraries, in one run.
+"""Benchmark of texsynth.procedural against other noise libraries, in one run, and its memory.
 
 Peers (the ``bench`` extra): pyfastnoiselite (FastNoiseLite, C++), ``noise``
 (C, one Python call per point), vnoise (numpy). A peer that is not installed
@@ -6,19 +6,35 @@ is reported as missing. Prints the timings, the ratio table against the
 targets of the procedural issue, and a cross-check of our noise against the
 ``noise`` package (same permutation and gradient table).
 
-Run:  python benchmarks/bench_procedural.py [--quick]
+Memory: a table of the peak memory (tracemalloc, which sees numpy's
+allocations) of one call per row, for frequencies 1 to 20000 and octaves up
+to the band limit, next to the size of the result and to the finest noise
+lattice that the whole-lattice evaluation of texsynth 0.1 allocated. The
+peak must follow the result, not the lattice. It runs in a few seconds;
+``--big`` adds 2048^2, 128^3 and turbulence(8192) (a 512 MiB result).
+
+Run:  python benchmarks/bench_procedural.py [--quick] [--memory] [--big]
+      (--memory: the memory table only)
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import platform
 import time
+import tracemalloc
 
 import numpy as np
 
-from texsynth.procedural import gray_scott, perlin, reaction_diffusion, turbulence
-from texsynth.procedural import FADES
+from texsynth.procedural import (
+    FADES,
+    band_limit_octaves,
+    gray_scott,
+    perlin,
+    reaction_diffusion,
+    turbulence,
+)
 from texsynth.procedural._noise import _noise_points
 
 # Perlin's reference permutation (Perlin 2002) and the `noise` package's
@@ -75,10 +91,73 @@ def peers():
     return found
 
 
+def peak_memory(fn):
+    """(peak bytes traced during one call, seconds, result): numpy reports its allocations to tracemalloc."""
+    tracemalloc.start()
+    t0 = time.perf_counter()
+    try:
+        result = fn()
+        seconds = time.perf_counter() - t0
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    return peak, seconds, result
+
+
+def finest_lattice(size, frequency, octaves):
+    """Points of the finest octave's whole lattice (what texsynth 0.1 hashed and stored per component)."""
+    top = frequency * 2.0 ** (octaves - 1)
+    return math.prod(top * n / max(size) + 2 for n in size)
+
+
+def memory_table(big):
+    """Peak memory per call against the size of the result, frequencies 1 to 20000."""
+    sizes = [(1024, 1024), (64, 64, 64)] + ([(2048, 2048), (128, 128, 128)] if big else [])
+    rows = []
+    perlin((8, 8), rng=0)  # warm-up: imports, the BLAS controller
+    for size in sizes:
+        for frequency in (1, 8, 64, 512, 4096, 20000):
+            for name, fn, octaves in (("perlin", perlin, 1),
+                                      ("turbulence", turbulence, band_limit_octaves(size, frequency))):
+                peak, seconds, out = peak_memory(lambda fn=fn, size=size, f=frequency: fn(size, frequency=f, rng=0))
+                rows.append((name, size, frequency, octaves, out.nbytes, peak, seconds,
+                             finest_lattice(size, frequency, octaves)))
+    # few pixels, many octaves: the reliability issue's reproducers
+    for size, frequency, octaves in (((64, 64), 20000, 1), ((48, 48), 26, 10), ((48, 48), 26, 11)):
+        fn = perlin if octaves == 1 else turbulence
+        kw = {} if octaves == 1 else {"octaves": octaves}
+        peak, seconds, out = peak_memory(lambda fn=fn, kw=kw, size=size, f=frequency: fn(size, frequency=f, rng=0, **kw))
+        rows.append((fn.__name__, size, frequency, octaves, out.nbytes, peak, seconds,
+                     finest_lattice(size, frequency, octaves)))
+    if big:
+        size = (8192, 8192)
+        peak, seconds, out = peak_memory(lambda: turbulence(8192, rng=0))
+        rows.append(("turbulence", size, 8, band_limit_octaves(size, 8), out.nbytes, peak, seconds,
+                     finest_lattice(size, 8, band_limit_octaves(size, 8))))
+        del out
+    print("\npeak memory per call (tracemalloc) against the result and the whole finest lattice of texsynth 0.1")
+    print(f"{'function':11s} {'size':>15s} {'freq':>6s} {'oct':>4s} {'result MiB':>11s} {'peak MiB':>9s} "
+          f"{'peak/result':>11s} {'0.1 lattice pts':>15s} {'time s':>7s}")
+    for name, size, frequency, octaves, nbytes, peak, seconds, lattice in rows:
+        size_text = "x".join(map(str, size))
+        print(f"{name:11s} {size_text:>15s} {frequency:6g} {octaves:4d} {nbytes / 2**20:11.2f} {peak / 2**20:9.2f} "
+              f"{peak / nbytes:11.2f} {lattice:15.3g} {seconds:7.2f}")
+    worst = max(peak - nbytes for _, _, _, _, nbytes, peak, _, _ in rows)
+    print(f"largest peak beyond the result itself: {worst / 2**20:.1f} MiB (block-sized temporaries: "
+          "independent of the frequency and of the number of octaves)")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="one repeat, fewer reaction-diffusion steps")
+    parser.add_argument("--memory", action="store_true", help="only the memory table")
+    parser.add_argument("--big", action="store_true", help="memory table with 2048^2, 128^3 and turbulence(8192)")
     args = parser.parse_args()
+    print(f"texsynth.procedural benchmark -- {platform.python_version()}, {platform.machine()}, "
+          f"numpy {np.__version__}")
+    memory_table(args.big)
+    if args.memory:
+        return
     rep = 1 if args.quick else 5
     rd_steps = 2000 if args.quick else 10000
     n = 1024
@@ -152,8 +231,6 @@ def main():
                  best_of(lambda: gray_scott((256, 256), steps=rd_steps, rng=0), 1)))
 
     # ---- table ------------------------------------------------------------------------
-    print(f"texsynth.procedural benchmark -- {platform.python_version()}, {platform.machine()}, "
-          f"numpy {np.__version__}")
     if missing:
         print("missing peers (pip install 'texsynth[bench]'):", ", ".join(missing))
     print(f"\n{'case':24s} {'library':36s} {'time (ms)':>10s}")

@@ -10,7 +10,7 @@ The figures in docs/methods/interpolation.md (Quality) come from this script.
 Usage::
 
     python benchmarks/interpolation_ends.py                       # 3 pairs x 2 ends x seeds 0-2
-    python benchmarks/interpolation_ends.py '{"iterations": 8}'   # extra interpolate_textures options
+    python benchmarks/interpolation_ends.py '{"max_iterations": 8}'   # extra interpolate_textures options
 """
 
 import json
@@ -28,7 +28,7 @@ TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 PAIRS = [("rohitrango/t1.png", "rohitrango/t7.png"), ("jcjohnson/brick.png", "jcjohnson/bumpy.png"),
          ("rohitrango/t4.png", "rohitrango/t13.png")]
 SIZE = 64
-OPTIONS = dict(stages=((2, 17), (1, 17), (1, 9)), iterations=4, max_neighborhoods=400)
+OPTIONS = dict(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4, max_neighborhoods=400)
 
 
 def crop(name):

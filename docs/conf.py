@@ -17,7 +17,7 @@ extensions = [
     "sphinx_gallery.gen_gallery",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
+exclude_patterns = ["_build", "_generated", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
 autosummary_generate = True
 # the families and the core re-export their public names: document what __all__ lists
 autosummary_ignore_module_all = False
@@ -40,3 +40,24 @@ sphinx_gallery_conf = {
     "within_subsection_order": "FileNameSortKey",
 }
 html_theme = "alabaster"
+
+
+def _methods_table():
+    """docs/_generated/methods.md: the registry's methods as a table (included by methods/index.md)."""
+    from pathlib import Path
+
+    from texsynth.registry import METHODS
+
+    rows = ["| command | function | paper | page |", "|---|---|---|---|"]
+    for name, method in METHODS.items():
+        module, function = method.target.split(":")
+        rows.append(f"| `texsynth {name}` | `texsynth.{module}.{function}` | {method.paper} | "
+                    f"{{doc}}`/methods/{method.page}` |")
+    out = Path(__file__).parent / "_generated" / "methods.md"
+    out.parent.mkdir(exist_ok=True)
+    text = "\n".join(rows) + "\n"
+    if not out.exists() or out.read_text() != text:
+        out.write_text(text)
+
+
+_methods_table()

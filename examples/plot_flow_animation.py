@@ -61,18 +61,18 @@ def report(name, video, seconds):
     energy = [metrics.texture_energy(video[k - 1], exemplar) for k in keys]
     sharp = [sharpness(video[k - 1]) / sharpness(video[0]) for k in keys]
     inner = (slice(16, 112), slice(16, 112))
-    flicker = np.mean([np.mean(np.abs(video[i + 1] - flows.warp(video[i], rot, mode="nearest", order=3))[inner])
+    flicker = np.mean([np.mean(np.abs(video[i + 1] - flows.warp(video[i], rot, mode="nearest", spline_order=3))[inner])
                        for i in range(frames - 1)])
     print(f"{name}: {seconds:.2f} s per frame; texture energy frames {keys}: "
           + ", ".join(f"{e:.5f}" for e in energy) + "; sharpness " + ", ".join(f"{v:.2f}" for v in sharp)
           + f"; flicker {flicker:.4f}")
 
 
-video, info = animate_texture(exemplar, rot, frames=frames, rng=0, return_info=True)
+video, info = animate_texture(exemplar, rot, n_frames=frames, rng=0, return_info=True)
 save_frames(OUT / "flow_rotation.gif", video, fps=8, overwrite=True)
 print(f"rotation: frame 1 {info.first.seconds:.1f} s")
 report("frame_falloff=0.25 (default)", video, info.frame_seconds.mean())
-plain, pinfo = animate_texture(exemplar, rot, frames=frames, first_frame=video[0], frame_falloff=None, rng=0,
+plain, pinfo = animate_texture(exemplar, rot, n_frames=frames, first_frame=video[0], frame_falloff=None, rng=0,
                                return_info=True)
 report("frame_falloff=None (plain E-step)", plain, pinfo.frame_seconds.mean())
 
@@ -101,7 +101,7 @@ fig.savefig(OUT / "flow_vs_warp.png", dpi=100)
 
 # Figure 1: a sink, the texture drains into the centre
 sink = flows.sink(shape, 1.5)
-video_sink = animate_texture(exemplar, sink, frames=frames, first_frame=video[0], rng=0)
+video_sink = animate_texture(exemplar, sink, n_frames=frames, first_frame=video[0], rng=0)
 save_frames(OUT / "flow_sink.gif", video_sink, fps=8, overwrite=True)
 fig, axes = plt.subplots(1, 4, figsize=(14, 3.8))
 for a, k in zip(axes, [0, 5, 10, 15]):
@@ -121,10 +121,10 @@ def varying(i):
     return swirl + drift
 
 
-video_var = animate_texture(exemplar, varying, frames=frames, first_frame=video[0], rng=0)
+video_var = animate_texture(exemplar, varying, n_frames=frames, first_frame=video[0], rng=0)
 save_frames(OUT / "flow_varying.gif", video_var, fps=8, overwrite=True)
 var_seq = flows.flow_sequence(varying, frames)
-var_flicker = [np.mean(np.abs(video_var[i + 1] - flows.warp(video_var[i], var_seq[i], mode="nearest", order=3))
+var_flicker = [np.mean(np.abs(video_var[i + 1] - flows.warp(video_var[i], var_seq[i], mode="nearest", spline_order=3))
                        [16:112, 16:112]) for i in range(frames - 1)]
 print("time-varying vortex + turning drift: flicker (mean abs change against the warped previous frame) "
       f"{np.mean(var_flicker):.4f}; sharpness frames 8, 16: "

@@ -26,7 +26,7 @@ OUT.mkdir(exist_ok=True)
 
 a = load_image(TEXTURES / "rohitrango" / "t1.png")[:80, :80, :3]  # brick
 b = load_image(TEXTURES / "rohitrango" / "t7.png")[:80, :80, :3]  # slate wall
-options = dict(stages=((2, 17), (1, 17), (1, 9)), iterations=4, alpha_steps=6, statistics_bands=3,
+options = dict(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4, alpha_steps=6, statistics_bands=3,
                max_neighborhoods=300, rng=0)
 
 strip_map = transition_alpha_map((64, 256))

@@ -70,10 +70,10 @@ save_grid([(frames[t], f"step {(t + 1) * every}") for t in show], "procedural_rd
 # Turk's presets and the cascade
 panels = []
 for pattern in ["spots", "small-spots", "large-spots", "irregular"]:
-    panels.append((reaction_diffusion((128, 128), steps=12000, pattern=pattern, rng=2), pattern))
-panels.append((reaction_diffusion((128, 128), steps=12000, pattern="large-spots", cascade=[(1 / 40, 6000)], rng=2),
+    panels.append((reaction_diffusion((128, 128), steps=12000, preset=pattern, rng=2), pattern))
+panels.append((reaction_diffusion((128, 128), steps=12000, preset="large-spots", cascade=[(1 / 40, 6000)], rng=2),
                "cascade: large spots, then s=1/40"))
-panels.append((reaction_diffusion((128, 128), steps=12000, pattern="stripes", rng=2),
+panels.append((reaction_diffusion((128, 128), steps=12000, preset="stripes", rng=2),
                "stripes (Da/Db = 15, s=1/200)"))
 panels.append((meinhardt_stripes((128, 128), steps=4000, rng=2), "Turk's stripes:\nMeinhardt, 4000 steps"))
 save_grid(panels, "procedural_rd_turk.png", rows=2)

@@ -107,3 +107,54 @@ def test_public_names_resolve_to_their_family():
         assert module.startswith("texsynth") or name == "__version__", name
     assert texsynth.patchwork.__module__ == "texsynth.patch._patchwork"
     assert callable(texsynth.patchwork) and callable(texsynth.heeger_bergen) and callable(texsynth.portilla_simoncelli)
+
+
+def _small_runs():
+    """One small return_info run of every algorithm (the info convention of docs/conventions.md)."""
+    import numpy as np
+
+    import texsynth
+    from texsynth import data
+    from texsynth.core import flows
+
+    bread, metal = data.load("bread")[:40, :40], data.load("metal")[:64, :64]
+    clip = np.stack([metal[:48, t:t + 48] for t in range(4)])
+    return {
+        "synthesize_pixels": lambda: texsynth.synthesize_pixels(bread[:24, :24], 16, levels=2, return_info=True, rng=0),
+        "optimize_texture": lambda: texsynth.optimize_texture(bread, 40, neighborhood_sizes=(8,), levels=2,
+                                                              max_iterations=2, return_info=True, rng=0),
+        "animate_texture": lambda: texsynth.animate_texture(bread, flows.rotation(24, 0.05), n_frames=2,
+                                                            neighborhood_sizes=(8,), levels=1, max_iterations=1,
+                                                            max_frame_iterations=1, return_info=True, rng=0),
+        "interpolate_textures": lambda: texsynth.interpolate_textures(bread, bread[::-1], 0.5, stages=((1, 9),),
+                                                                      max_iterations=1, statistics_step=False,
+                                                                      return_info=True, rng=0),
+        "patchwork": lambda: texsynth.patchwork(bread, 48, grid_spacing=12, return_info=True, rng=0),
+        "patchwork_video": lambda: texsynth.patchwork_video(clip, 32, 3, grid_spacing=16, return_info=True, rng=0),
+        "patchwork_transfer": lambda: texsynth.patchwork_transfer(metal, metal[::-1], grid_spacing=8, candidates=4,
+                                                                  return_info=True, rng=0),
+        "heeger_bergen": lambda: texsynth.heeger_bergen(metal, 64, scales=2, iterations=1, return_info=True, rng=0),
+        "portilla_simoncelli": lambda: texsynth.portilla_simoncelli(metal, 64, scales=2, iterations=1,
+                                                                    return_info=True, rng=0),
+    }
+
+
+@pytest.mark.parametrize("name", list(_small_runs()))
+def test_every_info_has_seconds_stage_seconds_and_one_energy_shape(name):
+    import numpy as np
+
+    _, info = _small_runs()[name]()
+    assert isinstance(info.seconds, float) and info.seconds > 0
+    assert isinstance(info.stage_seconds, dict) and info.stage_seconds
+    assert all(isinstance(k, str) and v >= 0 for k, v in info.stage_seconds.items())
+    assert sum(info.stage_seconds.values()) <= info.seconds * 1.01 + 1e-3 or name == "heeger_bergen"  # HB: parallel
+    if hasattr(info, "energy"):
+        assert isinstance(info.energy, np.ndarray) and info.energy.ndim == 1 and len(info.energy)
+        if hasattr(info, "stage"):
+            assert info.stage.shape == info.energy.shape and np.all(np.diff(info.stage) >= 0)
+
+
+def test_old_per_part_seconds_still_answer_with_a_warning():
+    _, info = _small_runs()["interpolate_textures"]()
+    with pytest.warns(DeprecationWarning, match="use InterpolationInfo.stage_seconds"):
+        assert info.seconds["synthesis"] == info.stage_seconds["synthesis"]

@@ -372,3 +372,100 @@ def test_progress_bar_is_on_by_default_on_a_terminal(tmp_path, monkeypatch, tty,
     monkeypatch.setattr(sys.stderr, "isatty", lambda: tty)
     assert run("reaction-diffusion", "-o", str(tmp_path / "m.png"), "--size", "16x16", "--steps", "5", *flag) == 0
     assert seen["progress"] is expected
+
+
+# --------------------------------------------------------------------------- failure modes (issue: reliability)
+def _one_line_error(capsys, status):
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and err.startswith("texsynth: error:") and "\n" not in err, (status, err)
+    return err
+
+
+@pytest.fixture
+def metal_file(tmp_path):
+    path = tmp_path / "metal.png"
+    save_image(path, data.load("metal")[:32, :32])
+    return path
+
+
+def test_unwritable_folder_is_one_line(tmp_path, metal_file, capsys, monkeypatch):
+    import errno
+
+    import texsynth.io as tio
+
+    def refuse(path):
+        raise PermissionError(errno.EACCES, "Permission denied", str(path.parent))
+
+    monkeypatch.setattr(tio, "_new_temp_file", refuse)  # a read-only folder (the tests may run as root)
+    status = run("patchwork", str(metal_file), "-o", str(tmp_path / "out.png"), "--grid-spacing", "8")
+    assert "Permission denied" in _one_line_error(capsys, status)
+    assert not (tmp_path / "out.png").exists()
+
+
+def test_full_disk_is_one_line_and_leaves_nothing(tmp_path, metal_file, capsys, monkeypatch):
+    import errno
+
+    import texsynth.io as tio
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(tio.iio, "imwrite", full)
+    status = run("patchwork", str(metal_file), "-o", str(tmp_path / "out.png"), "--grid-spacing", "8")
+    assert "No space left" in _one_line_error(capsys, status)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["metal.png"]  # no output, no temporary
+
+
+def test_output_naming_a_folder_is_one_line_even_with_overwrite(tmp_path, metal_file, capsys):
+    (tmp_path / "folder.png").mkdir()
+    status = run("patchwork", str(metal_file), "-o", str(tmp_path / "folder.png"), "--grid-spacing", "8",
+                 "--overwrite")
+    assert "folder" in _one_line_error(capsys, status)
+    assert (tmp_path / "folder.png").is_dir()
+
+
+def test_volume_outputs_are_written_as_a_set(tmp_path, metal_file, capsys):
+    (tmp_path / "vol_slice_y.png").write_bytes(b"mine")
+    status = run("solid", str(metal_file), "-o", str(tmp_path / "vol.npy"), "--size", "8", "--levels", "1",
+                 "--passes", "1")
+    assert "vol_slice_y.png" in _one_line_error(capsys, status)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["metal.png", "vol_slice_y.png"]  # nothing written
+    assert (tmp_path / "vol_slice_y.png").read_bytes() == b"mine"
+
+
+def test_unwritable_format_is_refused_before_the_synthesis(tmp_path, metal_file, capsys, monkeypatch):
+    import functools
+
+    import texsynth.optimization as optimization
+
+    @functools.wraps(optimization.animate_texture)  # the command reads the signature
+    def never(*args, **kwargs):
+        raise AssertionError("the synthesis ran before the output path was checked")
+
+    monkeypatch.setattr(optimization, "animate_texture", never)
+    status = run("animate", str(metal_file), "-o", str(tmp_path / "frames.tif"), "--size", "16",
+                 "--flows", "rotation:0.1", "--n-frames", "2")
+    assert "frame-sequence format" in _one_line_error(capsys, status)
+
+
+def test_empty_size_is_an_error_not_ignored(tmp_path, metal_file, capsys):
+    status = run("patchwork", str(metal_file), "-o", str(tmp_path / "out.png"), "--size", "")
+    assert "--size" in _one_line_error(capsys, status)
+    assert not (tmp_path / "out.png").exists()
+
+
+def test_version(capsys):
+    import texsynth
+
+    with pytest.raises(SystemExit) as stop:
+        run("--version")
+    assert stop.value.code == 0 and capsys.readouterr().out.strip() == f"texsynth {texsynth.__version__}"
+
+
+def test_old_option_names_still_work_with_a_warning(tmp_path, metal_file, capsys):
+    status = run("animate", str(metal_file), "-o", str(tmp_path / "f.gif"), "--size", "16", "--flows",
+                 "rotation:0.1", "--frames", "2", "--neighborhood-sizes", "(8,)", "--levels", "1",
+                 "--max-iterations", "1", "--frame-iterations", "1", "--seed", "0")
+    err = capsys.readouterr().err
+    assert status == 0 and (tmp_path / "f.gif").exists()
+    assert "--frames is deprecated; use --n-frames" in err and "--frame-iterations is deprecated" in err

@@ -42,5 +42,7 @@ def test_every_method_family_is_in_the_gallery():
 
 def test_side_by_side_keeps_height_and_channels():
     a = np.zeros((5, 3, 3))
-    joined = demo._side_by_side([a, a, a], gap=2)
+    from texsynth.registry import _side_by_side
+
+    joined = _side_by_side([a, a, a], gap=2)
     assert joined.shape == (5, 3 * 3 + 2 * 2, 3) and joined[:, 3:5].min() == 1.0

@@ -57,3 +57,40 @@ def test_old_paths_work_in_a_fresh_process():
             "try:\n    from texsynth.nearest import PatchIndex\nexcept DeprecationWarning as w:\n    print(w)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert "use texsynth.core.search.PatchIndex" in out
+
+
+def _renamed_functions():
+    import inspect
+
+    for family in ("pixel", "patch", "optimization", "statistical", "procedural", "core.flows", "core.neighborhood",
+                   "metrics"):
+        module = importlib.import_module(f"texsynth.{family}")
+        for name in module.__all__:
+            func = getattr(module, name)
+            if inspect.isfunction(func) and getattr(func, "renamed_parameters", None):
+                yield f"{family}.{name}", func
+
+
+@pytest.mark.parametrize("where, func", list(_renamed_functions()), ids=lambda v: v if isinstance(v, str) else "")
+def test_every_renamed_parameter_is_wired(where, func):
+    import inspect
+
+    params = inspect.signature(func).parameters
+    for old, new in func.renamed_parameters.items():
+        assert new in params and old not in params, (where, old, new)
+        with pytest.raises(TypeError, match=f"got both {old}= \\(deprecated\\) and {new}="):
+            func(**{old: 1, new: 1})
+
+
+def test_an_old_name_gives_the_same_result_with_a_warning():
+    from texsynth import data
+
+    ex = data.load("bumpy")[:24, :24]
+    kw = dict(neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)
+    new = texsynth.optimize_texture(ex, 24, relative_grid_spacing=0.5, **kw)
+    with pytest.warns(DeprecationWarning, match=r"optimize_texture\(grid_spacing=\.\.\.\) is deprecated; use "
+                                                r"relative_grid_spacing=\.\.\. instead"):
+        old = texsynth.optimize_texture(ex, 24, grid_spacing=0.5, **kw)
+    assert (old == new).all()
+    with pytest.warns(DeprecationWarning, match=r"use periodic_exemplar='periodic\+smooth' instead"):
+        texsynth.ps_statistics(data.load("metal")[:64, :64], scales=2, periodic_smooth=True)

@@ -95,7 +95,7 @@ def test_radial_and_vortex_flows():
 def test_flow_sequence_forms_and_errors():
     f = translation((8, 9), (1.0, 0.0))
     assert flow_sequence(f, 4).shape == (3, 8, 9, 2)
-    seq = flow_sequence(lambda i: translation((8, 9), (i, 0.0)), frames=3)
+    seq = flow_sequence(lambda i: translation((8, 9), (i, 0.0)), n_frames=3)
     assert seq[1, 0, 0, 0] == 1.0
     assert flow_sequence(np.zeros((2, 8, 9, 2))).shape == (2, 8, 9, 2)
     with pytest.raises(ValueError, match="frames"):
@@ -105,9 +105,9 @@ def test_flow_sequence_forms_and_errors():
     with pytest.raises(ValueError, match="flows"):
         flow_sequence(np.zeros((2, 8, 9, 3)))
     with pytest.raises(ValueError, match="frames"):
-        flow_sequence(np.zeros((2, 8, 9, 2)), frames=5)
+        flow_sequence(np.zeros((2, 8, 9, 2)), n_frames=5)
     with pytest.raises(ValueError, match="flows\\(1\\)"):
-        flow_sequence(lambda i: np.zeros((8, 9, 2)) if i == 0 else np.zeros((8, 8, 2)), frames=3)
+        flow_sequence(lambda i: np.zeros((8, 9, 2)) if i == 0 else np.zeros((8, 8, 2)), n_frames=3)
 
 
 def test_bad_warp_input(metal):

@@ -14,7 +14,7 @@ from texsynth.optimization import optimize_texture
 
 from conftest import load_texture
 
-SMALL = dict(stages=((2, 9), (1, 9)), iterations=3, max_neighborhoods=96, rng=0)
+SMALL = dict(stages=((2, 9), (1, 9)), max_iterations=3, max_neighborhoods=96, rng=0)
 
 
 @pytest.fixture(scope="module")
@@ -125,7 +125,7 @@ def test_halfway_is_between_and_not_blurred(pair, results):
 def test_alpha_map_transition(pair):
     a, b = pair
     amap = transition_alpha_map((24, 72))
-    out = interpolate_textures(a, b, amap, alpha_steps=3, statistics=True, **SMALL)
+    out = interpolate_textures(a, b, amap, alpha_steps=3, statistics_step=True, **SMALL)
     assert out.shape == (24, 72, 3)
     # share of I2 in each third: E(band, I1) / (E(band, I1) + E(band, I2)), 0 for a copy of I1 and
     # 1 for a copy of I2. Measured (seeds 0, 1, 2): 0.05-0.06 / 0.39-0.44 / 0.83-0.90. A strip that
@@ -160,10 +160,10 @@ def test_statistics_bands_work_on_their_own_part_of_the_map():
 
 def test_same_seed_same_output_and_grey(pair):
     a, b = pair
-    kw = dict(SMALL, iterations=1)
-    x = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics=False, **kw)
+    kw = dict(SMALL, max_iterations=1)
+    x = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics_step=False, **kw)
     seen = []
-    y = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics=False,
+    y = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics_step=False,
                              progress=lambda step, total, info: seen.append((step, total, info["stage"])), **kw)
     assert x.shape == (48, 48) and np.array_equal(x, y)
     # one report per (stage, iteration), counting up to the announced total
@@ -195,9 +195,9 @@ def test_empty_feature_map_falls_back_to_colour_only(pair):
     a, b = pair
     empty = np.zeros((48, 48), bool)
     with pytest.warns(RuntimeWarning, match="colour-only"):
-        out, info = interpolate_textures(a, b, 0.5, features=(empty, empty), statistics=False,
+        out, info = interpolate_textures(a, b, 0.5, features=(empty, empty), statistics_step=False,
                                          return_info=True, **SMALL)
-    assert info.colour_only and info.seconds["tps_rpm"] < 0.05
+    assert info.colour_only and info.stage_seconds["tps_rpm"] < 0.05
     assert out.shape == a.shape
 
 
@@ -286,21 +286,22 @@ def test_relaxation_equals_plain_reference(pair, shape):
 
 def test_stops_when_energy_stops_falling(pair):
     # Kwatra et al.'s criterion: a stage ends at the first iteration whose energy is not
-    # (1 - min_improvement) times the previous one
+    # (1 - tolerance) times the previous one
     a, b = pair
-    kw = dict(SMALL, iterations=6, statistics=True)
-    _, full = interpolate_textures(a, b, 0.5, min_improvement=None, return_info=True, **kw)
-    assert [len(e) for e in full.energy] == [7, 7]  # the first search, then one per iteration
-    _, stop = interpolate_textures(a, b, 0.5, min_improvement=0.0, return_info=True, **kw)
-    for e_full, e_stop in zip(full.energy, stop.energy):
-        e = np.array(e_stop)
+    kw = dict(SMALL, max_iterations=6, statistics_step=True)
+    _, full = interpolate_textures(a, b, 0.5, tolerance=None, return_info=True, **kw)
+    assert np.bincount(full.stage).tolist() == [7, 7]  # the first search, then one per iteration
+    _, stop = interpolate_textures(a, b, 0.5, tolerance=0.0, return_info=True, **kw)
+    for k in range(2):
+        e = stop.energy[stop.stage == k]
         assert np.all(np.diff(e[:-1]) <= 0)  # fell until the last iteration
         assert len(e) == 7 or e[-1] >= e[-2]  # ... which ran all or did not fall
     # the first stage is run identically until it stops
-    assert stop.energy[0] == full.energy[0][: len(stop.energy[0])]
-    assert sum(map(len, stop.energy)) < sum(map(len, full.energy))
-    with pytest.raises(ValueError, match="min_improvement"):
-        interpolate_textures(a, b, 0.5, min_improvement=1.5, **SMALL)
+    first = stop.energy[stop.stage == 0]
+    np.testing.assert_array_equal(first, full.energy[full.stage == 0][: len(first)])
+    assert len(stop.energy) < len(full.energy)
+    with pytest.raises(ValueError, match="tolerance"):
+        interpolate_textures(a, b, 0.5, tolerance=1.5, **SMALL)
     with pytest.raises(ValueError, match="mean_shift_iterations"):
         interpolate_textures(a, b, 0.5, mean_shift_iterations=-1, **SMALL)
 
@@ -504,7 +505,7 @@ def test_halfway_is_as_sharp_as_the_linear_blend():
     a = resize(load_texture("rohitrango/t4.png"), (96, 96), anti_aliasing=True)  # as in the example
     b = resize(load_texture("rohitrango/t13.png"), (96, 96), anti_aliasing=True)
     features = (ridge_feature_map(a), ridge_feature_map(b))
-    out = interpolate_textures(a, b, 0.5, features=features, stages=((2, 17), (1, 17), (1, 9)), iterations=4,
+    out = interpolate_textures(a, b, 0.5, features=features, stages=((2, 17), (1, 17), (1, 9)), max_iterations=4,
                                max_neighborhoods=400, rng=0)
     blend = linear_blend(a, b, 0.5)
     assert _sharpness(out) > 0.9 * _sharpness(blend)
@@ -525,3 +526,15 @@ def test_mean_shift_returns_the_dominant_mode_not_the_mean():
     np.testing.assert_allclose(x[2:7, 2:7], 0.2, atol=1e-6)
     mean = _mean_shift_update(z, centres, np.ones(5), (9, 9), 0.1, 0, 1)  # 0 iterations: the weighted mean
     np.testing.assert_allclose(mean[2:7, 2:7], 0.44, atol=1e-6)
+
+
+def test_linear_blend_refuses_bad_alpha():
+    a, b = np.zeros((4, 4)), np.ones((4, 4))
+    for bad in (float("nan"), -0.5, 2.0):
+        with pytest.raises(ValueError, match="alpha"):
+            linear_blend(a, b, bad)
+    with pytest.raises(TypeError, match="alpha"):
+        linear_blend(a, b, "0.5")
+    with pytest.raises(ValueError, match="alpha map"):
+        linear_blend(a, b, np.zeros((3, 3)))
+    assert linear_blend(a, b, np.full((4, 4), 0.5)).tolist() == np.full((4, 4), 0.5).tolist()

@@ -1,10 +1,23 @@
 """Image and frame I/O: round trips, bit depths, atomic and non-overwriting saves."""
 
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import imageio.v3 as iio
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 
 from texsynth import data
 from texsynth.io import load_frames, load_image, save_frames, save_image, to_uint
+
+POSIX = pytest.mark.skipif(os.name != "posix", reason="POSIX permissions and signals")
 
 
 def test_png_round_trip_is_exact_at_8_bits(tmp_path):
@@ -65,11 +78,24 @@ def test_missing_and_unreadable_files(tmp_path):
         save_image(tmp_path / "missing" / "a.png", np.zeros((2, 2)))
 
 
-def test_to_uint_rounds_and_clips():
-    assert to_uint(np.array([-0.1, 0.5, 1.2])).tolist() == [0, 128, 255]
+def test_to_uint_rounds_and_refuses_what_it_would_have_clipped():
+    assert to_uint(np.array([0.0, 0.5, 1.0])).tolist() == [0, 128, 255]
     assert to_uint(np.array([1.0]), 16).tolist() == [65535]
+    # integer data are scaled like everywhere else, not clipped as if they were floats
+    assert to_uint(np.array([0, 200, 255], np.uint8)).tolist() == [0, 200, 255]
+    assert to_uint(np.array([0, 200, 255], np.uint8), 16).tolist() == [0, 200 * 257, 65535]
     with pytest.raises(ValueError, match="bits"):
         to_uint(np.zeros(2), 12)
+    with pytest.raises(ValueError, match=r"image has values in \[-0.1, 1.2\].*np.clip"):
+        to_uint(np.array([-0.1, 0.5, 1.2]))
+    with pytest.raises(ValueError, match="divide 0-255 data by 255"):
+        to_uint([np.nan, 0.5, 200.0][1:])
+    with pytest.raises(ValueError, match="image contains NaN"):
+        to_uint([np.nan, 0.5, 200.0])
+    with pytest.raises(TypeError, match="image must be an array.*got NoneType"):
+        to_uint(None)
+    with pytest.raises(TypeError, match="bits"):
+        to_uint(np.zeros(2), True)
 
 
 @pytest.mark.parametrize("target", ["anim.gif", "frames"])
@@ -156,3 +182,261 @@ def test_mp4_round_trip(tmp_path):
     back = load_frames(save_frames(tmp_path / "v.mp4", frames, fps=6))
     assert back.shape == (6, 32, 32, 3)
     assert np.abs(back - frames).mean() < 0.1  # lossy codec: colours close, not exact
+
+
+# --------------------------------------------------------------------------- #
+# reliability audit: permissions, signals, argument checks, odd files
+# --------------------------------------------------------------------------- #
+def _mode(path):
+    return path.stat().st_mode & 0o777
+
+
+@POSIX
+def test_new_files_get_the_permissions_the_umask_gives(tmp_path):
+    old = os.umask(0o022)
+    try:
+        written = [save_image(tmp_path / "a.png", np.zeros((4, 4))), save_image(tmp_path / "a.npy", np.zeros((4, 4))),
+                   save_image(tmp_path / "a.tif", np.zeros((4, 4))), save_frames(tmp_path / "a.gif", np.zeros((2, 4, 4)))]
+        folder = save_frames(tmp_path / "seq", np.zeros((2, 4, 4)))
+        os.umask(0o027)
+        strict = save_image(tmp_path / "b.png", np.zeros((4, 4)))
+        strict_folder = save_frames(tmp_path / "seq2", np.zeros((2, 4, 4)))
+    finally:
+        os.umask(old)
+    assert [_mode(p) for p in written] == [0o644] * 4
+    assert _mode(folder) == 0o755 and {_mode(p) for p in folder.iterdir()} == {0o644}
+    assert _mode(strict) == 0o640 and _mode(strict_folder) == 0o750
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.gif", "a.npy", "a.png", "a.tif", "b.png", "seq", "seq2"]
+
+
+@POSIX
+def test_overwriting_keeps_the_mode_of_the_replaced_file(tmp_path):
+    path = save_image(tmp_path / "a.png", np.zeros((4, 4)))
+    os.chmod(path, 0o604)  # a mode no umask gives by itself
+    save_image(path, np.ones((4, 4)), overwrite=True)
+    assert _mode(path) == 0o604 and load_image(path).min() == 1.0
+    folder = save_frames(tmp_path / "seq", np.zeros((2, 4, 4)))
+    os.chmod(folder, 0o705)
+    save_frames(folder, np.ones((3, 4, 4)), overwrite=True)
+    assert _mode(folder) == 0o705 and len(list(folder.iterdir())) == 3
+
+
+_SLOW_WRITE = """
+import signal, sys, time
+import numpy as np
+import texsynth.io as tio
+
+mode, target = sys.argv[1], sys.argv[2]
+if mode == "own-handler":
+    signal.signal(signal.SIGTERM, lambda *args: sys.exit(3))
+real = tio.iio.imwrite
+calls = []
+
+
+def slow_imwrite(uri, image, **kwargs):
+    calls.append(uri)
+    if mode == "frames" and len(calls) == 1:
+        return real(uri, image, **kwargs)  # the first frame is complete, the second never ends
+    with open(uri, "wb") as f:
+        f.write(b"half an image")
+    print("writing", flush=True)
+    while True:
+        time.sleep(0.05)
+
+
+tio.iio.imwrite = slow_imwrite
+if mode == "frames":
+    tio.save_frames(target, np.zeros((3, 8, 8)), overwrite=True)
+else:
+    tio.save_image(target, np.zeros((8, 8)), overwrite=True)
+"""
+
+
+@POSIX
+@pytest.mark.parametrize("mode, name, returncode", [
+    ("image", "noise.png", -signal.SIGTERM),   # terminated by SIGTERM, as without texsynth's handler
+    ("frames", "seq", -signal.SIGTERM),
+    ("own-handler", "noise.png", 3),           # a program's own SIGTERM handler still decides
+])
+def test_sigterm_during_a_write_leaves_no_temporary_file(tmp_path, mode, name, returncode):
+    out = tmp_path / "out"
+    out.mkdir()
+    target = out / name
+    # an earlier result, which the interrupted overwrite must leave intact
+    save_frames(target, np.ones((2, 8, 8))) if mode == "frames" else save_image(target, np.ones((8, 8)))
+    script = tmp_path / "slow_write.py"
+    script.write_text(_SLOW_WRITE)
+    proc = subprocess.Popen([sys.executable, str(script), mode, str(target)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        if line.strip() != "writing":
+            proc.wait(timeout=120)
+            pytest.fail(f"the writer did not start: {proc.stderr.read()[-2000:]}")
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=120)  # a guard against a hang, not a timing assertion
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        proc.stdout.close()
+        proc.stderr.close()
+    assert proc.returncode == returncode
+    assert [p.name for p in out.iterdir()] == [name]  # no hidden temporary file or folder
+    back = load_frames(target) if mode == "frames" else load_image(target)
+    assert back.min() == 1.0 and back.shape[0] == (2 if mode == "frames" else 8)
+
+
+@pytest.mark.parametrize("bad", [None, 3, ["a.png"], 2.5, True])
+def test_a_path_of_the_wrong_type_is_a_typeerror_naming_path(tmp_path, bad):
+    for call in (load_image, load_frames, lambda p: save_image(p, np.zeros((2, 2))),
+                 lambda p: save_frames(p, np.zeros((2, 2, 2)))):
+        with pytest.raises(TypeError, match=r"path must be a str or os\.PathLike"):
+            call(bad)
+    with pytest.raises(ValueError, match="path is an empty string"):
+        save_image("", np.zeros((2, 2)))
+
+
+@pytest.mark.parametrize("fps, error", [(float("nan"), ValueError), (-5, ValueError), (0, ValueError),
+                                        (float("inf"), ValueError), (True, TypeError), ("12", TypeError)])
+def test_fps_must_be_finite_and_positive(tmp_path, fps, error):
+    for target in ("a.gif", "seq"):
+        with pytest.raises(error, match="fps"):
+            save_frames(tmp_path / target, np.zeros((2, 4, 4)), fps=fps)
+    with pytest.raises(ValueError, match="too slow for a GIF"):
+        save_frames(tmp_path / "slow.gif", np.zeros((2, 4, 4)), fps=0.001)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_flags_must_be_bools(tmp_path):
+    path = save_image(tmp_path / "a.png", np.zeros((4, 4)))
+    with pytest.raises(TypeError, match="overwrite must be True or False"):
+        save_image(path, np.ones((4, 4)), overwrite="no")  # a truthy string must not overwrite
+    assert load_image(path).max() == 0.0
+    with pytest.raises(TypeError, match="loop"):
+        save_frames(tmp_path / "a.gif", np.zeros((2, 4, 4)), loop="no")
+
+
+def test_cmyk_files_load_as_rgb(tmp_path):
+    from PIL import Image
+
+    rgb = np.zeros((16, 16, 3), np.uint8)
+    rgb[:8] = (200, 100, 50)
+    rgb[8:] = (20, 180, 240)
+    for name in ("cmyk.jpg", "cmyk.tif"):
+        Image.fromarray(rgb).convert("CMYK").save(tmp_path / name, quality=100)
+        assert iio.imread(tmp_path / name).shape[-1] == 4  # what imageio gives: C, M, Y and K as "alpha"
+        image = load_image(tmp_path / name)
+        assert image.shape == (16, 16, 3)
+        assert np.abs(image - rgb / 255).max() < 8 / 255  # JPEG is lossy; the TIFF is exact
+
+
+@pytest.mark.parametrize("dtype", [np.int32, np.int16, np.uint32, np.int64])
+def test_integer_files_without_a_white_level_are_refused(tmp_path, dtype):
+    path = tmp_path / "counts.tif"
+    iio.imwrite(path, np.array([[1000, 5], [0, 7]], dtype=dtype))
+    with pytest.raises(ValueError, match=f"holds {np.dtype(dtype).name} pixels.*no agreed white level") as info:
+        load_image(path)
+    assert "counts.tif" in str(info.value)
+
+
+def test_sixteen_bit_netpbm_is_scaled_by_65535_even_when_dark(tmp_path):
+    # Pillow decodes 16-bit PGM as int32 0..65535; a dark one (max <= 255) used to be read as 8-bit
+    values = np.array([[0, 1, 100], [200, 3, 7]])
+    path = tmp_path / "dark.pgm"
+    path.write_bytes(b"P5\n3 2\n65535\n" + values.astype(">u2").tobytes())
+    assert np.array_equal(load_image(path), values / 65535)
+
+
+def test_gif_alpha_is_dropped_and_transparent_gifs_load(tmp_path):
+    rng = np.random.default_rng(0)
+    rgba = rng.random((3, 8, 8, 4))
+    back = load_frames(save_frames(tmp_path / "a.gif", rgba))
+    assert back.shape == (3, 8, 8, 3)
+    # a GIF another tool wrote with transparency: decoded as RGB and RGBA frames
+    raw = (rng.random((3, 8, 8, 4)) * 255).astype(np.uint8)
+    iio.imwrite(tmp_path / "t.gif", raw, extension=".gif", duration=100, loop=0)
+    assert load_frames(tmp_path / "t.gif").shape[:3] == (3, 8, 8)
+
+
+def test_formats_without_alpha_or_sixteen_bit_colour(tmp_path):
+    la = np.random.default_rng(0).random((6, 7, 2))
+    for suffix in (".bmp", ".ppm"):
+        back = load_image(save_image(tmp_path / f"la{suffix}", la))  # alpha dropped, as for JPEG
+        assert back.shape == (6, 7) and np.abs(back - la[..., 0]).max() <= 0.5 / 255 + 1e-9
+    with pytest.raises(ValueError, match="bits=16 PNG is written for grey images only.*tif"):
+        save_image(tmp_path / "c16.png", np.zeros((4, 4, 3)), bits=16)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["la.bmp", "la.ppm"]
+
+
+def test_npy_suffix_in_capitals_and_folder_targets(tmp_path):
+    volume = np.random.default_rng(0).random((3, 4, 5))
+    path = save_image(tmp_path / "V.NPY", volume)
+    assert np.array_equal(np.load(path), volume)
+    assert [p.name for p in tmp_path.iterdir()] == ["V.NPY"]
+    (tmp_path / "d.png").mkdir()
+    with pytest.raises(FileExistsError, match="is a folder"):
+        save_image(tmp_path / "d.png", np.zeros((2, 2)), overwrite=True)
+    with pytest.raises(ValueError, match="not a frame-sequence format"):
+        save_frames(tmp_path / "f.tif", np.zeros((2, 4, 4)))
+
+
+def test_animated_png_keeps_alpha_and_needs_no_video_extra(tmp_path, monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: None if name == "imageio_ffmpeg" else real(name))
+    frames = np.random.default_rng(0).random((3, 8, 10, 4))
+    back = load_frames(save_frames(tmp_path / "a.png", frames, fps=5))
+    assert back.shape == (3, 8, 10, 4) and np.abs(back - frames).max() <= 0.5 / 255 + 1e-9
+
+
+# bad values of every parameter of the public functions; each must be refused with a
+# TypeError/ValueError naming the parameter, and leave nothing behind
+_BAD_FLOATS = st.sampled_from([np.nan, np.inf, -np.inf, -0.5, 1.5, 255.0])
+_BAD_ARRAYS = st.one_of(
+    st.none(), st.text(max_size=3), st.just([[0.1], [0.2, 0.3]]),
+    hnp.arrays(np.float64, st.tuples(st.integers(1, 5), st.integers(1, 5)), elements=_BAD_FLOATS),
+    hnp.arrays(st.sampled_from([np.int64, np.int8, np.complex128]), st.tuples(st.integers(1, 5), st.integers(1, 5))),
+    st.tuples(st.integers(0, 3), st.integers(0, 3)).filter(lambda s: 0 in s).map(np.zeros),
+)
+_BAD_IMAGES = st.one_of(_BAD_ARRAYS, st.integers(), st.booleans(),
+                        st.sampled_from([(5,), (2, 2, 5), (1, 2, 2, 2, 1)]).map(np.zeros))
+_BAD_FRAMES = st.one_of(_BAD_ARRAYS, st.sampled_from([(5,), (2, 2, 2, 5), (1, 2, 2, 2, 1, 1)]).map(np.zeros))
+_BAD_PATHS = st.one_of(st.none(), st.integers(), st.floats(), st.booleans(), st.just(""),
+                       st.lists(st.text(max_size=3), max_size=2))
+_NOT_BOOLS = st.one_of(st.none(), st.integers(), st.text(max_size=3), st.floats())
+_BAD_FPS = st.one_of(st.none(), st.booleans(), st.text(max_size=3), st.floats(max_value=0), st.just(np.nan),
+                     st.just(np.inf))
+_BAD_BITS = st.one_of(st.none(), st.booleans(), st.text(max_size=3), st.floats(), st.integers().filter(lambda b: b not in (8, 16)))
+
+_IO_CASES = {
+    "load_image path": (lambda v, d: load_image(v), "path", _BAD_PATHS),
+    "load_frames path": (lambda v, d: load_frames(v), "path", _BAD_PATHS),
+    "save_image path": (lambda v, d: save_image(v, np.zeros((2, 2))), "path", _BAD_PATHS),
+    "save_image image": (lambda v, d: save_image(d / "a.png", v), "image", _BAD_IMAGES),
+    "save_image npy": (lambda v, d: save_image(d / "a.npy", v), "image", _BAD_ARRAYS),
+    "save_image bits": (lambda v, d: save_image(d / "a.png", np.zeros((2, 2)), bits=v), "bits", _BAD_BITS.filter(lambda b: b is not None)),
+    "save_image overwrite": (lambda v, d: save_image(d / "a.png", np.zeros((2, 2)), overwrite=v), "overwrite", _NOT_BOOLS),
+    "save_frames path": (lambda v, d: save_frames(v, np.zeros((2, 2, 2))), "path", _BAD_PATHS),
+    "save_frames frames": (lambda v, d: save_frames(d / "a.gif", v), "frames", _BAD_FRAMES),
+    "save_frames folder": (lambda v, d: save_frames(d / "seq", v), "frames", _BAD_FRAMES),
+    "save_frames fps": (lambda v, d: save_frames(d / "a.gif", np.zeros((2, 2, 2)), fps=v), "fps", _BAD_FPS),
+    "save_frames loop": (lambda v, d: save_frames(d / "a.gif", np.zeros((2, 2, 2)), loop=v), "loop", _NOT_BOOLS),
+    "save_frames overwrite": (lambda v, d: save_frames(d / "seq", np.zeros((2, 2, 2)), overwrite=v), "overwrite", _NOT_BOOLS),
+    "to_uint image": (lambda v, d: to_uint(v), "image", _BAD_ARRAYS),
+    "to_uint bits": (lambda v, d: to_uint(np.zeros(2), v), "bits", _BAD_BITS),
+}
+
+
+@pytest.mark.parametrize("case", sorted(_IO_CASES))
+@settings(max_examples=30, deadline=None)
+@given(data=st.data())
+def test_bad_input_is_refused_naming_the_parameter(case, data):
+    call, name, strategy = _IO_CASES[case]
+    value = data.draw(strategy, label=name)
+    with tempfile.TemporaryDirectory() as d:
+        with pytest.raises((TypeError, ValueError)) as info:
+            call(value, Path(d))
+        assert name in str(info.value)
+        assert os.listdir(d) == []

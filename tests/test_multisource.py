@@ -146,7 +146,7 @@ def test_scanline_kdtree_and_tsvq_close_to_exact(bread):
 
 def test_scanline_kdtree_mixture_runs(brick, gravel):
     # the multi-source path of approximate scanline search ([N_i(p), p] indexes)
-    out, info = mix_textures([brick, gravel], 16, levels=2, method="kdtree", iterations=2, rng=0, return_info=True)
+    out, info = mix_textures([brick, gravel], 16, levels=2, method="kdtree", max_iterations=2, rng=0, return_info=True)
     assert out.shape == (16, 16) and info.method == "kdtree" and np.all(np.isfinite(out))
     assert min(brick.min(), gravel.min()) - 1e-9 <= out.min() and out.max() <= max(brick.max(), gravel.max()) + 1e-9
 
@@ -155,7 +155,7 @@ def test_scanline_kdtree_mixture_runs(brick, gravel):
 @pytest.mark.parametrize("order", ["scanline", "independent"])
 def test_one_source_reduces_exactly_to_wei_levoy(bread, order):
     ref = synthesize_pixels(bread, 24, levels=2, order=order, rng=5)
-    mixed = mix_textures([bread], 24, weights=[0.3], iterations=4, levels=2, order=order, rng=5)
+    mixed = mix_textures([bread], 24, weights=[0.3], max_iterations=4, levels=2, order=order, rng=5)
     assert np.array_equal(ref, mixed)
 
 
@@ -169,7 +169,7 @@ def test_zero_weight_source_reduces_exactly(bread):
 
 
 def test_energy_info_and_iterations(brick, gravel):
-    out, info = mix_textures([brick, gravel], 24, levels=2, iterations=3, rng=0, return_info=True)
+    out, info = mix_textures([brick, gravel], 24, levels=2, max_iterations=3, rng=0, return_info=True)
     assert len(info.energy) == 2 and all(np.isfinite(info.energy))
     # multi-start alternation: 1 <= steps per start <= iterations, two starts per pixel
     assert 2.0 <= info.iterations[-1] <= 6.0
@@ -269,7 +269,7 @@ def test_disc_footprint(bread, brick, gravel):
 
 # ---------------------------------------------------------------- solid textures
 def test_solid_slices_look_like_exemplar(bread):
-    vol = synthesize_solid(bread, 16, levels=2, passes=1, iterations=1, rng=0)
+    vol = synthesize_solid(bread, 16, levels=2, passes=1, max_iterations=1, rng=0)
     assert vol.shape == (16, 16, 16, 3)
     noise = texture_energy(noise_baseline(bread, 16, rng=0), bread, patch_size=5)
     energies = [texture_energy(sl, bread, patch_size=5) for sl in (vol[8], vol[:, 8], vol[:, :, 8])]
@@ -292,8 +292,8 @@ def test_solid_slices_look_like_exemplar(bread):
 def test_solid_shared_view_equals_separate_copies(bread):
     # One image for all three axes builds each index once; equal copies build three.
     # Sharing is only a saving: exact search gives the same volume bit for bit.
-    shared = synthesize_solid(bread, 12, levels=2, passes=1, iterations=1, method="exact", rng=0)
-    copies = synthesize_solid([bread, bread.copy(), bread.copy()], 12, levels=2, passes=1, iterations=1,
+    shared = synthesize_solid(bread, 12, levels=2, passes=1, max_iterations=1, method="exact", rng=0)
+    copies = synthesize_solid([bread, bread.copy(), bread.copy()], 12, levels=2, passes=1, max_iterations=1,
                               method="exact", rng=0)
     assert np.array_equal(shared, copies)
 
@@ -325,7 +325,7 @@ def test_tsvq_solid_close_to_exact(bread):
     def slices_energy(vol):
         return np.mean([texture_energy(s, bread, patch_size=5) for s in (vol[8], vol[:, 8], vol[:, :, 8])])
 
-    kw = dict(levels=2, passes=1, iterations=1, rng=0)
+    kw = dict(levels=2, passes=1, max_iterations=1, rng=0)
     e_exact = slices_energy(synthesize_solid(bread, 16, method="exact", **kw))
     e_tsvq = slices_energy(synthesize_solid(bread, 16, method="tsvq", **kw))
     noise = texture_energy(noise_baseline(bread, 16, rng=0), bread, patch_size=5)
@@ -338,14 +338,14 @@ def test_tsvq_solid_grey_near_duplicates():
     # Grey nuts: near-identical float32 neighbourhoods make the TSVQ k-means collapse; the
     # tree build then splits the node evenly (it raised IndexError before 0.2)
     nuts = _load("lcv/nuts.pgm")
-    vol = synthesize_solid(nuts, 16, levels=2, passes=1, iterations=1, method="tsvq", rng=0)
+    vol = synthesize_solid(nuts, 16, levels=2, passes=1, max_iterations=1, method="tsvq", rng=0)
     noise = texture_energy(noise_baseline(nuts, 16, rng=0), nuts, patch_size=5)
     # measured 0.0081 vs noise 0.128 (exact: 0.0072)
     assert texture_energy(vol[8], nuts, patch_size=5) < 0.3 * noise
 
 
 def test_solid_one_view_only_constrains_its_axis(bread):
-    vol = synthesize_solid([bread], 16, axes=(0,), levels=2, passes=1, iterations=1, rng=0)
+    vol = synthesize_solid([bread], 16, axes=(0,), levels=2, passes=1, max_iterations=1, rng=0)
     assert vol.shape == (16, 16, 16, 3)
 
     def energy(slices):
@@ -396,3 +396,11 @@ def test_bad_views(bread):
         synthesize_solid([bread, bread], 8, axes=(1, 1), levels=1)
     with pytest.raises(ValueError, match="1 to 3"):
         synthesize_solid([bread] * 4, 8, levels=1)
+
+
+def test_solid_progress_counts_every_pass(bread):
+    seen = []
+    synthesize_solid(bread[:24, :24], 12, levels=2, passes=2, max_iterations=1, neighborhood_size=3, rng=0,
+                     progress=lambda step, total, info: seen.append((step, total)))
+    # 2 passes per level and one parent-only pass on the finer level: 5 steps, the last one 5/5
+    assert seen[-1] == (5, 5) and len(seen) == 5

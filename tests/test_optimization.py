@@ -341,8 +341,8 @@ def test_animation_moves_texture_with_the_flow():
     img = texture("rohitrango/t4.png", 128)
     ex, first = img[:64, :64], img[70:110, 70:110]
     flow = translation((40, 40), (0.0, 3.0))
-    video, info = animate_texture(ex, flow, frames=3, neighborhood_sizes=(16, 8), levels=1, first_frame=first,
-                                  frame_iterations=2, tileable=True, constraint_weight=10.0, rng=0,
+    video, info = animate_texture(ex, flow, n_frames=3, neighborhood_sizes=(16, 8), levels=1, first_frame=first,
+                                  max_frame_iterations=2, tileable=True, constraint_weight=10.0, rng=0,
                                   return_info=True)
     assert video.shape == (3, 40, 40, 3) and info.first is None
     assert np.array_equal(video[0], first)
@@ -366,7 +366,7 @@ def test_rotating_frames_stay_sharp_and_follow_the_flow():
     img = texture("rohitrango/t4.png", 128)
     ex, first = img[:64, :64], img[64:128, 64:128]
     flow = rotation((64, 64), 0.06)
-    video = animate_texture(ex, flow, frames=8, first_frame=first, rng=0)
+    video = animate_texture(ex, flow, n_frames=8, first_frame=first, rng=0)
     # Sharpness baseline: the first frame blurred by a Gaussian of σ = 0.7 px keeps
     # 0.51 of its sharpness (σ = 1: 0.39). Measured last frame: 0.66 with the default
     # frame_falloff, 0.36 with the plain E-step (frame_falloff=None), which drifts.
@@ -377,7 +377,7 @@ def test_rotating_frames_stay_sharp_and_follow_the_flow():
     # shows). Measured 0.05-0.06 at every frame (plain E-step: up to 0.36).
     inner = (slice(8, 56), slice(8, 56))
     for i in range(1, 8):
-        follow = np.mean(np.abs(video[i] - warp(video[i - 1], flow, mode="nearest", order=3))[inner])
+        follow = np.mean(np.abs(video[i] - warp(video[i - 1], flow, mode="nearest", spline_order=3))[inner])
         ignore = np.mean(np.abs(video[i] - video[i - 1])[inner])
         assert follow < 0.15 * ignore, (i, follow, ignore)
 
@@ -415,8 +415,8 @@ def test_frame_m_step_never_worse_than_the_current_neighbourhoods(bread):
 
 def test_animation_grey_and_callable_flows():
     ex = texture("lcv/metal.pgm", 40)
-    video = animate_texture(ex, lambda i: translation((24, 24), (i, 0.0)), frames=3, neighborhood_sizes=(8,),
-                            levels=1, max_iterations=1, frame_iterations=1, rng=0)
+    video = animate_texture(ex, lambda i: translation((24, 24), (i, 0.0)), n_frames=3, neighborhood_sizes=(8,),
+                            levels=1, max_iterations=1, max_frame_iterations=1, rng=0)
     assert video.shape == (3, 24, 24)
 
 
@@ -426,7 +426,7 @@ def test_defaults_are_the_papers():
     params = inspect.signature(optimize_texture).parameters
     assert params["levels"].default == 3
     assert tuple(params["neighborhood_sizes"].default) == (32, 16, 8)
-    assert params["grid_spacing"].default == 0.25
+    assert params["relative_grid_spacing"].default == 0.25
     assert params["irls_exponent"].default == 0.8
     assert params["gradient_weight"].default == 0.0  # the paper's generalisation is opt-in (μ = 10)
     # Figure 3 (a 64-px exemplar): (1/4, 8), (1/2, 16), (1/2, 8), (1, 32), (1, 16), (1, 8)
@@ -466,7 +466,7 @@ def test_nan_in_mask_init_first_frame_is_named(bread):
     with pytest.raises(ValueError, match="init contains NaN"):
         optimize_texture(bread, 16, init=np.full((16, 16, 3), np.nan), **ok)
     with pytest.raises(ValueError, match="first_frame contains NaN"):
-        animate_texture(bread, translation((16, 16), (0.0, 1.0)), frames=2, first_frame=np.full((16, 16, 3), np.nan),
+        animate_texture(bread, translation((16, 16), (0.0, 1.0)), n_frames=2, first_frame=np.full((16, 16, 3), np.nan),
                         **ok)
 
 
@@ -485,7 +485,7 @@ def test_bad_input_messages(bread):
         (dict(irls_exponent=2.5), "irls_exponent"),
         (dict(gradient_weight=-1.0), "gradient_weight"),
         (dict(completeness_weight=-1.0), "completeness_weight"),
-        (dict(grid_spacing=1.5), "grid_spacing"),
+        (dict(relative_grid_spacing=1.5), "relative_grid_spacing"),
         (dict(method="fast"), "method"),
         (dict(exemplar_mask=np.zeros(bread.shape[:2], bool)), "exemplar_mask"),
     ]
@@ -515,7 +515,7 @@ def test_bad_flows(bread):
     with pytest.raises(ValueError, match="NaN"):
         animate_texture(bread, bad, **ok)
     with pytest.raises(ValueError, match="frames"):
-        animate_texture(bread, np.zeros((2, 16, 16, 2)), frames=5, **ok)
+        animate_texture(bread, np.zeros((2, 16, 16, 2)), n_frames=5, **ok)
     with pytest.raises(ValueError, match="frame_falloff"):
         animate_texture(bread, np.zeros((2, 16, 16, 2)), frame_falloff=0.0, **ok)
     with pytest.raises(TypeError, match="frame_falloff"):

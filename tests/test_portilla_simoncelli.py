@@ -50,7 +50,7 @@ def assert_same_statistics(a, b, rtol=1e-9, atol=1e-12):
 
 # --------------------------------------------------------------------------- statistics
 def test_statistics_shapes_and_pixel_moments(metal):
-    s = ps_statistics(metal, scales=3, orientations=4, neighborhood=5)
+    s = ps_statistics(metal, scales=3, orientations=4, neighborhood_size=5)
     assert s.pixel.shape == (1, 6)
     assert s.lowpass_autocorrelation.shape == (1, 4, 5, 5)
     assert s.magnitude_autocorrelation.shape == (1, 3, 4, 5, 5)
@@ -373,7 +373,7 @@ def test_synthesis_from_statistics_is_synthesis_from_the_exemplar(metal):
     assert info.statistics is at_zero and from_stats.dtype == np.float64
     # scales/orientations/neighborhood are the statistics' own: repeating them is allowed
     np.testing.assert_array_equal(
-        portilla_simoncelli(a, (64, 72), scales=3, orientations=4, neighborhood=7, iterations=4, rng=0), from_stats)
+        portilla_simoncelli(a, (64, 72), scales=3, orientations=4, neighborhood_size=7, iterations=4, rng=0), from_stats)
 
 
 def test_synthesis_from_interpolated_statistics_lies_between(metal):
@@ -403,11 +403,11 @@ def test_synthesis_from_statistics_errors(metal, water):
         portilla_simoncelli(stats)
     with pytest.raises(ValueError, match="scales=4 but the statistics were measured with scales=3"):
         portilla_simoncelli(stats, 64, scales=4)
-    with pytest.raises(ValueError, match="neighborhood=5"):
-        portilla_simoncelli(stats, 64, neighborhood=5)
-    with pytest.raises(ValueError, match="periodic_smooth"):
-        portilla_simoncelli(stats, 64, periodic_smooth=True)
-    with pytest.raises(ValueError, match="output is 16x64 but scales=3"):
+    with pytest.raises(ValueError, match="neighborhood_size=5"):
+        portilla_simoncelli(stats, 64, neighborhood_size=5)
+    with pytest.raises(ValueError, match="periodic_exemplar"):
+        portilla_simoncelli(stats, 64, periodic_exemplar="periodic+smooth")
+    with pytest.raises(ValueError, match="size is 16x64 but scales=3"):
         portilla_simoncelli(stats, (16, 64))
     with pytest.raises(ValueError, match="iterations"):
         portilla_simoncelli(stats, 64, iterations=0)
@@ -469,7 +469,7 @@ def test_interpolate_colour_needs_one_basis(water):
 def test_too_small_names_the_sizes_that_work(metal):
     with pytest.raises(ValueError, match=r"exemplar is 32x32 but scales=4 needs at least 64x64.*scales=3"):
         portilla_simoncelli(metal[:32, :32])
-    with pytest.raises(ValueError, match="output is 40x80"):
+    with pytest.raises(ValueError, match="size is 40x80"):
         portilla_simoncelli(metal, (40, 80), iterations=1)
     with pytest.raises(ValueError, match="needs at least 64x64"):
         ps_statistics(metal[:48])
@@ -495,8 +495,8 @@ def test_bad_values_and_options(metal):
         portilla_simoncelli(bad, scales=3)
     with pytest.raises(ValueError, match="iterations must be an integer >= 1, got 0"):
         portilla_simoncelli(metal, scales=3, iterations=0)
-    with pytest.raises(ValueError, match="neighborhood must be odd"):
-        ps_statistics(metal, scales=3, neighborhood=6)
+    with pytest.raises(ValueError, match="neighborhood_size must be odd"):
+        ps_statistics(metal, scales=3, neighborhood_size=6)
     with pytest.raises(TypeError, match="scales"):
         ps_statistics(metal, scales=2.5)
     with pytest.raises(ValueError, match="mask must have the image's spatial shape"):

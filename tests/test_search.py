@@ -604,7 +604,7 @@ def test_one_switch_changes_the_backend_of_every_algorithm(monkeypatch):
     with search.use("tsvq"):
         texsynth.optimize_texture(bread, 32, neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)
         texsynth.synthesize_pixels(bread, 16, levels=1, order="independent", passes=1, rng=0)
-        texsynth.interpolate_textures(bread, bread[::-1], 0.5, stages=((1, 9),), iterations=1, statistics=False,
+        texsynth.interpolate_textures(bread, bread[::-1], 0.5, stages=((1, 9),), max_iterations=1, statistics_step=False,
                                       rng=0)
     assert used and set(used) == {"tsvq"}
     used.clear()

@@ -110,3 +110,25 @@ def test_conversion_property(data, dtype, shape):
     assert out.min() >= 0 and out.max() <= 1
     if dtype == np.uint8:
         assert np.array_equal(np.round(out * 255).astype(np.uint8), arr)
+
+
+def test_bool_options_accept_only_bools():
+    import texsynth
+
+    ex = np.random.default_rng(0).random((24, 24))
+    with pytest.raises(TypeError, match="tileable must be True or False"):
+        texsynth.patchwork(ex, 24, grid_spacing=8, tileable="no")
+    with pytest.raises(TypeError, match="tileable must be True or False"):
+        texsynth.optimize_texture(ex, 24, neighborhood_sizes=(8,), levels=1, tileable="no")
+    with pytest.raises(TypeError, match="falloff must be True or False"):
+        texsynth.optimize_texture(ex, 24, neighborhood_sizes=(8,), levels=1, falloff=1)
+
+
+def test_thread_limits_of_the_user_are_respected():
+    from threadpoolctl import threadpool_limits
+
+    from texsynth.core._validate import max_threads
+
+    with threadpool_limits(1):
+        assert max_threads() == 1
+    assert 1 <= max_threads() <= (__import__("os").cpu_count() or 1)

@@ -6,9 +6,10 @@
     texsynth demo [--out DIR]
     texsynth METHOD INPUT [INPUT ...] -o OUTPUT [--size WxH] [--seed N] [method options]
 
-Each method's options are generated from the keyword-only parameters of its
-Python function and their numpydoc descriptions, so the command and the API
-never drift apart. Bad input gives a one-line error and exit status 2.
+The methods and how each is exposed come from :mod:`texsynth.registry`; each
+method's options are generated from the keyword-only parameters of its Python
+function and their numpydoc descriptions, so the command and the API never
+drift apart. Bad input gives a one-line error and exit status 2.
 """
 
 from __future__ import annotations
@@ -19,144 +20,13 @@ import importlib
 import inspect
 import re
 import sys
-from dataclasses import dataclass
 from pathlib import Path
+
+from .io import _check_suffix
+from .registry import METHODS, Method
 
 __all__ = ["main", "METHODS", "Method"]
 
-
-@dataclass(frozen=True)
-class Method:
-    """How one public function is exposed on the command line.
-
-    Attributes
-    ----------
-    target : str
-        ``"module:function"`` inside texsynth.
-    inputs : str
-        ``"image"`` (one input image), ``"images"`` (one or more),
-        ``"frames"`` (a GIF, video or folder of frames), ``"pair"`` (two images)
-        or ``"none"`` (procedural: no input).
-    output : str
-        ``"image"``, ``"volume"`` (.npy plus PNG slices) or ``"frames"``.
-    size : str or None
-        Name of the function's size argument (``"size"``, ``"shape"``) if it
-        takes one positionally after the inputs.
-    files : tuple of str
-        Parameters whose value on the command line may be an image path
-        (numbers and other literals pass through).
-    ramps : tuple of str
-        Parameters for which the word ``ramp`` means a left-to-right ramp
-        from 0 to 1 at the output size (a transition strip).
-    flow : str or None
-        Parameter that takes a flow field, given on the command line as
-        ``KIND:AMOUNT`` (see :func:`parse_flow`) at the ``--size`` of the output.
-    mixing : str or None
-        Parameter that takes one weight per input, given on the command line
-        as ``equal``, ``ramp`` or image files (see :func:`parse_weights`).
-    maps : tuple of str
-        Parameters whose value on the command line may be an image file read
-        as one grey map ``(H, W)`` (see :func:`read_grey_map`: colour
-        channels averaged, an alpha channel ignored), e.g. masks.
-    map_pairs : tuple of str
-        Parameters that take two binary maps, given as ``--NAME FILE1 FILE2``
-        (each read by :func:`read_grey_map` and thresholded at 0.5).
-    spatial : str or None
-        Parameter that is a number or a map of numbers at the output size.
-        Besides ``--NAME`` (a number, or an image file if the parameter is in
-        ``maps``, or ``ramp`` if it is in ``ramps``) it gets ``--NAME-map
-        FILE`` (a grey image of values; the output then has the image's size
-        unless ``--size`` is given) and ``--transition`` (a left-to-right
-        ramp from 0 to 1 at the output size, a transition strip). The three
-        are mutually exclusive.
-    skip : tuple of str
-        Keyword parameters not exposed (arrays, callables).
-    """
-
-    target: str
-    summary: str
-    inputs: str = "image"
-    output: str = "image"
-    size: str | None = "size"
-    files: tuple = ()
-    skip: tuple = ()
-    values: str = "unit"
-    ramps: tuple = ()
-    flow: str | None = None
-    mixing: str | None = None
-    maps: tuple = ()
-    map_pairs: tuple = ()
-    spatial: str | None = None
-
-    def to_unit(self, result):
-        """Map the function's values to [0, 1] for saving: "unit" (already), "signed" ([-1, 1]) or "positive"."""
-        import numpy as np
-
-        if self.values == "signed":
-            return np.clip((result + 1.0) / 2.0, 0.0, 1.0)
-        if self.values == "positive":
-            return result / max(float(result.max()), 1e-12)
-        return result
-
-    def function(self):
-        module, name = self.target.split(":")
-        return getattr(importlib.import_module(f"texsynth.{module}"), name)
-
-
-#: Every method of the command, in the order ``texsynth list`` shows them.
-METHODS: dict[str, Method] = {
-    "patchwork": Method("patch:patchwork",
-                        "Harrison 2002: Voronoi patchwork with invisible joins (fast, tileable)"),
-    "patchwork-video": Method("patch:patchwork_video",
-                              "Harrison 2002: seamlessly looping video texture from a frame sequence",
-                              inputs="frames", output="frames"),
-    "patchwork-transfer": Method("patch:patchwork_transfer",
-                                 "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
-                                 "pattern is repeated to the texture's channels)",
-                                 inputs="pair", size=None),
-    "pixels": Method("pixel:synthesize_pixels",
-                     "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)"),
-    "mix": Method("pixel:mix_textures",
-                  "Wei 2002: mixture of two or more textures (--weights equal | ramp | w1.png,w2.png)",
-                  inputs="images", mixing="weights"),
-    "solid": Method("pixel:synthesize_solid",
-                    "Wei 2002: solid texture from 1-3 views along z, y, x (.npy volume plus PNG slices)",
-                    inputs="images", output="volume", size="shape"),
-    "optimize": Method("optimization:optimize_texture",
-                       "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling",
-                       files=("target", "init"), maps=("mask", "exemplar_mask")),
-    "animate": Method("optimization:animate_texture",
-                      "Kwatra 2005: flow-guided animation, e.g. --flows sink:1.5 --frames 16 --size 128",
-                      output="frames", size=None, flow="flows", files=("first_frame",)),
-    "interpolate": Method("optimization:interpolate_textures",
-                          "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --transition | --alpha-map map.png; "
-                          "--features FA FB)",
-                          inputs="pair", skip=("rpm_options",), maps=("alpha",), ramps=("alpha",),
-                          map_pairs=("features",), spatial="alpha"),
-    "heeger-bergen": Method("statistical:heeger_bergen",
-                            "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)"),
-    "portilla-simoncelli": Method("statistical:portilla_simoncelli",
-                                  "Portilla-Simoncelli 2000: joint wavelet statistics by iterated projections"),
-    "perlin": Method("procedural:perlin", "Perlin gradient noise (2-D image, or 3-D volume with --size WxHxD)",
-                     inputs="none", size="shape", skip=("points", "offset", "dtype"), values="signed"),
-    "turbulence": Method("procedural:turbulence", "Perlin turbulence: sum of |noise| octaves to the band limit",
-                         inputs="none", size="shape", skip=("points", "offset", "dtype"), values="positive"),
-    "fbm": Method("procedural:fbm", "fractional Brownian motion: signed sum of noise octaves",
-                  inputs="none", size="shape", skip=("points", "offset", "dtype"), values="signed"),
-    "marble": Method("procedural:marble", "Perlin marble: sin(x + turbulence) through a colour map (2-D or 3-D)",
-                     inputs="none", size="shape", skip=("dtype",)),
-    "wood": Method("procedural:wood", "wood rings: sin(radius + turbulence) through a colour map (2-D or 3-D)",
-                   inputs="none", size="shape", skip=("dtype",)),
-    "reaction-diffusion": Method("procedural:reaction_diffusion",
-                                 "Turk 1991 reaction-diffusion: spots or labyrinth stripes (two chemicals)",
-                                 inputs="none", size="shape", skip=("dtype", "record_every")),
-    "meinhardt-stripes": Method("procedural:meinhardt_stripes",
-                                "Meinhardt's five-chemical stripe system, as Turk's 1991 program used",
-                                inputs="none", size="shape", skip=("dtype", "record_every")),
-    "gray-scott": Method("procedural:gray_scott",
-                         "Gray-Scott reaction-diffusion presets: spots, stripes, mazes, coral, mitosis, holes",
-                         inputs="none", size="shape", skip=("dtype", "record_every", "seeds")),
-}
 
 _ALWAYS_SKIPPED = {"rng", "progress", "return_info"}
 
@@ -287,10 +157,16 @@ def _add_method_parser(sub, name, method):
     params = inspect.signature(func).parameters
     shown = _option_names(method, params)
     help_text = _doc_params(func, shown)
+    renamed = getattr(func, "renamed_parameters", {})
+    deprecated = {}  # old option -> new option, accepted for one release with a warning
     for pname, param in params.items():
         if pname not in shown:
             continue
         flag = "--" + pname.replace("_", "-")
+        converted = getattr(func, "renamed_converters", {})
+        old_flags = ["--" + old.replace("_", "-") for old, new in renamed.items() if new == pname and old not in converted]
+        deprecated.update(dict.fromkeys(old_flags, flag))
+        flags = [flag, *old_flags]
         desc = _plain(help_text.get(pname, "")).replace("%", "%%")  # argparse %-formats help strings
         default = param.default
         required = default is inspect.Parameter.empty
@@ -299,7 +175,7 @@ def _add_method_parser(sub, name, method):
             group = parser.add_mutually_exclusive_group(required=required)
             forms = ["a number"] + (["'ramp' (as --transition)"] if pname in method.ramps else []) + (
                 ["a grey image file (as " + flag + "-map)"] if pname in method.maps else [])
-            group.add_argument(flag, dest=pname, type=_parse_value, default=None if required else default,
+            group.add_argument(*flags, dest=pname, type=_parse_value, default=None if required else default,
                                help=f"{', '.join(forms[:-1])} or {forms[-1]}. {desc}" if len(forms) > 1 else desc)
             group.add_argument(flag + "-map", dest=f"_{pname}_map", metavar="PATH",
                                help=f"grey image file of {pname} values in [0, 1] (colour channels averaged, an "
@@ -308,28 +184,35 @@ def _add_method_parser(sub, name, method):
                                help=f"a transition strip: {pname} rising from 0 at the left edge to 1 at the "
                                     f"right edge of the output (--size, default the first input's size)")
         elif pname == method.mixing:
-            parser.add_argument(flag, dest=pname, default="equal",
+            parser.add_argument(*flags, dest=pname, default="equal",
                                 help="one weight per input: 'equal', 'ramp' (first input at the left edge to the "
                                      "last at the right) or grey weight images, comma-separated (one per input, "
                                      "or one file m for two inputs: weights 1-m and m) (default: 'equal')")
         elif pname in method.map_pairs:
-            parser.add_argument(flag, dest=pname, nargs=2, metavar=("PATH1", "PATH2"),
+            parser.add_argument(*flags, dest=pname, nargs=2, metavar=("PATH1", "PATH2"),
                                 help=f"two image files, read as binary maps (grey, colour channels averaged, "
                                      f"an alpha channel ignored, threshold 0.5). {desc}")
         elif required:
-            parser.add_argument(flag, dest=pname, type=_parse_value, required=True, help=desc)
+            parser.add_argument(*flags, dest=pname, type=_parse_value, required=True, help=desc)
         elif pname in method.maps:
-            parser.add_argument(flag, dest=pname, metavar="PATH",
+            parser.add_argument(*flags, dest=pname, metavar="PATH",
                                 help=f"grey image file (colour channels averaged, an alpha channel ignored). {desc}")
         elif pname in method.files:
-            parser.add_argument(flag, dest=pname, metavar="PATH", help=f"image file. {desc}")
+            parser.add_argument(*flags, dest=pname, metavar="PATH", help=f"image file. {desc}")
         elif isinstance(default, bool):
-            parser.add_argument(flag, dest=pname, action=argparse.BooleanOptionalAction, default=default,
+            parser.add_argument(*flags, dest=pname, action=argparse.BooleanOptionalAction, default=default,
                                 help=f"{desc} (default: {default})")
-        else:
-            parser.add_argument(flag, dest=pname, type=_parse_value, default=default,
-                                help=f"{desc} (default: {default!r})")
-    parser.set_defaults(_method=name)
+        else:  # a string default is a word of a closed vocabulary: no literal parsing ("none" stays "none")
+            parser.add_argument(*flags, dest=pname, type=str if isinstance(default, str) else _parse_value,
+                                default=default, help=f"{desc} (default: {default!r})")
+    for old, convert in getattr(func, "renamed_converters", {}).items():
+        # a renamed option whose values changed form (periodic_smooth=True -> periodic_exemplar=...): the
+        # old spelling is the old boolean flag, converted
+        old_flag = "--" + old.replace("_", "-")
+        parser.add_argument(old_flag, dest=f"_old_{old}", action=argparse.BooleanOptionalAction, default=None,
+                            help=argparse.SUPPRESS)
+        deprecated[old_flag] = "--" + renamed[old].replace("_", "-") + f" {convert(True)}"
+    parser.set_defaults(_method=name, _deprecated=deprecated)
     return parser
 
 
@@ -481,18 +364,35 @@ def _write(method, result, output, overwrite):
         return [out]
     if method.output == "volume" or (method.inputs == "none" and np.ndim(result) >= 3
                                      and (np.ndim(result) == 4 or np.shape(result)[-1] > 4)):
-        npy = out.with_suffix(".npy")
-        save_image(npy, result, overwrite=overwrite)
-        written = [npy]
         volume = np.asarray(result)
+        files = {out.with_suffix(".npy"): volume}
         for axis, label in enumerate("zyx"):
-            mid = np.take(volume, volume.shape[axis] // 2, axis=axis)
-            path = out.with_name(f"{out.stem}_slice_{label}.png")
-            save_image(path, mid, overwrite=overwrite)
-            written.append(path)
-        return written
+            files[out.with_name(f"{out.stem}_slice_{label}.png")] = np.take(volume, volume.shape[axis] // 2, axis=axis)
+        return _write_set(files, overwrite)
     save_image(out, result, overwrite=overwrite)
     return [out]
+
+
+def _write_set(files, overwrite):
+    """Write ``{path: image}`` as a set: every target is checked first, and a failure part-way
+    removes the files this call created (each file is written atomically by save_image)."""
+    from .io import save_image
+
+    for path in files:
+        if path.exists() and not overwrite:
+            raise CommandError(f"output {str(path)!r} exists; pass --overwrite to replace it (nothing was written)")
+    created = []
+    try:
+        for path, image in files.items():
+            existed = path.exists()
+            save_image(path, image, overwrite=overwrite)
+            if not existed:
+                created.append(path)
+    except BaseException:
+        for path in created:
+            path.unlink(missing_ok=True)
+        raise
+    return list(files)
 
 
 def _run_method(args):
@@ -507,6 +407,8 @@ def _run_method(args):
             raise CommandError(f"output {args.output!r} is also an input; choose another output path")
     if out.exists() and not args.overwrite:
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
+    if method.output != "volume":  # refuse a format that cannot be written before the synthesis runs
+        _check_suffix(out, frames=method.output == "frames")
     inputs = _load_inputs(method, paths)
     if method.inputs == "pair":
         inputs = _match_channels(*inputs)
@@ -519,7 +421,7 @@ def _run_method(args):
     positional = list(inputs) if method.inputs != "images" else [inputs]
     size = None
     if method.size:
-        if args.size:
+        if args.size is not None:
             size = parse_size(args.size)
         elif inputs:
             size = inputs[0].shape[:2] if method.inputs != "frames" else inputs[0].shape[1:3]
@@ -531,12 +433,12 @@ def _run_method(args):
         value = getattr(args, pname)
         if pname == method.spatial:
             value = _spatial_value(method, args, pname, value, size if method.size else inputs[0].shape[:2])
-            if not args.size and method.size and isinstance(value, np.ndarray):
+            if args.size is None and method.size and isinstance(value, np.ndarray):
                 size = value.shape[:2]  # a map from a file: the output has its size
         elif pname == method.mixing:
             value = parse_weights(value, len(inputs), size)
         elif pname == method.flow:
-            if not args.size:
+            if args.size is None:
                 raise CommandError("--size is required for an animation (the flow field's size)")
             value = parse_flow(value, parse_size(args.size))
         elif pname in method.map_pairs and value is not None:
@@ -549,6 +451,9 @@ def _run_method(args):
             value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
         if value is not params[pname].default:
             kwargs[pname] = value
+    for old, convert in getattr(func, "renamed_converters", {}).items():
+        if getattr(args, f"_old_{old}", None) is not None:
+            kwargs[func.renamed_parameters[old]] = convert(getattr(args, f"_old_{old}"))
     if method.size:
         if params[method.size].kind is inspect.Parameter.KEYWORD_ONLY:
             kwargs[method.size] = size
@@ -575,6 +480,9 @@ def build_parser():
         description="Example-based texture synthesis. 'texsynth list' shows the methods; "
                     "'texsynth METHOD --help' shows a method's options.",
     )
+    from . import __version__
+
+    parser.add_argument("--version", action="version", version=f"texsynth {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.add_parser("list", help="list the methods with one line each")
     demo = sub.add_parser("demo", help="write a gallery of every method on bundled sample textures")
@@ -583,6 +491,11 @@ def build_parser():
     for name, method in METHODS.items():
         _add_method_parser(sub, name, method)
     return parser
+
+
+def _used_options(argv):
+    """The ``--options`` a command line names (``--name=value`` included)."""
+    return [a.split("=", 1)[0] for a in argv if a.startswith("--")]
 
 
 def main(argv=None):
@@ -605,10 +518,17 @@ def main(argv=None):
             index = run_demo(args.out, seed=args.seed, log=print)
             print(f"gallery written: {index}")
             return 0
+        for option in _used_options(argv if argv is not None else sys.argv[1:]):
+            if option in args._deprecated:
+                print(f"texsynth: warning: {option} is deprecated; use {args._deprecated[option]}", file=sys.stderr)
         written = _run_method(args)
         print("wrote " + ", ".join(str(p) for p in written))
         return 0
-    except (CommandError, ValueError, TypeError, FileNotFoundError, FileExistsError) as exc:
+    except (CommandError, ValueError, TypeError, OSError, MemoryError) as exc:
+        # bad input, a file that cannot be read or written (missing, a folder, read-only, a full disk):
+        # one line, exit status 2, and save_image has left nothing half-written
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        if isinstance(exc, OSError) and exc.filename and str(exc.filename) not in message:
+            message = f"{message}: {exc.filename}"
         print(f"texsynth: error: {message}", file=sys.stderr)
         return 2

@@ -1,30 +1,137 @@
 """Loading and saving images, volumes and frame sequences.
 
 Loading converts to float in [0, 1] with the conventions of
-:mod:`texsynth.core._validate`. Saving converts float [0, 1] to the file type's
-integer format (uint8 for PNG/JPEG/GIF/BMP, uint16 for 16-bit PNG and TIFF),
-writes to a temporary name next to the target and renames it, so a file is
-never half-written. Nothing is overwritten unless ``overwrite=True``.
+:mod:`texsynth.core._validate`: 8- and 16-bit files are divided by their white
+level (255, 65535), CMYK files are converted to RGB, and integer pixel types
+without an agreed white level (signed, or wider than 16 bits) are refused
+rather than guessed.
+
+Saving converts float [0, 1] to the file type's integer format (uint8 for
+PNG/JPEG/GIF/BMP, uint16 for 16-bit PNG and TIFF). Every save is atomic: the
+data go to a hidden temporary file beside the target, which is renamed over the
+target only once complete, so a file is never half-written. The temporary file
+is removed when the write fails or the process is interrupted, by Ctrl-C
+(SIGINT) or by SIGTERM (``kill``, ``timeout``, a job scheduler). New files get
+the permissions the umask gives, as any other program's output; a replaced
+file keeps its permission bits. Nothing is overwritten unless
+``overwrite=True``.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import numbers
 import os
 import re
+import reprlib
+import secrets
 import shutil
+import signal
+import stat
 import tempfile
+import threading
 from pathlib import Path
 
 import imageio.v3 as iio
 import numpy as np
 
-from .core._validate import as_float_array, as_image
+from .core._validate import as_array, as_float_array, as_image, check_bool, check_positive_float
 
 __all__ = ["load_image", "save_image", "load_frames", "save_frames", "to_uint"]
 
 _EIGHT_BIT = {".png", ".jpg", ".jpeg", ".gif", ".bmp", ".ppm", ".pgm", ".webp"}
 _SIXTEEN_BIT = {".tif", ".tiff"}
+# formats that store no alpha channel: an alpha channel is dropped (documented in save_image)
+_NO_ALPHA = {".jpg", ".jpeg", ".bmp", ".ppm", ".pgm", ".gif"}
+# frame-sequence containers written through imageio-ffmpeg (the ``video`` extra)
+_VIDEO = {".mp4", ".m4v", ".mov", ".avi", ".mkv", ".webm", ".mpg", ".mpeg", ".wmv", ".flv"}
+# a GIF frame delay is a 16-bit count of centiseconds
+_GIF_MAX_DELAY_MS = 655_350
+# file signatures of formats whose samples are unsigned and at most 16 bits (PNG, Netpbm P1-P7):
+# Pillow hands their 16-bit samples over as int32 (16-bit Netpbm scaled to 0..65535)
+_PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+_NETPBM_MAGIC = tuple(f"P{k}".encode() for k in range(1, 8))
+
+_short = reprlib.Repr()
+_short.maxstring = _short.maxother = 60
+
+
+# --------------------------------------------------------------------------- #
+# argument checks
+# --------------------------------------------------------------------------- #
+def _as_path(path, name="path"):
+    """``path`` as a :class:`pathlib.Path`, or a TypeError/ValueError naming ``name``."""
+    if isinstance(path, bytes):
+        path = os.fsdecode(path)
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(
+            f"{name} must be a str or os.PathLike (e.g. pathlib.Path) naming a file, "
+            f"got {type(path).__name__} {_short.repr(path)}"
+        )
+    try:
+        text = os.fsdecode(os.fspath(path))
+    except TypeError as exc:
+        raise TypeError(f"{name} must be a str or os.PathLike naming a file: {exc}") from None
+    if text == "":
+        raise ValueError(f"{name} is an empty string; pass a file name such as 'out.png'")
+    if "\x00" in text:
+        raise ValueError(f"{name} contains a NUL character ({_short.repr(text)}); pass a valid file name")
+    return Path(text)
+
+
+def _check_bits(bits, *, allow_none):
+    if bits is None and allow_none:
+        return None
+    choices = "None, 8 or 16" if allow_none else "8 or 16"
+    if not isinstance(bits, numbers.Integral) or isinstance(bits, (bool, np.bool_)):
+        raise TypeError(f"bits must be {choices}, got {type(bits).__name__} {_short.repr(bits)}")
+    if bits not in (8, 16):
+        raise ValueError(f"bits must be {choices}, got {bits!r}")
+    return int(bits)
+
+
+# --------------------------------------------------------------------------- #
+# loading
+# --------------------------------------------------------------------------- #
+def _read(path, what="an image", **kwargs):
+    try:
+        return iio.imread(path, **kwargs)
+    except Exception as exc:  # imageio raises many types; one clear message
+        raise ValueError(f"cannot read {str(path)!r} as {what}: {exc}") from None
+
+
+def _is_cmyk(path):
+    """Whether Pillow opens ``path`` as a CMYK image (JPEG and TIFF from print workflows)."""
+    try:
+        return iio.immeta(path, plugin="pillow").get("mode") == "CMYK"
+    except Exception:  # not a format Pillow reads: then imageio's reader is the only one
+        return False
+
+
+def _holds_at_most_16_bits(path):
+    """Whether the file is a PNG or Netpbm file: unsigned samples of at most 16 bits, by the format."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(8)
+    except OSError:
+        return False
+    return head.startswith(_PNG_MAGIC) or head[:2] in _NETPBM_MAGIC
+
+
+def _supported_integers(data, path):
+    """uint8/uint16 as is; the int32 Pillow gives for 16-bit PNG/Netpbm as uint16; refuse other integers."""
+    kind = data.dtype
+    if not np.issubdtype(kind, np.integer) or kind in (np.uint8, np.uint16):
+        return data
+    lo, hi = (int(data.min()), int(data.max())) if data.size else (0, 0)
+    if kind == np.int32 and _holds_at_most_16_bits(path) and 0 <= lo and hi <= 65535:
+        return data.astype(np.uint16)
+    raise ValueError(
+        f"path {str(path)!r} holds {kind} pixels (values {lo}..{hi}): signed and wider-than-16-bit integers have "
+        "no agreed white level, so texsynth does not guess one. Convert the file to 8- or 16-bit unsigned "
+        "(or float in [0, 1]), or read it yourself (imageio.v3.imread) and divide it by its white level "
+        "(e.g. 4095 for 12-bit sensor data) before passing the array"
+    )
 
 
 def load_image(path):
@@ -39,46 +146,229 @@ def load_image(path):
     -------
     numpy.ndarray
         ``(H, W)`` for grey files, ``(H, W, C)`` otherwise (alpha kept as the
-        last channel), float64 in [0, 1].
+        last channel), float64 in [0, 1] (float32 for float32 TIFFs).
 
     Raises
     ------
+    TypeError
+        If ``path`` is not a str or os.PathLike.
     FileNotFoundError
-        If ``path`` does not exist.
+        If ``path`` does not exist or is a folder.
     ValueError
-        If the file cannot be read as an image.
+        If the file cannot be read as an image, holds several frames, or
+        holds pixels of an integer type without an agreed white level.
+
+    Notes
+    -----
+    Pixel types are converted by the rule of the whole library: uint8 is
+    divided by 255, uint16 by 65535, and float data must lie in [0, 1].
+    16-bit PNG and PGM/PPM files, which Pillow decodes as int32 with values
+    0-65535, are read as the 16-bit files they are (their format allows
+    unsigned samples of at most 16 bits only, so the white level is 65535).
+    Any other signed or 32/64-bit integer file (e.g. an int32 TIFF) is refused
+    with a ValueError: its white level is not stored in the file (the full
+    type range, the data maximum and 4095 for 12-bit sensors are all in use),
+    and a guess would be a silently wrong image.
+
+    CMYK files (JPEG or TIFF from print workflows) are converted to RGB with
+    Pillow's conversion, rather than read as 4 channels whose last one would
+    pass for alpha.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = save_image(d + "/ramp.png", np.linspace(0, 1, 12).reshape(3, 4))
+    ...     image = load_image(path)
+    >>> image.shape, image.dtype, image.max()
+    ((3, 4), dtype('float64'), np.float64(1.0))
     """
-    path = Path(path)
+    path = _as_path(path)
+    if path.is_dir():
+        raise FileNotFoundError(f"path {str(path)!r} is a folder, not an image file; load_frames reads a folder of frames")
     if not path.is_file():
         raise FileNotFoundError(f"path {str(path)!r} does not exist or is not a file")
-    try:
-        data = iio.imread(path)
-    except Exception as exc:  # imageio raises many types; one clear message
-        raise ValueError(f"cannot read {str(path)!r} as an image: {exc}") from None
-    if data.ndim == 3 and data.shape[-1] > 4 and data.shape[0] > 1:
+    data = _read(path)
+    if data.ndim == 3 and data.shape[-1] == 4 and _is_cmyk(path):
+        data = _read(path, plugin="pillow", mode="RGB")
+    if (data.ndim == 3 and data.shape[-1] > 4 and data.shape[0] > 1) or (data.ndim == 4 and data.shape[0] > 1):
         raise ValueError(f"{str(path)!r} holds {data.shape[0]} frames; use load_frames for animations")
     if data.ndim == 4 and data.shape[0] == 1:
         data = data[0]
-    if data.dtype not in (np.uint8, np.uint16, np.bool_) and np.issubdtype(data.dtype, np.integer):
-        data = data.astype(np.uint16) if data.max() > 255 else data.astype(np.uint8)
+    data = _supported_integers(data, path)
     return as_image(data, name=f"image in {path.name}")
 
 
+# --------------------------------------------------------------------------- #
+# conversion
+# --------------------------------------------------------------------------- #
 def to_uint(image, bits=8):
-    """Convert float [0, 1] data to uint8 or uint16 by rounding (values are clipped).
+    """Convert image data in [0, 1] to uint8 or uint16 by rounding.
 
+    Parameters
+    ----------
+    image : array_like
+        Float in [0, 1] (any shape), or uint8, uint16 or bool data, which are
+        first scaled to [0, 1] as everywhere in texsynth.
+    bits : {8, 16}
+        Depth of the result.
+
+    Returns
+    -------
+    numpy.ndarray
+        uint8 (0-255) or uint16 (0-65535), same shape as ``image``.
+
+    Raises
+    ------
+    TypeError
+        If ``image`` is None, not numeric or of an unsupported dtype (signed
+        integers: scale them to [0, 1] first), or ``bits`` is not an integer.
+    ValueError
+        If ``image`` is empty, holds NaN or infinity, or floats outside
+        [0, 1] (values are not clipped silently: clip them yourself with
+        ``np.clip(image, 0, 1)`` if the overshoot is expected, or divide
+        0-255 data by 255), or ``bits`` is not 8 or 16.
+
+    Examples
+    --------
     >>> to_uint(np.array([0.0, 0.5, 1.0]))
     array([  0, 128, 255], dtype=uint8)
+    >>> to_uint(np.array([0, 255], dtype=np.uint8), 16)
+    array([    0, 65535], dtype=uint16)
     """
-    if bits not in (8, 16):
-        raise ValueError(f"bits must be 8 or 16, got {bits!r}")
+    bits = _check_bits(bits, allow_none=False)
+    arr = as_array(image, "image")
+    if np.issubdtype(arr.dtype, np.floating) and arr.size and np.all(np.isfinite(arr)):
+        lo, hi = float(arr.min()), float(arr.max())
+        if lo < -1e-6 or hi > 1 + 1e-6:
+            hint = "divide 0-255 data by 255" if hi > 1.5 else "clip it first with np.clip(image, 0, 1) if the overshoot is expected"
+            raise ValueError(f"image has values in [{lo:.4g}, {hi:.4g}] but to_uint converts [0, 1]; {hint}")
+    data = as_float_array(arr, "image")
     top = 255 if bits == 8 else 65535
-    data = np.clip(np.asarray(image, dtype=np.float64), 0.0, 1.0)
     return np.round(data * top).astype(np.uint8 if bits == 8 else np.uint16)
 
 
-def _prepare_target(path, overwrite):
+# --------------------------------------------------------------------------- #
+# atomic writes
+# --------------------------------------------------------------------------- #
+class _Terminated(SystemExit):
+    """Raised by the temporary SIGTERM handler of a write, so that its clean-up runs."""
+
+
+class _CleanUpOnSigterm:
+    """Turn SIGTERM into an exception for the duration of a write, then end the process as SIGTERM would.
+
+    Python unwinds (and so removes temporary files) on SIGINT, but SIGTERM's
+    default action ends the process at once. While the block runs, on the main
+    thread and only if SIGTERM has its default action, a handler raises
+    :class:`_Terminated` so the write's ``except`` clauses remove what they
+    made; on leaving the block the default action is restored and the signal
+    re-delivered, so the process still terminates by SIGTERM (exit status 143
+    in a shell). A handler the program installed itself is left alone: its
+    exception, if any, unwinds through the clean-up in the same way. A SIGTERM
+    that arrives when no clean-up can follow (a second one, or one after the
+    block) gets the default action at once.
+    """
+
+    def __enter__(self):
+        self._installed = self._active = self._received = False
+        sig = getattr(signal, "SIGTERM", None)
+        if sig is None or threading.current_thread() is not threading.main_thread():
+            return self
+        try:
+            if signal.getsignal(sig) is not signal.SIG_DFL:
+                return self
+            signal.signal(sig, self._handle)
+        except (ValueError, OSError):  # pragma: no cover - e.g. signals unavailable in an embedded interpreter
+            return self
+        self._installed = self._active = True
+        return self
+
+    def _handle(self, signum, frame):
+        if self._active and not self._received:
+            self._received = True
+            raise _Terminated(128 + signum)
+        signal.signal(signum, signal.SIG_DFL)
+        signal.raise_signal(signum)
+
+    def __exit__(self, *exc):
+        self._active = False
+        if self._installed:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+            if self._received:
+                signal.raise_signal(signal.SIGTERM)
+        return False
+
+
+def _new_temp_file(path):
+    """Create an empty hidden file beside ``path`` with the mode the umask gives; return (name, mode)."""
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
+    for _ in range(100):
+        tmp = path.parent / f".{path.stem}-{secrets.token_hex(4)}{path.suffix}"
+        try:
+            fd = os.open(tmp, flags, 0o666)  # the umask (and default ACLs) apply, as for any new file
+        except FileExistsError:  # pragma: no cover - 32 random bits
+            continue
+        try:
+            mode = stat.S_IMODE(os.fstat(fd).st_mode)
+        finally:
+            os.close(fd)
+        return tmp, mode
+    raise FileExistsError(f"cannot create a temporary file beside {str(path)!r}")  # pragma: no cover
+
+
+def _new_temp_dir(path):
+    """Create a hidden folder beside ``path`` with the mode the umask gives."""
+    for _ in range(100):
+        tmp = path.parent / f".{path.name}-{secrets.token_hex(4)}"
+        try:
+            os.mkdir(tmp, 0o777)
+        except FileExistsError:  # pragma: no cover
+            continue
+        return tmp
+    raise FileExistsError(f"cannot create a temporary folder beside {str(path)!r}")  # pragma: no cover
+
+
+def _keep_mode(tmp, target, default):
+    """Give ``tmp`` the permission bits of the file it replaces (or ``default`` for a new file)."""
+    try:
+        mode = stat.S_IMODE(os.stat(target).st_mode)
+    except FileNotFoundError:
+        mode = default
+    if stat.S_IMODE(os.stat(tmp).st_mode) != mode:
+        os.chmod(tmp, mode)
+
+
+def _atomic_write(path, write):
+    """Call ``write(tmp_path)`` on a temporary file beside ``path``, then rename it over ``path``.
+
+    The temporary file is created with the permissions the umask gives (a
+    replaced file's mode is kept) and removed if anything fails or the
+    process is interrupted (SIGINT, SIGTERM) before the rename.
+    """
     path = Path(path)
+    with _CleanUpOnSigterm():
+        tmp = None
+        try:
+            tmp, mode = _new_temp_file(path)
+            write(str(tmp))
+            _keep_mode(tmp, path, mode)
+            os.replace(tmp, path)
+            tmp = None
+        except BaseException:
+            if tmp is not None:
+                try:
+                    os.remove(tmp)
+                except FileNotFoundError:
+                    pass
+            raise
+
+
+def _prepare_target(path, overwrite, *, folder=False):
+    """Refuse to replace an existing target unless ``overwrite``, a folder by a file, or a missing parent."""
+    if path.is_dir() and not folder:
+        example = path / f"out{path.suffix or '.png'}"
+        raise FileExistsError(f"{str(path)!r} is a folder; pass the path of a file, e.g. {str(example)!r}")
     if path.exists() and not overwrite:
         raise FileExistsError(f"{str(path)!r} already exists; pass overwrite=True to replace it")
     if not path.parent.exists():
@@ -86,17 +376,34 @@ def _prepare_target(path, overwrite):
     return path
 
 
-def _atomic_write(path, write):
-    """Call ``write(tmp_path)`` on a temporary file beside ``path``, then rename it."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+def _save_npy(tmp, data):
+    with open(tmp, "wb") as f:  # a file object: np.save would append ".npy" to a name ending in ".NPY"
+        np.save(f, data)
+
+
+# --------------------------------------------------------------------------- #
+# saving
+# --------------------------------------------------------------------------- #
+def _check_suffix(path, *, frames=False):
+    """The lower-case suffix of ``path`` if :func:`save_image` (or, with ``frames``, :func:`save_frames`)
+    writes that format; else a ValueError listing the ones it does. Lets a caller refuse a path before
+    a long computation.
+
+    >>> _check_suffix("out.PNG"), _check_suffix("frames", frames=True)
+    ('.png', '')
+    """
+    suffix = Path(path).suffix.lower()
+    if frames and suffix not in {"", ".gif", ".png"} | _VIDEO:
+        raise ValueError(
+            f"path suffix {suffix!r} is not a frame-sequence format; use '.gif', '.png' (animated PNG), a video "
+            f"({', '.join(sorted(_VIDEO))}) or a path without suffix for a folder of PNG frames"
+        )
+    if not frames and suffix not in _EIGHT_BIT | _SIXTEEN_BIT | {".npy"}:
+        raise ValueError(
+            f"path suffix {suffix!r} is not a supported image format; use one of "
+            f"{sorted(_EIGHT_BIT | _SIXTEEN_BIT | {'.npy'})}"
+        )
+    return suffix
 
 
 def save_image(path, image, *, bits=None, overwrite=False):
@@ -110,7 +417,8 @@ def save_image(path, image, *, bits=None, overwrite=False):
     image : array_like
         Float in [0, 1] (or uint8/uint16/bool), ``(H, W)`` or ``(H, W, C)``.
     bits : {None, 8, 16}
-        Integer depth; None means 16 for TIFF, 8 for everything else.
+        Integer depth; None means 16 for TIFF, 8 for everything else. 16 bits
+        need a TIFF, or a PNG for grey images.
     overwrite : bool
         Replace an existing file. Off by default: nothing is replaced by surprise.
 
@@ -118,28 +426,64 @@ def save_image(path, image, *, bits=None, overwrite=False):
     -------
     pathlib.Path
         The written path.
+
+    Raises
+    ------
+    TypeError
+        For a ``path`` that is not a str or os.PathLike, a non-array
+        ``image``, a non-bool ``overwrite`` or a non-integer ``bits``.
+    ValueError
+        For an unsupported suffix, a bad ``image`` (see
+        :mod:`texsynth.core._validate`), or a ``bits`` the format cannot store.
+    FileExistsError
+        If ``path`` exists and ``overwrite`` is False, or is a folder.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
+    Notes
+    -----
+    The file is written under a hidden temporary name beside ``path`` and
+    renamed when complete; the temporary file is removed if the write fails or
+    the process gets SIGINT or SIGTERM. A new file gets the permissions the
+    umask gives (``0644`` for the usual umask ``022``); a replaced file keeps
+    its permission bits.
+
+    JPEG, GIF, BMP and PPM/PGM store no alpha channel: the alpha channel of a
+    2- or 4-channel image is dropped and the grey or colour channels written.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     print(save_image(d + "/grey.png", np.zeros((4, 4))).name)
+    grey.png
     """
-    path = _prepare_target(path, overwrite)
+    path = _as_path(path)
+    overwrite = check_bool(overwrite, "overwrite")
+    bits = _check_bits(bits, allow_none=True)
     suffix = path.suffix.lower()
     if suffix == ".npy":
-        data = as_float_array(image, "image")
-        _atomic_write(path, lambda tmp: np.save(tmp, data))
+        data = as_float_array(as_array(image, "image"), "image")
+        _prepare_target(path, overwrite)
+        _atomic_write(path, lambda tmp: _save_npy(tmp, data))
         return path
-    data = as_image(image, "image")
+    _check_suffix(path)
+    data = as_image(as_array(image, "image"), "image")
     if bits is None:
         bits = 16 if suffix in _SIXTEEN_BIT else 8
-    if suffix not in _EIGHT_BIT | _SIXTEEN_BIT:
-        raise ValueError(
-            f"path suffix {suffix!r} is not a supported image format; use one of "
-            f"{sorted(_EIGHT_BIT | _SIXTEEN_BIT | {'.npy'})}"
-        )
     if bits == 16 and suffix not in {".png", ".tif", ".tiff"}:
         raise ValueError(f"bits=16 needs a .png or .tif path, got {suffix!r}")
     pixels = to_uint(data, bits)
     if pixels.ndim == 3 and pixels.shape[-1] == 1:
         pixels = pixels[..., 0]
-    if suffix in {".jpg", ".jpeg"} and pixels.ndim == 3 and pixels.shape[-1] in (2, 4):
+    if suffix in _NO_ALPHA and pixels.ndim == 3 and pixels.shape[-1] in (2, 4):
         pixels = pixels[..., :-1] if pixels.shape[-1] == 4 else pixels[..., 0]
+    if bits == 16 and suffix == ".png" and pixels.ndim == 3:
+        raise ValueError(
+            f"bits=16 PNG is written for grey images only, but image has {pixels.shape[-1]} channels "
+            "(imageio's Pillow writer has no 16-bit colour PNG); save it as .tif for 16 bits, or pass bits=8"
+        )
+    _prepare_target(path, overwrite)
     _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=suffix))
     return path
 
@@ -159,8 +503,19 @@ def load_frames(path):
     numpy.ndarray
         ``(T, H, W, C)``; grey frames get ``C == 1`` (also from a GIF or video,
         whose frames are stored as RGB: equal channels are read as grey).
+
+    Raises
+    ------
+    TypeError
+        If ``path`` is not a str or os.PathLike.
+    FileNotFoundError
+        If ``path`` does not exist.
+    ValueError
+        If the file cannot be read as frames, a folder holds no images or
+        images of different shapes, or the pixels are of an integer type
+        without an agreed white level (see :func:`load_image`).
     """
-    path = Path(path)
+    path = _as_path(path)
     if path.is_dir():
         files = sorted(p for p in path.iterdir() if p.suffix.lower() in _EIGHT_BIT | _SIXTEEN_BIT)
         if not files:
@@ -171,15 +526,22 @@ def load_frames(path):
             raise ValueError(f"frames in {str(path)!r} have different shapes {sorted(shapes)}")
         data = np.stack(frames)
     elif path.is_file():
+        is_gif = path.suffix.lower() == ".gif"
+        hint = "" if is_gif else " (videos need: pip install 'texsynth[video]')"
         try:
             raw = iio.imread(path, index=None)
         except Exception as exc:
-            hint = " (videos need: pip install 'texsynth[video]')" if path.suffix.lower() not in {".gif"} else ""
-            raise ValueError(f"cannot read {str(path)!r} as frames: {exc}{hint}") from None
-        if raw.ndim == 2 or (raw.ndim == 3 and path.suffix.lower() != ".gif" and raw.shape[-1] <= 4):
+            if not is_gif:
+                raise ValueError(f"cannot read {str(path)!r} as frames: {exc}{hint}") from None
+            # a GIF with transparency decodes to RGB and RGBA frames: read all as RGBA
+            raw = _read(path, "frames", index=None, mode="RGBA")
+            if np.all(raw[..., 3] == 255):
+                raw = raw[..., :3]
+        if raw.ndim == 2 or (raw.ndim == 3 and not is_gif and raw.shape[-1] <= 4):
             raw = raw[None]
         if raw.ndim == 4 and raw.shape[-1] == 3 and _is_grey(raw):
             raw = raw[..., :1]  # GIF stores grey frames as palette RGB: give back C == 1
+        raw = _supported_integers(raw, path)
         data = as_float_array(raw, f"frames in {path.name}")
     else:
         raise FileNotFoundError(f"path {str(path)!r} does not exist")
@@ -198,12 +560,15 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
     Parameters
     ----------
     path : str or os.PathLike
-        ``.gif`` for an animated GIF, ``.mp4`` (needs the ``video`` extra), or
-        a path without suffix for a folder of PNG frames ``frame_0000.png``...
+        ``.gif`` for an animated GIF, ``.png`` for an animated PNG, ``.mp4``
+        (or another video container: ``.avi``, ``.mov``, ``.mkv``, ...; needs
+        the ``video`` extra), or a path without suffix for a folder of PNG
+        frames ``frame_0000.png``...
     frames : array_like
         ``(T, H, W)`` or ``(T, H, W, C)`` in [0, 1].
     fps : float
-        Frames per second.
+        Frames per second, finite and > 0 (a GIF needs at least 1/655.35,
+        its longest frame delay being 655.35 s).
     loop : bool
         GIF only: loop forever.
     overwrite : bool
@@ -214,18 +579,64 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
     Returns
     -------
     pathlib.Path
+
+    Raises
+    ------
+    TypeError
+        For a ``path`` that is not a str or os.PathLike, non-array
+        ``frames``, a non-number ``fps`` or a non-bool ``loop`` or
+        ``overwrite``.
+    ValueError
+        For bad ``frames``, an ``fps`` that is not finite and > 0, an
+        unsupported suffix, or a video without the ``video`` extra.
+    FileExistsError
+        If ``path`` exists and ``overwrite`` is False (or is a folder with
+        other files).
+
+    Notes
+    -----
+    Like :func:`save_image`, the sequence is written under a hidden temporary
+    name (a folder for PNG frames) and renamed when complete; nothing is left
+    behind on failure, SIGINT or SIGTERM. New files and folders get the
+    permissions the umask gives; a replaced file or frame folder keeps its
+    mode. GIF and video store no alpha channel: it is dropped.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = save_frames(d + "/seq", np.zeros((3, 4, 4)))
+    ...     print(sorted(p.name for p in path.iterdir()))
+    ['frame_0000.png', 'frame_0001.png', 'frame_0002.png']
     """
-    path = _prepare_target(path, overwrite)
-    data = as_image(frames, "frames", spatial_dims=3)
+    path = _as_path(path)
+    fps = check_positive_float(fps, "fps")
+    loop = check_bool(loop, "loop")
+    overwrite = check_bool(overwrite, "overwrite")
+    suffix = _check_suffix(path, frames=True)
+    data = as_image(as_array(frames, "frames"), "frames", spatial_dims=3)
     pixels = to_uint(data, 8)
     if pixels.ndim == 4 and pixels.shape[-1] == 1:
         pixels = pixels[..., 0]
-    suffix = path.suffix.lower()
     if suffix == "":
+        _prepare_target(path, overwrite, folder=True)
         _write_frame_folder(path, pixels)
         return path
+    if suffix == ".png":  # animated PNG, through Pillow: alpha kept, no extra needed
+        _prepare_target(path, overwrite)
+        _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=".png",
+                                                    duration=1000.0 / fps, loop=0 if loop else 1))
+        return path
+    if pixels.ndim == 4 and pixels.shape[-1] in (2, 4):  # GIF and video store no alpha
+        pixels = pixels[..., :-1] if pixels.shape[-1] == 4 else pixels[..., 0]
     if suffix == ".gif":
-        duration = 1000.0 / float(fps)
+        duration = 1000.0 / fps
+        if duration > _GIF_MAX_DELAY_MS:
+            raise ValueError(
+                f"fps={fps:g} is too slow for a GIF, whose longest frame delay is 655.35 s; "
+                f"pass fps >= {1000.0 / _GIF_MAX_DELAY_MS:.5f} or save a folder of PNG frames"
+            )
+        _prepare_target(path, overwrite)
         _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=".gif",
                                                     duration=duration, loop=0 if loop else 1))
         return path
@@ -234,6 +645,7 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
             f"path {str(path)!r}: writing {suffix!r} videos needs the video extra "
             "(pip install 'texsynth[video]'); or save as .gif or a folder of PNG frames"
         )
+    _prepare_target(path, overwrite)
     try:
         _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=suffix, fps=fps))
     except Exception as exc:
@@ -248,7 +660,9 @@ def _write_frame_folder(path, pixels):
     """Write ``frame_0000.png``... into a new folder, then swap it in for ``path``.
 
     An existing folder is replaced only if it holds nothing but frames that
-    :func:`save_frames` wrote, so a user's other files are never deleted.
+    :func:`save_frames` wrote, so a user's other files are never deleted. The
+    new folder gets the permissions the umask gives, or the mode of the
+    folder it replaces.
     """
     if path.exists():
         if not path.is_dir():
@@ -259,20 +673,25 @@ def _write_frame_folder(path, pixels):
                 f"folder {str(path)!r} holds files save_frames did not write ({', '.join(sorted(foreign)[:3])}"
                 f"{', ...' if len(foreign) > 3 else ''}); choose another folder"
             )
-    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}-", dir=path.parent))
-    old = None
-    try:
-        for t, frame in enumerate(pixels):
-            iio.imwrite(tmp / f"frame_{t:04d}.png", frame)
-        if path.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{path.name}-old-", dir=path.parent))
-            os.replace(path, old / path.name)
-        os.replace(tmp, path)
-    except BaseException:
-        if old is not None and not path.exists():
-            os.replace(old / path.name, path)
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    finally:
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+    with _CleanUpOnSigterm():
+        tmp = old = None
+        try:
+            tmp = _new_temp_dir(path)
+            if path.is_dir():
+                os.chmod(tmp, stat.S_IMODE(path.stat().st_mode))
+            for t, frame in enumerate(pixels):
+                iio.imwrite(tmp / f"frame_{t:04d}.png", frame)
+            if path.exists():
+                old = Path(tempfile.mkdtemp(prefix=f".{path.name}-old-", dir=path.parent))
+                os.replace(path, old / path.name)
+            os.replace(tmp, path)
+            tmp = None
+        except BaseException:
+            if old is not None and not path.exists():
+                os.replace(old / path.name, path)
+            if tmp is not None:
+                shutil.rmtree(tmp, ignore_errors=True)
+            raise
+        finally:
+            if old is not None:
+                shutil.rmtree(old, ignore_errors=True)

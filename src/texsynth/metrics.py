@@ -33,7 +33,17 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from .core._validate import as_image, as_rng, as_size, check_positive_float, check_positive_int, with_channels
+from .core._deprecate import renamed_parameters
+from .core._validate import (
+    as_image,
+    as_rng,
+    as_size,
+    check_bool,
+    check_memory,
+    check_positive_float,
+    check_positive_int,
+    with_channels,
+)
 from .core.search import PatchIndex
 from .core.neighborhood import all_patches, patch_shape
 
@@ -85,7 +95,22 @@ def _check_patch(image, size, name):
     return h, w
 
 
-def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact", rng=0):
+def _mean_nearest_distance(queries_image, candidates_image, queries_name, candidates_name, patch_size, stride,
+                           method, rng):
+    """Mean squared distance per value of the grid neighbourhoods of one image to their nearest in the other.
+
+    The names are those of the user's arguments, so a size error names the image that is too small.
+    """
+    size = _check_patch(candidates_image, patch_size, candidates_name)
+    _check_patch(queries_image, size, queries_name)
+    stride = max(1, size[0] // 4) if stride is None else check_positive_int(stride, "stride")
+    queries, _, _ = _grid_vectors(queries_image, size, stride)
+    vectors = all_patches(candidates_image, size, mode="valid").reshape(-1, queries.shape[1])
+    _, dist = _nearest_distances(queries, vectors, method, rng)
+    return float(dist.mean() / queries.shape[1])
+
+
+def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact", rng=None):
     """Coherence: mean distance of output neighbourhoods to their nearest exemplar neighbourhood.
 
     Parameters
@@ -101,8 +126,11 @@ def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact
     method : str
         Nearest-neighbour backend (see :class:`texsynth.core.search.PatchIndex`);
         ``"exact"`` by default so the metric is a reference.
-    rng : int or numpy.random.Generator
-        Only used by approximate backends.
+    rng : None, int or numpy.random.Generator
+        Seeds the approximate backends (``method="kdtree"``, ``"tsvq"``, or
+        ``"auto"`` when it picks one of them); pass an int there for a
+        reproducible value. The exact default does not use it: the metric is
+        the same whatever ``rng``.
 
     Returns
     -------
@@ -111,6 +139,16 @@ def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact
         ``E_t = sum_p ||x_p - z_p||^2`` (Kwatra et al. 2005, eq. 1): the mean
         squared difference per pixel and channel, in [0, 1].
 
+    Raises
+    ------
+    TypeError
+        For images that are not arrays (None, strings) or of an unsupported
+        dtype, and non-integer ``patch_size`` or ``stride``.
+    ValueError
+        For images with NaN, infinity or values outside [0, 1], different
+        channel counts, a ``patch_size`` larger than either image, a
+        ``stride`` below 1 or an unknown ``method``.
+
     Examples
     --------
     >>> ex = np.random.default_rng(0).random((16, 16))
@@ -118,22 +156,17 @@ def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact
     0.0
     """
     out, ex = _pair(output, exemplar)
-    size = _check_patch(ex, patch_size, "the exemplar")
-    _check_patch(out, size, "the output")
-    stride = max(1, size[0] // 4) if stride is None else check_positive_int(stride, "stride")
-    queries, _, _ = _grid_vectors(out, size, stride)
-    vectors = all_patches(ex, size, mode="valid").reshape(-1, queries.shape[1])
-    _, dist = _nearest_distances(queries, vectors, method, rng)
-    return float(dist.mean() / queries.shape[1])
+    return _mean_nearest_distance(out, ex, "the output", "the exemplar", patch_size, stride, method, rng)
 
 
-def completeness(output, exemplar, *, patch_size=8, stride=None, method="exact", rng=0):
+def completeness(output, exemplar, *, patch_size=8, stride=None, method="exact", rng=None):
     """Completeness: mean distance of exemplar neighbourhoods to their nearest output neighbourhood.
 
     The second term of the bidirectional similarity of Simakov et al. 2008
     (doi:10.1109/CVPR.2008.4587842), normalised per value like
     :func:`texture_energy`. Parameters are the same, with the roles of the two
-    images exchanged (``stride`` spaces the exemplar neighbourhoods).
+    images exchanged (``stride`` spaces the exemplar neighbourhoods). As
+    there, ``rng`` only matters for an approximate ``method``.
 
     Examples
     --------
@@ -142,15 +175,16 @@ def completeness(output, exemplar, *, patch_size=8, stride=None, method="exact",
     0.0
     """
     out, ex = _pair(output, exemplar)
-    return texture_energy(ex, out, patch_size=patch_size, stride=stride, method=method, rng=rng)
+    return _mean_nearest_distance(ex, out, "the exemplar", "the output", patch_size, stride, method, rng)
 
 
-def verbatim_copy(output, exemplar, *, patch_size=8, stride=2, tolerance=0.02, method="exact", rng=0):
+@renamed_parameters(tolerance="value_tolerance")
+def verbatim_copy(output, exemplar, *, patch_size=8, stride=2, value_tolerance=0.02, method="exact", rng=None):
     """Largest output region copied from the exemplar with a single offset.
 
     Every output neighbourhood on a grid of the given stride is matched to its
     nearest exemplar neighbourhood. A neighbourhood counts as *copied* when
-    its RMS difference to that match is at most ``tolerance``. Neighbouring
+    its RMS difference to that match is at most ``value_tolerance``. Neighbouring
     copied neighbourhoods with the same offset (exemplar position minus
     output position) form one copied region; the region's area is the union
     of its neighbourhoods' pixels.
@@ -161,11 +195,12 @@ def verbatim_copy(output, exemplar, *, patch_size=8, stride=2, tolerance=0.02, m
     patch_size : int or (int, int)
     stride : int
         Grid spacing of the output neighbourhoods (1 is exact and slow).
-    tolerance : float
+    value_tolerance : float
         RMS difference (in [0, 1] units) below which a neighbourhood is a copy.
     method : str
-        Nearest-neighbour backend.
-    rng : int or numpy.random.Generator
+        Nearest-neighbour backend; ``"exact"`` by default.
+    rng : None, int or numpy.random.Generator
+        Seeds an approximate ``method`` only (see :func:`texture_energy`).
 
     Returns
     -------
@@ -183,13 +218,13 @@ def verbatim_copy(output, exemplar, *, patch_size=8, stride=2, tolerance=0.02, m
     size = _check_patch(ex, patch_size, "the exemplar")
     _check_patch(out, size, "the output")
     stride = check_positive_int(stride, "stride")
-    tolerance = check_positive_float(tolerance, "tolerance")
+    value_tolerance = check_positive_float(value_tolerance, "value_tolerance")
     queries, corners, (ny, nx) = _grid_vectors(out, size, stride)
     vectors = all_patches(ex, size, mode="valid")
     ex_nx = vectors.shape[1]
     vectors = vectors.reshape(-1, queries.shape[1])
     idx, dist = _nearest_distances(queries, vectors, method, rng)
-    copied = dist / queries.shape[1] <= tolerance**2
+    copied = dist / queries.shape[1] <= value_tolerance**2
     offset = np.stack([idx // ex_nx, idx % ex_nx], -1) - corners
     key = (offset[:, 0] * (out.shape[1] + ex.shape[1] + 1) + offset[:, 1]).reshape(ny, nx)
     copied = copied.reshape(ny, nx)
@@ -256,6 +291,27 @@ def spectrum_distance(output, exemplar, *, bins=24):
     images of different sizes compare. 1.0 means the spectra differ by a
     factor of 10 on average.
 
+    Parameters
+    ----------
+    output, exemplar : array_like
+        Images with the same number of channels, every side at least 2
+        pixels (a side of 1 pixel has no frequency above 0); 16 pixels or
+        more for a meaningful spectrum.
+    bins : int
+        Number of logarithmically spaced frequency bands, >= 2.
+
+    Returns
+    -------
+    float
+        Mean over the bands that hold frequencies of both images.
+
+    Raises
+    ------
+    ValueError
+        If a side of either image is shorter than 2 pixels, or the two
+        images share no frequency band (tiny images of different sizes, or
+        too many ``bins``).
+
     Examples
     --------
     >>> ex = np.random.default_rng(0).random((32, 32))
@@ -264,11 +320,22 @@ def spectrum_distance(output, exemplar, *, bins=24):
     """
     out, ex = _pair(output, exemplar)
     bins = check_positive_int(bins, "bins", minimum=2)
+    for name, image in (("output", out), ("exemplar", ex)):
+        if min(image.shape[:2]) < 2:
+            raise ValueError(
+                f"spectrum_distance needs images of at least 2x2 pixels (a side of 1 pixel has no frequency "
+                f"above 0), but {name} is {image.shape[0]}x{image.shape[1]}; pass a larger {name}"
+            )
     low = 1.0 / min(out.shape[0], out.shape[1], ex.shape[0], ex.shape[1])
     edges = np.geomspace(low, 0.5 * np.sqrt(2), bins + 1)
     so, ko = _radial_log_spectrum(out, edges)
     se, ke = _radial_log_spectrum(ex, edges)
     both = ko & ke
+    if not both.any():
+        raise ValueError(
+            f"output ({out.shape[0]}x{out.shape[1]}) and exemplar ({ex.shape[0]}x{ex.shape[1]}) share no "
+            f"frequency band of the {bins} bins; pass fewer bins or larger images"
+        )
     return float(np.abs(so[both] - se[both]).mean())
 
 
@@ -276,9 +343,13 @@ def noise_baseline(exemplar, size, *, rng=None):
     """White noise with each channel's histogram matched to the exemplar's.
 
     The worst-coherence baseline: right values, no structure.
+
+    >>> noise_baseline(np.zeros((4, 4)), (2, 3), rng=0).shape
+    (2, 3)
     """
     ex, grey = with_channels(as_image(exemplar, "exemplar"))
     h, w = as_size(size)
+    check_memory(float(h) * w * ex.shape[-1] * 8 * 4, (h, w), what="the baseline")
     gen = as_rng(rng)
     order = np.argsort(gen.random((h * w, ex.shape[-1])), axis=0)
     q = (np.arange(h * w) + 0.5) / (h * w)
@@ -293,11 +364,16 @@ def mosaic_baseline(exemplar, size, *, block=None, rng=None):
     """Random exemplar blocks pasted edge to edge on a grid, without blending.
 
     What naive patch pasting gives: coherent inside blocks, seams between
-    them. ``block`` defaults to a quarter of the exemplar's smaller side.
+    them. ``block`` defaults to a quarter of the exemplar's smaller side
+    (at least 2 pixels, at most the exemplar's smaller side).
+
+    >>> mosaic_baseline(np.zeros((8, 8, 3)), 5, rng=0).shape
+    (5, 5, 3)
     """
     ex, grey = with_channels(as_image(exemplar, "exemplar"))
     h, w = as_size(size)
-    b = max(2, min(ex.shape[:2]) // 4) if block is None else check_positive_int(block, "block")
+    check_memory(float(h) * w * ex.shape[-1] * 8 * 4, (h, w), what="the baseline")
+    b = min(max(2, min(ex.shape[:2]) // 4), min(ex.shape[:2])) if block is None else check_positive_int(block, "block")
     if b > min(ex.shape[:2]):
         raise ValueError(f"block {b} is larger than the exemplar {ex.shape[:2]}; pass a smaller block")
     gen = as_rng(rng)
@@ -311,9 +387,14 @@ def mosaic_baseline(exemplar, size, *, block=None, rng=None):
 
 
 def tiled_baseline(exemplar, size):
-    """The exemplar repeated (periodically) to the output size: best coherence, worst copying."""
+    """The exemplar repeated (periodically) to the output size: best coherence, worst copying.
+
+    >>> tiled_baseline(np.eye(2), (3, 3)).tolist()
+    [[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 1.0]]
+    """
     ex, grey = with_channels(as_image(exemplar, "exemplar"))
     h, w = as_size(size)
+    check_memory(float(h) * w * ex.shape[-1] * 8 * 4, (h, w), what="the baseline")
     out = np.pad(ex, ((0, max(0, h - ex.shape[0])), (0, max(0, w - ex.shape[1])), (0, 0)), mode="wrap")[:h, :w]
     return out[..., 0] if grey else out
 
@@ -321,10 +402,27 @@ def tiled_baseline(exemplar, size):
 def baselines(exemplar, size, *, rng=0):
     """The three reference images for an output of the given size.
 
+    Parameters
+    ----------
+    exemplar : array_like
+    size : int or (int, int)
+        ``(height, width)`` of the baselines; an int means square.
+    rng : None, int or numpy.random.Generator
+        Seeds the noise and the mosaic. The default is the fixed seed 0, not
+        the library's usual None: the baselines are the reference scale of
+        :func:`texture_report` and :func:`texsynth.testing.assert_texture_like`,
+        and a reference that changed from run to run would make the same
+        output pass one run and fail the next. Pass None for fresh baselines.
+
     Returns
     -------
     dict
         ``{"noise": ..., "mosaic": ..., "tiled": ...}``.
+
+    Examples
+    --------
+    >>> sorted(baselines(np.zeros((8, 8)), 6))
+    ['mosaic', 'noise', 'tiled']
     """
     gen = as_rng(rng)
     return {
@@ -359,6 +457,25 @@ class TextureReport:
 def texture_report(output, exemplar, *, patch_size=8, with_baselines=True, rng=0):
     """Compute every metric for ``output`` (and, by default, for the baselines).
 
+    Parameters
+    ----------
+    output, exemplar : array_like
+        Images with the same number of channels, every side at least
+        ``patch_size`` (and 2) pixels.
+    patch_size : int or (int, int)
+        Neighbourhood size of the patch metrics.
+    with_baselines : bool
+        Also score the three :func:`baselines` (made at the output's size),
+        as :func:`texsynth.testing.relative_scores` needs.
+    rng : None, int or numpy.random.Generator
+        Seed of the baselines; the fixed default 0 keeps a report
+        reproducible (see :func:`baselines`). The metrics themselves are
+        exact and use no randomness.
+
+    Returns
+    -------
+    TextureReport
+
     Examples
     --------
     >>> ex = np.random.default_rng(1).random((20, 20))
@@ -367,6 +484,8 @@ def texture_report(output, exemplar, *, patch_size=8, with_baselines=True, rng=0
     (['completeness', 'energy', 'histogram', 'spectrum', 'verbatim_copy'], ['mosaic', 'noise', 'tiled'])
     """
     out, ex = _pair(output, exemplar)
+    with_baselines = check_bool(with_baselines, "with_baselines")
+    rng = as_rng(rng)  # checked even without baselines; a Generator passes through unchanged
 
     def measure(image):
         return {

@@ -30,7 +30,10 @@ mosaic and fail noise, blur and pasted copies of the whole exemplar.
 
 from __future__ import annotations
 
-from .metrics import texture_report
+import math
+import numbers
+
+from .metrics import TextureReport, texture_report
 
 __all__ = ["TextureAssertionError", "assert_texture_like", "relative_scores"]
 
@@ -48,15 +51,72 @@ def _scale(value, best, worst):
     return (value - best) / span if span > 0 else float("inf") if value > best else 0.0
 
 
+_METRICS = ("energy", "completeness", "spectrum", "verbatim_copy")
+
+
+def _check_report(report):
+    if not isinstance(report, TextureReport):
+        raise TypeError(
+            f"report must be a texsynth.metrics.TextureReport (from texture_report(output, exemplar)), "
+            f"got {type(report).__name__}"
+        )
+    missing = [name for name in _METRICS if name not in report.values]
+    if missing:
+        raise ValueError(f"report.values lacks {missing}; compute the report with texture_report(output, exemplar)")
+    for baseline in ("tiled", "noise"):
+        if baseline not in report.reference:
+            raise ValueError(
+                f"report has no {baseline!r} baseline (reference holds {sorted(report.reference)}); "
+                "compute it with texture_report(output, exemplar, with_baselines=True)"
+            )
+        lacking = [name for name in ("energy", "completeness", "spectrum") if name not in report.reference[baseline]]
+        if lacking:
+            raise ValueError(f"report.reference[{baseline!r}] lacks {lacking}; compute it with texture_report")
+
+
+def _check_bound(value, name):
+    """A bound is a real number >= 0; +inf switches its check off."""
+    if not isinstance(value, numbers.Real) or isinstance(value, bool):
+        raise TypeError(f"{name} must be a number >= 0 (or float('inf') for no bound), got {value!r}")
+    value = float(value)
+    if math.isnan(value) or value < 0:
+        raise ValueError(
+            f"{name} must be a number >= 0 (an upper bound; float('inf') switches the check off), got {value}"
+        )
+    return value
+
+
 def relative_scores(report):
     """Baseline-relative scores of a :class:`~texsynth.metrics.TextureReport`.
+
+    Parameters
+    ----------
+    report : texsynth.metrics.TextureReport
+        From :func:`~texsynth.metrics.texture_report` with its baselines
+        (``with_baselines=True``, the default).
 
     Returns
     -------
     dict
         ``energy``, ``completeness`` and ``spectrum`` scores (0 = as good as the
         tiled exemplar, 1 = as bad as noise) and the raw ``verbatim_copy``.
+
+    Raises
+    ------
+    TypeError
+        If ``report`` is not a TextureReport.
+    ValueError
+        If it lacks a metric or the tiled and noise baselines.
+
+    Examples
+    --------
+    >>> from texsynth.metrics import texture_report
+    >>> ex = np.random.default_rng(0).random((20, 20))
+    >>> scores = relative_scores(texture_report(ex, ex, patch_size=4))
+    >>> scores["energy"], scores["spectrum"]
+    (0.0, 0.0)
     """
+    _check_report(report)
     ref = report.reference
     return {
         "energy": _scale(report.values["energy"], ref["tiled"]["energy"], ref["noise"]["energy"]),
@@ -80,12 +140,15 @@ def assert_texture_like(output, exemplar, *, patch_size=8, max_energy=0.5, max_c
         elements.
     max_energy, max_completeness, max_spectrum : float
         Upper bounds on the baseline-relative scores (see the module notes):
-        0 is the tiled exemplar, 1 is histogram-matched noise.
+        0 is the tiled exemplar, 1 is histogram-matched noise. Numbers >= 0;
+        ``float("inf")`` switches a check off.
     max_copy : float
         Upper bound on the largest verbatim-copied region, as a fraction of
-        the exemplar's area.
-    rng : int
-        Seed of the baselines (fixed, so the assertion is deterministic).
+        the exemplar's area (>= 0; ``float("inf")`` switches it off).
+    rng : None, int or numpy.random.Generator
+        Seed of the baselines. Fixed (0) by default rather than the library's
+        usual None, so the assertion is deterministic: the same output passes
+        or fails the same way in every run.
 
     Returns
     -------
@@ -96,6 +159,11 @@ def assert_texture_like(output, exemplar, *, patch_size=8, max_energy=0.5, max_c
     ------
     TextureAssertionError
         Listing every metric with its score and bound, failing ones marked.
+    TypeError, ValueError
+        For bad arguments (checked before anything is computed): a bound that
+        is not a number >= 0 (NaN, negative, a bool or a string), and bad
+        images, ``patch_size`` or ``rng`` as in
+        :func:`~texsynth.metrics.texture_report`.
 
     Examples
     --------
@@ -106,10 +174,12 @@ def assert_texture_like(output, exemplar, *, patch_size=8, max_energy=0.5, max_c
     ...
     texsynth.testing.TextureAssertionError: output does not look like the exemplar ...
     """
+    bounds = {"energy": _check_bound(max_energy, "max_energy"),
+              "completeness": _check_bound(max_completeness, "max_completeness"),
+              "spectrum": _check_bound(max_spectrum, "max_spectrum"),
+              "verbatim_copy": _check_bound(max_copy, "max_copy")}
     report = texture_report(output, exemplar, patch_size=patch_size, rng=rng)
     scores = relative_scores(report)
-    bounds = {"energy": max_energy, "completeness": max_completeness, "spectrum": max_spectrum,
-              "verbatim_copy": max_copy}
     failed = [name for name in bounds if not scores[name] <= bounds[name]]
     if failed:
         lines = [f"output does not look like the exemplar ({', '.join(failed)} out of bounds):"]

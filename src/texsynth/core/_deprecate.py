@@ -14,7 +14,7 @@ import sys
 import types
 import warnings
 
-__all__ = ["DeprecatedModule", "install_module_aliases", "renamed_parameters", "warn"]
+__all__ = ["DeprecatedModule", "install_module_aliases", "renamed_parameters", "TotalSeconds", "warn"]
 
 
 def warn(message, stacklevel=3):
@@ -68,8 +68,9 @@ def install_module_aliases(aliases):
 def renamed_parameters(**renames):
     """Decorator: accept old keyword names ``old=new`` for one release, with a warning.
 
-    The old name's value is passed on under the new name; giving both is an
-    error. ``func.renamed_parameters`` keeps the table (the command line reads
+    The old name's value is passed on under the new name (``old=(new,
+    convert)`` converts it first); giving both is an error.
+    ``func.renamed_parameters`` keeps ``{old: new}`` (the command line reads
     it to accept the old option names too).
 
     Examples
@@ -83,24 +84,70 @@ def renamed_parameters(**renames):
     ...     f(frames=3), str(caught[0].message)
     (3, 'f(frames=...) is deprecated; use n_frames=... instead')
     """
+    table = {old: spec if isinstance(spec, tuple) else (spec, None) for old, spec in renames.items()}
 
     def decorate(func):
         params = inspect.signature(func).parameters
-        for new in renames.values():
+        for new, _ in table.values():
             if new not in params:
                 raise TypeError(f"{func.__qualname__} has no parameter {new!r} to rename to")
 
         @functools.wraps(func)
         def wrapper(*args, **kwargs):
-            for old, new in renames.items():
+            for old, (new, convert) in table.items():
                 if old in kwargs:
                     if new in kwargs:
                         raise TypeError(f"{func.__name__}() got both {old}= (deprecated) and {new}=; pass only {new}=")
-                    warn(f"{func.__name__}({old}=...) is deprecated; use {new}=... instead")
-                    kwargs[new] = kwargs.pop(old)
+                    value = kwargs.pop(old)
+                    shown = "..." if convert is None else repr(convert(value))
+                    warn(f"{func.__name__}({old}=...) is deprecated; use {new}={shown} instead")
+                    kwargs[new] = value if convert is None else convert(value)
             return func(*args, **kwargs)
 
-        wrapper.renamed_parameters = dict(renames)
+        wrapper.renamed_parameters = {**getattr(func, "renamed_parameters", {}),
+                                      **{old: new for old, (new, _) in table.items()}}
+        wrapper.renamed_converters = {**getattr(func, "renamed_converters", {}),
+                                      **{old: convert for old, (_, convert) in table.items() if convert}}
         return wrapper
 
     return decorate
+
+
+class TotalSeconds(float):
+    """A total wall time that still answers the per-part lookups of 0.1 (``info.seconds["synthesis"]``).
+
+    Since 0.2 every info object has ``seconds`` (the total, a float) and
+    ``stage_seconds`` (the parts, a dict). Where ``seconds`` used to be the
+    dict, indexing it still works for one release, with a warning.
+
+    Examples
+    --------
+    >>> t = TotalSeconds(3.0, {"a": 1.0, "b": 2.0}, "Info")
+    >>> float(t), t + 1
+    (3.0, 4.0)
+    """
+
+    def __new__(cls, total, parts, owner):
+        obj = super().__new__(cls, total)
+        obj._parts, obj._owner = parts, owner
+        return obj
+
+    def _dict(self):
+        warn(f"{self._owner}.seconds is the total wall time (a float) since 0.2; use {self._owner}.stage_seconds "
+             "instead for the parts")
+        return self._parts
+
+    def __getitem__(self, key):
+        return self._dict()[key]
+
+    def keys(self):
+        return self._dict().keys()
+
+    def values(self):
+        return self._dict().values()
+
+    def items(self):
+        return self._dict().items()
+
+    def get(self, key, default=None):
+        return self._dict().get(key, default)

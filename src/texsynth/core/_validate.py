@@ -19,10 +19,13 @@ Conventions (see ``docs/conventions.md``):
 from __future__ import annotations
 
 import numbers
+import os
+import reprlib
 
 import numpy as np
 
 __all__ = [
+    "as_array",
     "as_image",
     "as_float_array",
     "with_channels",
@@ -32,9 +35,32 @@ __all__ = [
     "check_positive_int",
     "check_positive_float",
     "check_in_range",
+    "check_bool",
+    "check_memory",
+    "available_memory",
+    "max_threads",
 ]
 
 _FLOAT_TOLERANCE = 1e-6
+
+
+def as_array(data, name="image"):
+    """``np.asarray`` with a TypeError naming ``name`` for None, strings and ragged sequences.
+
+    >>> as_array(None, "exemplar")
+    Traceback (most recent call last):
+    ...
+    TypeError: exemplar must be an array (uint8, uint16, bool or float in [0, 1]), got NoneType None
+    """
+    if data is None or isinstance(data, (str, bytes)):
+        raise TypeError(
+            f"{name} must be an array (uint8, uint16, bool or float in [0, 1]), got {type(data).__name__} "
+            f"{reprlib.repr(data)}"
+        )
+    try:
+        return np.asarray(data)
+    except (ValueError, TypeError) as exc:
+        raise TypeError(f"{name} must be an array with one number per pixel and channel: {exc}") from None
 
 
 def as_float_array(array, name="image"):
@@ -65,7 +91,7 @@ def as_float_array(array, name="image"):
     >>> as_float_array(np.array([[0, 255]], dtype=np.uint8))
     array([[0., 1.]])
     """
-    arr = np.asarray(array)
+    arr = as_array(array, name)
     if arr.size == 0:
         raise ValueError(f"{name} is empty (shape {arr.shape}); pass an image with at least one pixel")
     kind = arr.dtype
@@ -123,7 +149,7 @@ def as_image(image, name="image", *, spatial_dims=2, min_size=1):
     ...
     ValueError: image must have shape (H, W) or (H, W, C) with C in 1..4, got shape (5,)
     """
-    arr = np.asarray(image)
+    arr = as_array(image, name)
     axes = "(H, W)" if spatial_dims == 2 else "(D, H, W)"
     full = axes[:-1] + ", C)"
     ok = arr.ndim == spatial_dims or (arr.ndim == spatial_dims + 1 and 1 <= arr.shape[-1] <= 4)
@@ -208,8 +234,11 @@ def check_positive_int(value, name, minimum=1):
     return int(value)
 
 
-def check_positive_float(value, name, *, allow_zero=False):
-    """Return ``value`` as float, raising unless it is finite and > 0 (>= 0)."""
+def check_positive_float(value, name, *, allow_zero=False, maximum=None):
+    """Return ``value`` as float, raising unless it is finite and > 0 (>= 0), and at most ``maximum``.
+
+    ``maximum`` bounds weights whose larger values mean nothing more and overflow in float32.
+    """
     if not isinstance(value, numbers.Real) or isinstance(value, bool):
         raise TypeError(f"{name} must be a real number, got {value!r}")
     value = float(value)
@@ -217,6 +246,8 @@ def check_positive_float(value, name, *, allow_zero=False):
     if bad:
         bound = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be a finite number {bound}, got {value}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{name} must be at most {maximum:g}, got {value:g}")
     return value
 
 
@@ -231,3 +262,100 @@ def check_in_range(value, name, low, high, *, low_open=False, high_open=False):
         interval = f"{'(' if low_open else '['}{low}, {high}{')' if high_open else ']'}"
         raise ValueError(f"{name} must lie in {interval}, got {value}")
     return value
+
+
+def check_bool(value, name):
+    """``value`` if it is a bool (numpy's too), else a TypeError: ``tileable="no"`` must not mean True.
+
+    >>> check_bool("no", "tileable")
+    Traceback (most recent call last):
+    ...
+    TypeError: tileable must be True or False, got str 'no'
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise TypeError(f"{name} must be True or False, got {type(value).__name__} {reprlib.repr(value)}")
+
+
+def available_memory():
+    """Bytes of memory this process may still take: Linux's MemAvailable (else the physical memory),
+    or less under an address-space limit (``ulimit -v``, ``resource.RLIMIT_AS``). None if unknown."""
+    free = None
+    try:
+        with open("/proc/meminfo") as f:
+            free = next((int(line.split()[1]) * 1024 for line in f if line.startswith("MemAvailable:")), None)
+    except (OSError, ValueError, IndexError):
+        pass
+    if free is None:
+        try:
+            free = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+        except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+            return None
+    try:
+        import resource
+
+        limit = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if limit != resource.RLIM_INFINITY and limit >= 0:
+            free = min(free, limit)
+    except (ImportError, AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+        pass
+    return free
+
+
+def _gib(nbytes):
+    return f"{nbytes / 2**30:.1f} GiB"
+
+
+def check_memory(nbytes, value, name="size", what="the output", also=None):
+    """Refuse, before anything is allocated, work that needs more memory than the machine has free.
+
+    Parameters
+    ----------
+    nbytes : float
+        The estimate of the largest memory the call holds at once.
+    value : object
+        The value of the parameter that decides it (shown in the message).
+    name : str
+        That parameter's name (``"size"``).
+    what : str
+        What the memory is for, for the message.
+    also : dict, optional
+        Other parameters the estimate grows with (``{"n_frames": 100}``),
+        named in the message too.
+
+    Raises
+    ------
+    ValueError
+        If ``nbytes`` exceeds the memory available (Linux's MemAvailable).
+
+    Examples
+    --------
+    >>> check_memory(1e15, (10**7, 10**7))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: size=(10000000, 10000000) needs about 931322.6 GiB for the output, more than the ... GiB ...
+    """
+    free = available_memory()
+    if free is not None and nbytes > free:
+        names = [name] + list(also or {})
+        given = ", ".join(f"{k}={v}" for k, v in [(name, value), *(also or {}).items()])
+        raise ValueError(
+            f"{given} {'need' if also else 'needs'} about {_gib(nbytes)} for {what}, more than the {_gib(free)} of "
+            f"memory available; pass a smaller {' or '.join(names)}"
+        )
+
+
+def max_threads():
+    """Threads a method may start: the cores, capped by the limits set on BLAS and OpenMP.
+
+    ``OMP_NUM_THREADS=1`` or ``threadpoolctl.threadpool_limits(1)`` make it 1,
+    so a user who limits the library's threads limits texsynth's own too.
+    """
+    from threadpoolctl import threadpool_info
+
+    cores = os.cpu_count() or 1
+    limits = [pool["num_threads"] for pool in threadpool_info() if pool.get("user_api") in ("blas", "openmp")]
+    env = os.environ.get("OMP_NUM_THREADS", "")
+    if env.isdigit() and int(env) > 0:
+        limits.append(int(env))
+    return max(1, min([cores] + limits))

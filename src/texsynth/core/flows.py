@@ -38,7 +38,8 @@ import numbers
 import numpy as np
 from scipy import ndimage
 
-from ._validate import as_image, as_size, check_positive_int, restore_channels, with_channels
+from ._deprecate import renamed_parameters
+from ._validate import as_image, as_size, check_memory, check_positive_int, restore_channels, with_channels
 
 __all__ = [
     "translation",
@@ -57,9 +58,17 @@ __all__ = [
 WARP_MODES = {"constant": "grid-constant", "wrap": "grid-wrap", "reflect": "reflect", "nearest": "nearest"}
 
 
-def _grid(shape, center):
+def _field_size(size):
+    """``size`` checked, and refused before allocation if a field's arrays (coordinates and the
+    (H, W, 2) flow, float64) cannot fit."""
+    h, w = as_size(size, "size")
+    check_memory(float(h) * w * 8 * 8, (h, w), what="the flow field")
+    return h, w
+
+
+def _grid(size, center):
     """Pixel coordinates relative to ``center`` (default: the image centre)."""
-    h, w = as_size(shape, "shape")
+    h, w = _field_size(size)
     if center is None:
         center = ((h - 1) / 2.0, (w - 1) / 2.0)
     try:
@@ -76,12 +85,13 @@ def _real(value, name):
     return float(value)
 
 
-def translation(shape, velocity):
+@renamed_parameters(shape="size")
+def translation(size, velocity):
     """Uniform translation: every pixel moves by ``velocity`` per frame.
 
     Parameters
     ----------
-    shape : int or (int, int)
+    size : int or (int, int)
         Frame size ``(H, W)``.
     velocity : (float, float)
         Displacement ``(d_row, d_col)`` in pixels per frame.
@@ -96,7 +106,7 @@ def translation(shape, velocity):
     >>> translation((2, 3), (0.0, 1.5))[1, 2].tolist()
     [0.0, 1.5]
     """
-    h, w = as_size(shape, "shape")
+    h, w = _field_size(size)
     try:
         dy, dx = (_real(v, "velocity") for v in velocity)
     except TypeError:
@@ -106,7 +116,8 @@ def translation(shape, velocity):
     return flow
 
 
-def rotation(shape, angle, *, center=None):
+@renamed_parameters(shape="size")
+def rotation(size, angle, *, center=None):
     """Rigid rotation by ``angle`` radians per frame about ``center``.
 
     The rotational flow of Kwatra et al. 2005, Figure 7. The displacement is
@@ -115,7 +126,7 @@ def rotation(shape, angle, *, center=None):
 
     Parameters
     ----------
-    shape : int or (int, int)
+    size : int or (int, int)
     angle : float
         Radians per frame, counter-clockwise on screen for ``angle > 0``.
     center : (float, float), optional
@@ -133,7 +144,7 @@ def rotation(shape, angle, *, center=None):
     [-2.0, -2.0]
     """
     angle = _real(angle, "angle")
-    y, x = _grid(shape, center)
+    y, x = _grid(size, center)
     c, s = np.cos(angle), np.sin(angle)
     # counter-clockwise on screen: with rows pointing down, (x, -y) turns by +angle
     new_x = c * x + s * y
@@ -141,7 +152,8 @@ def rotation(shape, angle, *, center=None):
     return np.stack([new_y - y, new_x - x], axis=-1)
 
 
-def vortex(shape, speed, *, center=None, radius=None):
+@renamed_parameters(shape="size")
+def vortex(size, speed, *, center=None, radius=None):
     """A Rankine vortex: swirl that turns fastest at ``radius``.
 
     Tangential speed ``speed * r / radius`` inside the core ``r < radius``
@@ -150,7 +162,7 @@ def vortex(shape, speed, *, center=None, radius=None):
 
     Parameters
     ----------
-    shape : int or (int, int)
+    size : int or (int, int)
     speed : float
         Largest tangential speed in pixels per frame (at ``r = radius``);
         positive turns counter-clockwise on screen.
@@ -171,9 +183,9 @@ def vortex(shape, speed, *, center=None, radius=None):
     (1.0, 0.5)
     """
     speed = _real(speed, "speed")
-    y, x = _grid(shape, center)
+    y, x = _grid(size, center)
     if radius is None:
-        radius = min(as_size(shape, "shape")) / 4.0
+        radius = min(_field_size(size)) / 4.0
     radius = _real(radius, "radius")
     if radius <= 0:
         raise ValueError(f"radius must be > 0 pixels, got {radius}")
@@ -196,7 +208,8 @@ def _radial(shape, speed, center, sign):
     return np.stack([y * scale, x * scale], axis=-1)
 
 
-def sink(shape, speed, *, center=None):
+@renamed_parameters(shape="size")
+def sink(size, speed, *, center=None):
     """Radial inflow at ``speed`` pixels per frame towards ``center``.
 
     The flow of Kwatra et al. 2005, Figure 1: texture drains into the
@@ -208,10 +221,11 @@ def sink(shape, speed, *, center=None):
     >>> f[2, 0].tolist(), f[2, 2].tolist()
     ([0.0, 1.0], [0.0, 0.0])
     """
-    return _radial(shape, speed, center, -1.0)
+    return _radial(size, speed, center, -1.0)
 
 
-def source(shape, speed, *, center=None):
+@renamed_parameters(shape="size")
+def source(size, speed, *, center=None):
     """Radial outflow at ``speed`` pixels per frame away from ``center``.
 
     Examples
@@ -219,7 +233,7 @@ def source(shape, speed, *, center=None):
     >>> source((5, 5), 2.0)[0, 2].tolist()
     [-2.0, 0.0]
     """
-    return _radial(shape, speed, center, 1.0)
+    return _radial(size, speed, center, 1.0)
 
 
 def check_flow(flow, shape=None, name="flow"):
@@ -260,7 +274,8 @@ def check_flow(flow, shape=None, name="flow"):
     return arr
 
 
-def flow_sequence(flows, frames=None, *, shape=None):
+@renamed_parameters(frames="n_frames")
+def flow_sequence(flows, n_frames=None, *, shape=None):
     """Turn a flow description into a validated sequence ``(L - 1, H, W, 2)``.
 
     Parameters
@@ -269,11 +284,11 @@ def flow_sequence(flows, frames=None, *, shape=None):
         One of
 
         - ``(H, W, 2)``: a stationary flow, used for every transition
-          (``frames`` required);
+          (``n_frames`` required);
         - ``(L - 1, H, W, 2)``: one flow per transition (time-varying flow);
         - a callable ``flows(i) -> (H, W, 2)`` for ``i = 0 .. L - 2``
-          (``frames`` required), the flow from frame ``i`` to ``i + 1``.
-    frames : int, optional
+          (``n_frames`` required), the flow from frame ``i`` to ``i + 1``.
+    n_frames : int, optional
         Number of frames ``L`` (at least 2). Must agree with an array of
         shape ``(L - 1, H, W, 2)`` if both are given.
     shape : (int, int), optional
@@ -287,21 +302,21 @@ def flow_sequence(flows, frames=None, *, shape=None):
     Raises
     ------
     ValueError
-        For a wrong shape, NaN, a missing or inconsistent ``frames``.
+        For a wrong shape, NaN, a missing or inconsistent ``n_frames``.
 
     Examples
     --------
-    >>> flow_sequence(translation((4, 4), (0, 1)), frames=3).shape
+    >>> flow_sequence(translation((4, 4), (0, 1)), n_frames=3).shape
     (2, 4, 4, 2)
-    >>> flow_sequence(lambda i: rotation((4, 4), 0.1 * i), frames=4).shape
+    >>> flow_sequence(lambda i: rotation((4, 4), 0.1 * i), n_frames=4).shape
     (3, 4, 4, 2)
     """
-    if frames is not None:
-        frames = check_positive_int(frames, "frames", minimum=2)
+    if n_frames is not None:
+        n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
     if callable(flows):
-        if frames is None:
-            raise ValueError("frames is required when flows is a callable of time; pass frames=L (number of frames)")
-        seq = [check_flow(flows(i), shape, name=f"flows({i})") for i in range(frames - 1)]
+        if n_frames is None:
+            raise ValueError("n_frames is required when flows is a callable of time; pass n_frames=L (the number of frames)")
+        seq = [check_flow(flows(i), shape, name=f"flows({i})") for i in range(n_frames - 1)]
         first = seq[0].shape
         for i, f in enumerate(seq):
             if f.shape != first:
@@ -309,20 +324,22 @@ def flow_sequence(flows, frames=None, *, shape=None):
         return np.stack(seq)
     arr = np.asarray(flows)
     if arr.ndim == 3:
-        if frames is None:
-            raise ValueError("frames is required with a single (H, W, 2) flow; pass frames=L, or a (L-1, H, W, 2) sequence")
+        if n_frames is None:
+            raise ValueError("n_frames is required with a single (H, W, 2) flow; pass n_frames=L, or a (L-1, H, W, 2) sequence")
         one = check_flow(arr, shape, "flows")
-        return np.broadcast_to(one, (frames - 1,) + one.shape).copy()
+        check_memory(float(one.nbytes) * (n_frames - 1), n_frames, "n_frames", "the flow of every frame")
+        return np.broadcast_to(one, (n_frames - 1,) + one.shape).copy()
     if arr.ndim != 4 or arr.shape[-1] != 2:
         raise ValueError(
             f"flows must have shape (H, W, 2) or (L-1, H, W, 2), or be a callable of time, got shape {arr.shape}"
         )
-    if frames is not None and arr.shape[0] != frames - 1:
-        raise ValueError(f"flows holds {arr.shape[0]} flows, so {arr.shape[0] + 1} frames, but frames={frames}; pass {frames - 1} flows")
+    if n_frames is not None and arr.shape[0] != n_frames - 1:
+        raise ValueError(f"flows holds {arr.shape[0]} flows, so {arr.shape[0] + 1} frames, but n_frames={n_frames}; pass {n_frames - 1} flows")
     return np.stack([check_flow(f, shape, f"flows[{i}]") for i, f in enumerate(arr)])
 
 
-def warp(image, flow, *, mode="constant", cval=0.0, order=1, iterations=3, return_valid=False):
+@renamed_parameters(order="spline_order")
+def warp(image, flow, *, mode="constant", cval=0.0, spline_order=1, iterations=3, return_valid=False):
     """Move an image's content along a flow for one frame (backward warping).
 
     Parameters
@@ -337,7 +354,7 @@ def warp(image, flow, *, mode="constant", cval=0.0, order=1, iterations=3, retur
         textures), the mirror image, or the nearest edge pixel.
     cval : float
         Fill value for ``mode="constant"``.
-    order : int
+    spline_order : int
         Spline order of the interpolation (0 = nearest, 1 = bilinear, 3 =
         cubic; the result is clipped to [0, 1]).
     iterations : int
@@ -370,14 +387,14 @@ def warp(image, flow, *, mode="constant", cval=0.0, order=1, iterations=3, retur
     flow = check_flow(flow, (h, w))
     if mode not in WARP_MODES:
         raise ValueError(f"mode must be one of {sorted(WARP_MODES)}, got {mode!r}")
-    order = check_positive_int(order, "order", minimum=0)
-    if order > 5:
-        raise ValueError(f"order must be a spline order in 0..5, got {order}")
+    spline_order = check_positive_int(spline_order, "spline_order", minimum=0)
+    if spline_order > 5:
+        raise ValueError(f"spline_order must be in 0..5, got {spline_order}")
     iterations = check_positive_int(iterations, "iterations")
     cval = _real(cval, "cval")
     src = _source_points(flow, mode, iterations)
     out = np.stack(
-        [ndimage.map_coordinates(img[..., k], src, order=order, mode=WARP_MODES[mode], cval=cval)
+        [ndimage.map_coordinates(img[..., k], src, order=spline_order, mode=WARP_MODES[mode], cval=cval)
          for k in range(img.shape[-1])],
         axis=-1,
     )

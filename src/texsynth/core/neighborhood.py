@@ -31,6 +31,7 @@ import numbers
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
+from ._deprecate import renamed_parameters
 from ._validate import as_size
 
 __all__ = [
@@ -48,20 +49,20 @@ __all__ = [
 MODES = ("valid", "wrap", "reflect")
 
 
-def patch_shape(size, name="size"):
+def patch_shape(patch_size, name="patch_size"):
     """Normalise a patch size: an int means square.
 
     >>> patch_shape(5), patch_shape((3, 4))
     ((5, 5), (3, 4))
     """
-    if isinstance(size, numbers.Integral) and not isinstance(size, bool):
-        size = (int(size), int(size))
+    if isinstance(patch_size, numbers.Integral) and not isinstance(patch_size, bool):
+        patch_size = (int(patch_size), int(patch_size))
     try:
-        h, w = size
+        h, w = patch_size
     except (TypeError, ValueError):
-        raise TypeError(f"{name} must be an int or a pair (height, width), got {size!r}") from None
+        raise TypeError(f"{name} must be an int or a pair (height, width), got {patch_size!r}") from None
     if not all(isinstance(s, numbers.Integral) and not isinstance(s, bool) for s in (h, w)):
-        raise TypeError(f"{name} must hold integers, got {size!r}")
+        raise TypeError(f"{name} must hold integers, got {patch_size!r}")
     if h < 1 or w < 1:
         raise ValueError(f"{name} must be positive, got ({h}, {w})")
     return int(h), int(w)
@@ -72,7 +73,7 @@ def _check_mode(mode):
         raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
 
 
-def _check_fits(image_shape, size, name="size"):
+def _check_fits(image_shape, size, name="patch_size"):
     h, w = size
     if h > image_shape[0] or w > image_shape[1]:
         raise ValueError(
@@ -122,14 +123,15 @@ def _patch_coords(centers, size, shape, mode):
     return _index(rows, shape[0], mode, "patches"), _index(cols, shape[1], mode, "patches")
 
 
-def all_patches(image, size, *, mode="valid"):
+@renamed_parameters(size="patch_size")
+def all_patches(image, patch_size, *, mode="valid"):
     """Every patch of an image, as a read-only view (no copy).
 
     Parameters
     ----------
     image : numpy.ndarray
         ``(H, W, C)``.
-    size : int or (int, int)
+    patch_size : int or (int, int)
         Patch size ``(h, w)``.
     mode : {"valid", "wrap", "reflect"}
         ``"valid"`` gives ``(H - h + 1, W - w + 1)`` patches, indexed by their
@@ -154,7 +156,7 @@ def all_patches(image, size, *, mode="valid"):
     """
     _check_channels_last(image)
     _check_mode(mode)
-    h, w = patch_shape(size)
+    h, w = patch_shape(patch_size)
     _check_fits(image.shape, (h, w))
     if mode != "valid":
         pads = ((h // 2, h - 1 - h // 2), (w // 2, w - 1 - w // 2), (0, 0))
@@ -163,7 +165,8 @@ def all_patches(image, size, *, mode="valid"):
     return np.moveaxis(view, 2, -1)
 
 
-def extract(image, centers, size, *, mode="wrap"):
+@renamed_parameters(size="patch_size")
+def extract(image, centers, patch_size, *, mode="wrap"):
     """Copy the patches centred at arbitrary positions.
 
     Parameters
@@ -173,7 +176,7 @@ def extract(image, centers, size, *, mode="wrap"):
     centers : array_like of int, shape (N, 2)
         Patch centres ``(row, col)``: a regular sparse grid
         (:func:`grid_centers`) or any irregular positions.
-    size : int or (int, int)
+    patch_size : int or (int, int)
         Patch size.
     mode : {"wrap", "reflect", "valid"}
         Boundary handling; ``"valid"`` raises if a patch leaves the image.
@@ -192,9 +195,9 @@ def extract(image, centers, size, *, mode="wrap"):
     """
     _check_channels_last(image)
     _check_mode(mode)
-    size = patch_shape(size)
-    _check_fits(image.shape, size)
-    rows, cols = _patch_coords(centers, size, image.shape, mode)
+    patch_size = patch_shape(patch_size)
+    _check_fits(image.shape, patch_size)
+    rows, cols = _patch_coords(centers, patch_size, image.shape, mode)
     return image[rows[:, :, None], cols[:, None, :]]
 
 
@@ -277,16 +280,17 @@ def accumulate(patches, centers, shape, *, patch_weights=None, pixel_weights=Non
     return sums.reshape(height, width, c).astype(patches.dtype, copy=False), total.reshape(height, width)
 
 
-def grid_centers(shape, size, spacing, *, mode="wrap"):
+@renamed_parameters(size="patch_size", spacing="grid_spacing")
+def grid_centers(shape, patch_size, grid_spacing, *, mode="wrap"):
     """Centres of a regular grid of patches that covers every pixel.
 
     Parameters
     ----------
     shape : (int, int)
         Image shape ``(H, W)``.
-    size : int or (int, int)
+    patch_size : int or (int, int)
         Patch size; the grid must not leave gaps, so ``spacing <= size``.
-    spacing : int or (int, int)
+    grid_spacing : int or (int, int)
         Distance between neighbouring centres (Kwatra et al. 2005 use w/4).
     mode : {"wrap", "reflect", "valid"}
         ``"valid"`` keeps every patch inside the image and adds a last row
@@ -305,15 +309,15 @@ def grid_centers(shape, size, spacing, *, mode="wrap"):
     """
     _check_mode(mode)
     shape = as_size(shape, "shape")
-    size = patch_shape(size)
-    step = patch_shape(spacing, "spacing")
+    patch_size = patch_shape(patch_size)
+    step = patch_shape(grid_spacing, "grid_spacing")
     axes = []
-    for length, s, d in zip(shape, size, step):
+    for length, s, d in zip(shape, patch_size, step):
         if d > s:
-            raise ValueError(f"spacing {step} is larger than the patch size {size}; the grid would leave gaps")
+            raise ValueError(f"grid_spacing {step} is larger than the patch size {patch_size}; the grid would leave gaps")
         if mode == "valid":
             if s > length:
-                raise ValueError(f"size {size} is larger than the image {tuple(shape)}; pass a smaller size")
+                raise ValueError(f"patch_size {patch_size} is larger than the image {tuple(shape)}; pass a smaller patch_size")
             first, last = s // 2, length - s + s // 2
             coords = np.arange(first, last + 1, d)
             if coords[-1] != last:
@@ -325,12 +329,13 @@ def grid_centers(shape, size, spacing, *, mode="wrap"):
     return np.stack([rr.ravel(), cc.ravel()], axis=1).astype(np.int64)
 
 
-def gaussian_falloff(size, sigma=None):
+@renamed_parameters(size="patch_size")
+def gaussian_falloff(patch_size, sigma=None):
     """Gaussian weights over a patch, 1 at the centre.
 
     Parameters
     ----------
-    size : int or (int, int)
+    patch_size : int or (int, int)
     sigma : float, optional
         Standard deviation in pixels. Default ``max(h, w) / 4``, so the
         weight at the middle of an edge is ``exp(-2) ~ 0.14``.
@@ -346,7 +351,7 @@ def gaussian_falloff(size, sigma=None):
     >>> float(g[2, 2]), bool(g[0, 0] < g[0, 2] < g[2, 2])
     (1.0, True)
     """
-    h, w = patch_shape(size)
+    h, w = patch_shape(patch_size)
     if sigma is None:
         sigma = max(h, w) / 4.0
     if not sigma > 0:
@@ -356,7 +361,8 @@ def gaussian_falloff(size, sigma=None):
     return np.exp(-(y[:, None] ** 2 + x[None, :] ** 2) / (2.0 * sigma**2))
 
 
-def causal_mask(size):
+@renamed_parameters(size="patch_size")
+def causal_mask(patch_size):
     """The causal (L-shaped) neighbourhood of scanline synthesis.
 
     True for the pixels already synthesised when the centre is visited in
@@ -370,14 +376,15 @@ def causal_mask(size):
            [1, 0, 0],
            [0, 0, 0]])
     """
-    h, w = patch_shape(size)
+    h, w = patch_shape(patch_size)
     mask = np.zeros((h, w), dtype=bool)
     mask[: h // 2] = True
     mask[h // 2, : w // 2] = True
     return mask
 
 
-def multilevel_vectors(image, parent, centers, size, parent_size, *, mode="wrap", mask=None):
+@renamed_parameters(size="patch_size")
+def multilevel_vectors(image, parent, centers, patch_size, parent_size, *, mode="wrap", mask=None):
     """Neighbourhood vectors that join this pyramid level with its parent.
 
     The vector of a pixel is its (optionally masked, e.g. causal) neighbourhood
@@ -391,7 +398,7 @@ def multilevel_vectors(image, parent, centers, size, parent_size, *, mode="wrap"
         ``(H, W, C)`` and ``(ceil(H/2), ceil(W/2), C)`` (or any coarser level
         whose pixel ``(i // 2, j // 2)`` lies under ``(i, j)``).
     centers : array_like of int, shape (N, 2)
-    size, parent_size : int or (int, int)
+    patch_size, parent_size : int or (int, int)
     mode : {"wrap", "reflect", "valid"}
     mask : numpy.ndarray of bool, shape size, optional
         Which pixels of this level's neighbourhood to keep.
@@ -409,11 +416,11 @@ def multilevel_vectors(image, parent, centers, size, parent_size, *, mode="wrap"
     ((1, 21), 9.0)
     """
     centers = np.asarray(centers)
-    here = extract(image, centers, size, mode=mode)
+    here = extract(image, centers, patch_size, mode=mode)
     if mask is not None:
         mask = np.asarray(mask, dtype=bool)
-        if mask.shape != patch_shape(size):
-            raise ValueError(f"mask must have shape {patch_shape(size)}, got {mask.shape}")
+        if mask.shape != patch_shape(patch_size):
+            raise ValueError(f"mask must have shape {patch_shape(patch_size)}, got {mask.shape}")
         here = here[:, mask]
     coarse = extract(parent, centers // 2, parent_size, mode=mode)
     return np.concatenate([here.reshape(len(centers), -1), coarse.reshape(len(centers), -1)], axis=1)

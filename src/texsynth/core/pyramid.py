@@ -17,7 +17,10 @@ zeros are inserted between the samples and the result is filtered with
 subtractions, up to floating-point rounding, about 1e-16 per level). EXPAND by
 zero insertion + binomial is chosen over linear interpolation because it is
 the classical Burt-Adelson operator, the adjoint of REDUCE (so the Laplacian
-levels are the usual band-pass images) and it keeps constants exactly.
+levels are the usual band-pass images) and it keeps constants exactly. scikit-image's ``pyramid_gaussian`` is
+another operator (a Gaussian of sigma 2/3 and a resize; its first level differs
+from REDUCE by up to 0.24 on a photograph) and ``pyramid_laplacian`` has no
+reconstruction, so the papers' pyramids are built here (``benchmarks/bench_packages.py``).
 
 Boundaries: ``mode="reflect"`` mirrors about the edge sample without repeating
 it (``c b | a b c``, numpy's ``pad(mode="reflect")``, scipy.ndimage's
@@ -517,7 +520,7 @@ class SteerablePyramid:
                 raise TypeError(f"{name} must be an integer >= {low}, got {value!r}")
         most = max_scales(shape)
         if scales < 0 or scales > most:
-            need = 2 ** (max(scales, 0) + 2)
+            need = 2 ** (max(scales, 0) + 2) if scales < 60 else float("inf")  # no huge integers in a message
             raise ValueError(
                 f"scales={scales} is too many for an image of shape {shape}: {scales} scales need at least "
                 f"{need} pixels along each axis; pass scales between 0 and {most}"

@@ -78,18 +78,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import fft as sfft
 
+from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
-from ..core._validate import (
-    as_float_array,
-    as_image,
-    as_rng,
-    as_size,
-    check_in_range,
-    check_positive_float,
-    check_positive_int,
-    restore_channels,
-    with_channels,
-)
+from ..core._validate import (as_float_array, as_image, as_rng, as_size, check_bool, check_in_range, check_memory,
+                              check_positive_float, check_positive_int, restore_channels, with_channels)
 from ..core.em import expectation_maximization
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core import search
@@ -112,6 +104,9 @@ _OCCURRENCE_CANDIDATES = 4
 # copy_limit: penalty per unit of excess (offset count / limit - 1), in units of the
 # occurrence scale (exemplar variance x summed weights of a neighbourhood)
 _COPY_PENALTY = 3.0
+# Largest weight of an energy term: far beyond any meaningful balance (the paper's mu is 10, a
+# constraint of 100 is nearly hard), and below what overflows the float32 search features.
+_MAX_WEIGHT = 1e6
 # Conjugate gradients of the gradient-energy E-step: relative residual and cap.
 _CG_RTOL = 1e-10
 _CG_MAXITER = 500
@@ -231,6 +226,11 @@ class OptimizationInfo:
             out[s.level] = out.get(s.level, 0.0) + s.seconds
         return out
 
+    @property
+    def stage_seconds(self):
+        """Wall time per stage: ``{"level 1 size 16": seconds, ...}`` in synthesis order."""
+        return {f"level {s.level} size {s.size}": s.seconds for s in self.stages}
+
 
 @dataclass
 class AnimationInfo:
@@ -244,11 +244,27 @@ class AnimationInfo:
         The single-resolution constrained synthesis of frames 2..L.
     frame_seconds : numpy.ndarray
         Wall time of each frame 2..L (warping included).
+    seconds : float
+        Total wall time.
     """
 
     first: object
     frames: list = field(default_factory=list)
     frame_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    seconds: float = 0.0
+
+    @property
+    def stage_seconds(self):
+        """Wall time per frame: ``{"frame 1": ..., "frame 2": ..., ...}`` (frame 1 absent if given)."""
+        out = {} if self.first is None else {"frame 1": self.first.seconds}
+        out.update({f"frame {i + 2}": float(t) for i, t in enumerate(self.frame_seconds)})
+        return out
+
+    @property
+    def energy(self):
+        """The final energy of every synthesised frame, in order (1-D)."""
+        infos = ([] if self.first is None else [self.first]) + self.frames
+        return np.array([float(i.energy[-1]) for i in infos])
 
 
 # --------------------------------------------------------------------------- options
@@ -931,16 +947,16 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
 
 
 # --------------------------------------------------------------------------- validation
-def _check_sizes(sizes):
+def _check_sizes(sizes, name="neighborhood_sizes"):
     if isinstance(sizes, numbers.Integral) and not isinstance(sizes, bool):
         sizes = (sizes,)
     try:
         sizes = tuple(sizes)
     except TypeError:
-        raise TypeError(f"neighborhood_sizes must be an int or a sequence of ints, got {sizes!r}") from None
+        raise TypeError(f"{name} must be an int or a sequence of ints, got {sizes!r}") from None
     if not sizes:
-        raise ValueError("neighborhood_sizes is empty; pass e.g. (32, 16, 8)")
-    out = [check_positive_int(s, "neighborhood_sizes", minimum=2) for s in sizes]
+        raise ValueError(f"{name} is empty; pass e.g. (32, 16, 8)")
+    out = [check_positive_int(s, name, minimum=2) for s in sizes]
     return tuple(sorted(set(out), reverse=True))
 
 
@@ -989,43 +1005,54 @@ class _Problem:
     x_init: np.ndarray | None = None
 
 
-def _check_options(*, irls_exponent, grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
+def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
                    falloff=True, method="auto", occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0):
     """The scalar options of :func:`optimize_texture`, checked, as an :class:`_Options`."""
     return _Options(
         r=check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True),
-        mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True),
-        spacing=check_in_range(grid_spacing, "grid_spacing", 0.0, 1.0, low_open=True),
+        mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True, maximum=_MAX_WEIGHT),
+        spacing=check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True),
         max_iterations=check_positive_int(max_iterations, "max_iterations"),
         tolerance=check_positive_float(tolerance, "tolerance", allow_zero=True),
-        tileable=bool(tileable),
-        falloff=bool(falloff),
+        tileable=check_bool(tileable, "tileable"),
+        falloff=check_bool(falloff, "falloff"),
         method=search.check_method(method),
-        occurrence=check_positive_float(occurrence_weight, "occurrence_weight", allow_zero=True),
+        occurrence=check_positive_float(occurrence_weight, "occurrence_weight", allow_zero=True, maximum=_MAX_WEIGHT),
         copy_limit=None if copy_limit is None else check_in_range(copy_limit, "copy_limit", 0.0, 1.0, low_open=True),
-        completeness=check_positive_float(completeness_weight, "completeness_weight", allow_zero=True),
+        completeness=check_positive_float(completeness_weight, "completeness_weight", allow_zero=True,
+                                          maximum=_MAX_WEIGHT),
     )
 
 
+def _check_memory(shape, channels, opts, frames=1):
+    """Refuse an output whose arrays cannot fit. The largest stage holds every neighbourhood of the
+    w/4 grid (``1 / spacing^2`` copies of the image: ``z_p``, their weighted copies in the E-step,
+    the queries) and about a dozen image-sized arrays; the gradient energy triples it; an animation
+    keeps every frame."""
+    pixels = float(shape[0]) * shape[1] * channels * 8
+    need = pixels * (4 / opts.spacing**2 + 12) * (3 if opts.mu > 0 else 1) + pixels * 2 * frames
+    check_memory(need, tuple(shape), also={"n_frames": frames} if frames > 1 else None)
+
+
 def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.0, mask=None, target=None,
-             exemplar_mask=None, init=None):
+             exemplar_mask=None, init=None, sizes_name="neighborhood_sizes"):
     """The arrays of :func:`optimize_texture`, checked, as a :class:`_Problem`."""
     ex = as_image(exemplar, "exemplar")
     ex, grey = with_channels(ex)
     shape = as_size(size)
-    sizes = _check_sizes(neighborhood_sizes)
+    sizes = _check_sizes(neighborhood_sizes, sizes_name)
     levels = check_positive_int(levels, "levels")
-    lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True)
+    lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True, maximum=_MAX_WEIGHT)
     smallest = sizes[-1]
     if smallest > min(ex.shape[:2]):
         raise ValueError(
             f"exemplar is {ex.shape[0]}x{ex.shape[1]} but the smallest neighborhood is {smallest}x{smallest}; "
-            f"pass neighborhood_sizes no larger than {min(ex.shape[:2])} or a larger exemplar"
+            f"pass {sizes_name} no larger than {min(ex.shape[:2])} or a larger exemplar"
         )
     if smallest > min(shape):
         raise ValueError(
             f"size {shape} is smaller than the smallest neighborhood {smallest}x{smallest}; "
-            "pass a larger size or smaller neighborhood_sizes"
+            f"pass a larger size or smaller {sizes_name}"
         )
     valid = np.ones(ex.shape[:2])
     if exemplar_mask is not None:
@@ -1073,7 +1100,8 @@ def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
 
 
 # --------------------------------------------------------------------------- public API
-def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3, grid_spacing=0.25,
+@renamed_parameters(grid_spacing="relative_grid_spacing")
+def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3, relative_grid_spacing=0.25,
                      irls_exponent=0.8, max_iterations=5, tolerance=5e-3, gradient_weight=0.0, mask=None, target=None,
                      constraint_weight=1.0, exemplar_mask=None, tileable=False, init=None, falloff=True,
                      occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0, method="auto", rng=None,
@@ -1102,7 +1130,7 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     levels : int
         Resolution levels (default 3, the paper's). 1 synthesises at full
         resolution only.
-    grid_spacing : float
+    relative_grid_spacing : float
         Spacing of the neighbourhood centres ``X†`` as a fraction of ``w``
         (default 1/4: "centers that are w/4 pixels apart").
     irls_exponent : float
@@ -1157,33 +1185,19 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         ``scale`` the exemplar's variance times the summed weights of a
         neighbourhood; the kd-tree's 4 nearest and the 4 coherent candidates
         (the grid neighbours' ``z`` shifted) compete. It spreads the output
-        over more of the exemplar (completeness). Default 0 (off, the paper's
-        M-step). Measured at 128 -> 192 px with the defaults on 8 real
-        textures x 2 seeds: 0.3 lowered completeness (relative to a
-        random-block mosaic, median over the runs) from 1.72 to 0.77 (better
-        than the mosaic in 13 of 16 runs; reptile skin stays above it, 1.22)
-        at a median +7 % texture energy, but it does not limit verbatim
-        copies (largest 0.66 -> 0.75). ``completeness_weight`` with
-        ``copy_limit`` does both. With ``occurrence_weight > 0`` or
-        ``copy_limit``, the energy is no longer guaranteed to fall within a
-        stage (the M-step minimises another criterion), and a stage ends
-        only by the paper's test or ``max_iterations``.
+        over more of the exemplar (completeness) but does not limit verbatim
+        copies. Default 0 (off, the paper's M-step). With
+        ``occurrence_weight > 0`` or ``copy_limit``, the energy is no longer
+        guaranteed to fall within a stage (the M-step minimises another
+        criterion), and a stage ends only by the paper's test or
+        ``max_iterations``.
     copy_limit : float in (0, 1], optional
         Limit the size of verbatim copies: a penalty grows on every exemplar
         offset (exemplar position minus output position of ``z_p``) shared by
         more neighbourhood centres than a copied region covering
         ``copy_limit`` of the exemplar's area has (see Notes). Default None
-        (off, the paper's M-step). Measured at 128 -> 192 px with the
-        defaults on 8 real textures x 2 seeds: ``copy_limit=0.2`` brought the
-        largest copied region (:func:`texsynth.metrics.verbatim_copy`, which
-        also counts the neighbourhoods' margins) from up to 0.66 of the
-        exemplar down to at most 0.26, at a median +2 % texture energy (up
-        to +78 % on pebbles; still well below the random-block mosaic's),
-        but completeness got worse (median 1.97 of the mosaic's). With
-        ``occurrence_weight=0.3`` too: copies at most 0.28, completeness
-        median 0.78 of the mosaic's (11 of 16 runs better), energy +14 %.
-        Paired with ``completeness_weight`` it also withholds the
-        completeness votes of over-limit offsets (see that parameter).
+        (off, the paper's M-step). Paired with ``completeness_weight`` it also
+        withholds the completeness votes of over-limit offsets.
     completeness_weight : float
         ``λ_b >= 0``: adds the completeness half of the bidirectional
         similarity of Simakov et al. 2008 [3]_ to the energy: every exemplar
@@ -1191,34 +1205,20 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         the output, ``λ_b (|X†| / |J|) sum_j ||x_p(j) - q_j||^r`` with
         ``x_p(j)`` its nearest output neighbourhood on ``X†``. The M-step
         also finds ``p(j)``, and the E-step averages ``q_j`` at ``p(j)``
-        with the ``z_p`` (Simakov et al.'s update rule); 1
-        weighs both directions equally per neighbourhood. Default 0 (off,
-        the paper's eq. 1). Alone it makes the output contain the whole
-        exemplar verbatim (largest copy 0.79-0.98 of the exemplar at
-        64 -> 96 px), so use it with ``copy_limit``: an exemplar offset
-        copied beyond the limit then gets no completeness votes. Measured at
-        128 -> 192 px on 8 real textures (pebbles, bread, metal, brick,
-        apples, reptile skin, two texts) x 2 seeds:
-        ``completeness_weight=1, copy_limit=0.2`` kept every largest copy at
-        most 0.31 of the exemplar (defaults: up to 0.66) and every
-        completeness at most 0.38 of the random-block mosaic's (defaults:
-        median 1.72, 13 of 16 runs worse than the mosaic), at a median +33 %
-        texture energy (-26 % to +93 %; at most 0.37 of the mosaic's) and
-        about twice the time (128 -> 256 px: 12-15 s against 6 s, mostly the
-        penalised M-step of ``copy_limit``, which alone takes 10 s; the
-        completeness search 1.9 s). Without ``copy_limit`` the energy never rises
-        within a stage, as for eq. 1.
+        with the ``z_p`` (Simakov et al.'s update rule); 1 weighs both
+        directions equally per neighbourhood. Default 0 (off, the paper's
+        eq. 1). Alone it makes the output contain the whole exemplar
+        verbatim, so use it with ``copy_limit``: ``completeness_weight=1,
+        copy_limit=0.2`` brings all of the exemplar without large copies, at
+        about twice the time (docs/methods/optimization.md measures it).
+        Without ``copy_limit`` the energy never rises within a stage, as for
+        eq. 1.
     method : {"auto", "exact", "kdtree", "tsvq"}
-        Nearest-neighbour backend of the M-step
-        (:class:`texsynth.core.search.PatchIndex`), chosen per (level, size)
-        stage. ``"auto"`` (default) searches exactly when the exemplar
-        level holds at most 5000 neighbourhoods (the coarse levels) and uses
-        the PCA kd-tree above (full resolution; 16 candidates of a
-        (1 + 2)-approximate search, re-ranked exactly): for a 128 x 128
-        colour exemplar and a 256 x 256 output measured 2.4x faster than
-        ``"exact"`` with 0.99 of its final texture energy
-        (benchmarks/bench_optimization.py, 2026-11-23; ``"kdtree"`` on every
-        stage: 2.2x, +8 %; ``"tsvq"``: 0.25x, +16 %). The M-step never
+        Nearest-neighbour backend of the M-step (:mod:`texsynth.core.search`),
+        chosen per (level, size) stage. ``"auto"`` (default) searches exactly
+        when the exemplar level holds few neighbourhoods (the coarse levels)
+        and uses the PCA kd-tree above (profile ``"stage"``: 16 candidates of
+        a (1 + 2)-approximate search, re-ranked exactly). The M-step never
         accepts a worse ``z_p``, so an approximate backend cannot raise the
         energy within a stage.
     rng : None, int or numpy.random.Generator
@@ -1268,11 +1268,8 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     distance it then had to its match (the triangle inequality bounds what
     such a search can gain by twice that move; the others keep ``z_p``, so
     the step still never raises the energy). At full resolution most
-    neighbourhoods have converged after an iteration or two, and for a
-    128 x 128 exemplar and a 256 x 256 output this halves the number of
-    searches; with a (1 + 2)- instead of a (1 + 1)-approximate kd-tree search
-    the synthesis takes about 0.6 of the CPU time at the same final texture
-    energy (within 1 %; benchmarks/bench_optimization.py).
+    neighbourhoods have converged after an iteration or two, so most
+    searches are skipped (docs/methods/optimization.md measures it).
     Soft constraints, eq. (2), ``E_c(x; x^c) = sum_{k in C} (x(k) -
     x^c(k))^2``, enter the E-step as a weighted average with the targets
     and the M-step as ``argmin_v ||x_p - v||^2 + λ ||v - x^c_p||^2_C``
@@ -1323,10 +1320,12 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     t_start = time.perf_counter()
     problem = _prepare(exemplar, size, neighborhood_sizes, levels, constraint_weight=constraint_weight, mask=mask,
                        target=target, exemplar_mask=exemplar_mask, init=init)
-    opts = _check_options(irls_exponent=irls_exponent, grid_spacing=grid_spacing, max_iterations=max_iterations,
+    opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,
+                          max_iterations=max_iterations,
                           tolerance=tolerance, gradient_weight=gradient_weight, tileable=tileable, falloff=falloff,
                           method=method, occurrence_weight=occurrence_weight, copy_limit=copy_limit,
                           completeness_weight=completeness_weight)
+    _check_memory(problem.shape, problem.ex.shape[-1], opts)
     rng = as_rng(rng)
     x, info = _synthesize(problem, opts, rng, progress=progress, desc="optimize_texture")
     info.seconds = time.perf_counter() - t_start
@@ -1382,9 +1381,11 @@ def _first_sources(x, problem, size, opts, rng, cache):
     return _source_map(centers, exm.centers(zidx), x.shape[:2])
 
 
-def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16, 8), levels=3,
-                    frame_sizes=None, grid_spacing=0.25, irls_exponent=0.8, max_iterations=5, tolerance=5e-3,
-                    frame_iterations=3, gradient_weight=0.0, constraint_weight=3.0, tileable=False,
+@renamed_parameters(frames="n_frames", grid_spacing="relative_grid_spacing", frame_iterations="max_frame_iterations")
+def animate_texture(exemplar, flows, *, n_frames=None, neighborhood_sizes=(32, 16, 8), levels=3,
+                    frame_sizes=None, relative_grid_spacing=0.25, irls_exponent=0.8, max_iterations=5,
+                    tolerance=5e-3,
+                    max_frame_iterations=3, gradient_weight=0.0, constraint_weight=3.0, tileable=False,
                     first_frame=None, warp_order=3, frame_falloff=0.25, falloff=True, method="auto", rng=None,
                     progress=False, return_info=False):
     """Animate a texture along a flow field (Kwatra et al. 2005, Section 4.1).
@@ -1410,9 +1411,9 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
         displacements ``(d_row, d_col)`` in pixels per frame (see
         :mod:`texsynth.core.flows` for sink, source, vortex, rotation,
         translation). The frame size is the flows' ``(H, W)``.
-    frames : int, optional
+    n_frames : int, optional
         Number of frames ``L``; required for a single flow or a callable.
-    neighborhood_sizes, levels, grid_spacing, irls_exponent, max_iterations, tolerance, gradient_weight, falloff, method
+    neighborhood_sizes, levels, relative_grid_spacing, irls_exponent, max_iterations, tolerance, gradient_weight, falloff, method
         As in :func:`optimize_texture`, for frame 1 (and ``method`` for the
         frames' index, a kd-tree re-ranking 4 candidates with ``eps = 2``
         when ``"auto"`` chooses the kd-tree).
@@ -1421,17 +1422,14 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
         2..L; default the last two of ``neighborhood_sizes`` (16, 8): the
         warped frame is already a good texture, so the large size, which
         rearranges whole elements, is not needed to repair it.
-    frame_iterations : int
+    max_frame_iterations : int
         EM iterations per size for frames 2..L at most (default 3); a size
         also stops when ``{z_p}`` no longer changes or the energy falls by
         less than ``tolerance``.
     constraint_weight : float
         ``λ`` of the flow term: how strongly a frame keeps the warped previous
-        frame (default 3; the paper gives no value). Measured on 128 x 128
-        pebbles rotating 0.06 rad per frame, 16 frames (default
-        ``frame_falloff``): mean absolute change against the warped previous
-        frame 0.0081 for λ = 1 and 0.0036 for λ = 3; λ = 1 also lets the
-        texture wash out into flat regions.
+        frame (default 3; the paper gives no value, and λ = 1 lets the
+        texture wash out into flat regions: docs/methods/optimization.md).
     tileable : bool
         Periodic frames: the warp wraps around, so every pixel has a target.
         Otherwise pixels that flow in from outside the frame are
@@ -1448,11 +1446,8 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
         centred nearest to it, so neighbourhoods that disagree by a pixel
         (inevitable when the texture moves by fractions of a pixel) are not
         averaged into blur. ``None`` uses the M-step's fall-off (σ = w/4),
-        the plain Algorithm 2; the paper gives no σ. Measured on pebbles
-        rotating 0.06 rad per frame (128 x 128, 16 frames): with ``None`` the
-        frames wash out into flat smeared regions and the mean absolute change
-        against the warped previous frame is 0.015; with 0.25 the pebbles
-        stay (softened) and it is 0.0036.
+        the plain Algorithm 2, with which the frames wash out into flat
+        smeared regions; the paper gives no σ.
     rng, progress, return_info
         As in :func:`optimize_texture` (progress counts frames).
 
@@ -1466,7 +1461,7 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     Raises
     ------
     ValueError
-        Flows of the wrong shape or with NaN, ``frames`` inconsistent with
+        Flows of the wrong shape or with NaN, ``n_frames`` inconsistent with
         the flows, and everything :func:`optimize_texture` rejects.
 
     Notes
@@ -1482,8 +1477,8 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     neighbours shifted by the offset to them (coherent candidates, Ashikhmin
     2001) and, in the first iteration of each size, the index's nearest
     neighbour of the completed-square query; the exact criterion
-    ``||x_p - v||^2 + λ E_c`` decides. Searching the index in every iteration
-    gave the same texture energy and flicker (within 1 %) at about 1.6 times the time.
+    ``||x_p - v||^2 + λ E_c`` decides; the index is searched only in the
+    first iteration of each size.
 
     References
     ----------
@@ -1497,29 +1492,33 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     >>> from texsynth.core import flows
     >>> ex = data.load("bumpy")[:32, :32]
     >>> f = flows.translation((24, 24), (0.0, 2.0))
-    >>> video = animate_texture(ex, f, frames=3, neighborhood_sizes=(8,), levels=1,
-    ...                         max_iterations=2, frame_iterations=1, rng=0)
+    >>> video = animate_texture(ex, f, n_frames=3, neighborhood_sizes=(8,), levels=1,
+    ...                         max_iterations=2, max_frame_iterations=1, rng=0)
     >>> video.shape
     (3, 24, 24, 3)
     """
     t_start = time.perf_counter()
     if not callable(flows) and np.ndim(flows) not in (3, 4):
         raise ValueError(f"flows must have shape (H, W, 2) or (L-1, H, W, 2), or be a callable, got shape {np.shape(flows)}")
-    seq = flow_sequence(flows, frames)
+    seq = flow_sequence(flows, n_frames)
     shape = seq.shape[1:3]
     sizes = _check_sizes(neighborhood_sizes)
-    fsizes = sizes[-2:] if frame_sizes is None else _check_sizes(frame_sizes)
-    frame_iterations = check_positive_int(frame_iterations, "frame_iterations")
+    fsizes = sizes[-2:] if frame_sizes is None else _check_sizes(frame_sizes, "frame_sizes")
+    max_frame_iterations = check_positive_int(max_frame_iterations, "max_frame_iterations")
     warp_order = check_positive_int(warp_order, "warp_order", minimum=0)
+    if warp_order > 5:
+        raise ValueError(f"warp_order must be a spline order in 0..5 (3: cubic), got {warp_order}")
     if frame_falloff is not None:
         frame_falloff = check_positive_float(frame_falloff, "frame_falloff")
     problem = _prepare(exemplar, shape, sizes, levels, constraint_weight=constraint_weight)
-    _prepare(exemplar, shape, fsizes, 1)  # validates frame_sizes against the frame size
-    opts = _check_options(irls_exponent=irls_exponent, grid_spacing=grid_spacing, max_iterations=max_iterations,
+    _prepare(exemplar, shape, fsizes, 1, sizes_name="frame_sizes")  # frame_sizes against the frame size
+    opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,
+                          max_iterations=max_iterations,
                           tolerance=tolerance, gradient_weight=gradient_weight, tileable=tileable, falloff=falloff,
                           method=method)
-    lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True)
+    lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True, maximum=_MAX_WEIGHT)
     ex = problem.ex
+    _check_memory(shape, ex.shape[-1], opts, frames=seq.shape[0] + 1)
     rng = as_rng(rng)
     count = seq.shape[0] + 1
     bar = Progress(progress, count, "animate_texture")
@@ -1544,11 +1543,11 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
             # eq. 3 as eq. 2: the previous frame warped along f_i is target and initialisation;
             # its correspondence with the exemplar, carried along f_i too, offers every z_p a
             # coherent candidate (the index is searched once per size and frame)
-            warped, ok = warp(x, seq[i], mode=wmode, order=warp_order, return_valid=True)
+            warped, ok = warp(x, seq[i], mode=wmode, spline_order=warp_order, return_valid=True)
             constraint = (ok.astype(np.float64), warped, lam)
             coords = warp_coordinates(sources, seq[i], mode=wmode)
             frame = dataclasses.replace(problem, sizes=fsizes, levels=1, constraint=constraint, x_init=warped)
-            frame_opts = dataclasses.replace(opts, max_iterations=frame_iterations, coords=coords,
+            frame_opts = dataclasses.replace(opts, max_iterations=max_frame_iterations, coords=coords,
                                              assembly=frame_falloff)
             x, finfo = _synthesize(frame, frame_opts, rng, cache=cache, desc=f"frame {i + 2}")
             x = np.clip(x, 0.0, 1.0)
@@ -1560,7 +1559,8 @@ def animate_texture(exemplar, flows, *, frames=None, neighborhood_sizes=(32, 16,
     finally:
         bar.close()
     info.frame_seconds = np.asarray(seconds)
+    info.seconds = time.perf_counter() - t_start
     if info.first is not None:
-        info.first.seconds = time.perf_counter() - t_start - float(info.frame_seconds.sum())
+        info.first.seconds = info.seconds - float(info.frame_seconds.sum())
     out = np.stack([restore_channels(v, problem.grey) for v in video])
     return (out, info) if return_info else out

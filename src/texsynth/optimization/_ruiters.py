@@ -37,6 +37,7 @@ References
 
 from __future__ import annotations
 
+import inspect
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -45,17 +46,11 @@ import numpy as np
 from scipy import ndimage
 from scipy.spatial import cKDTree
 
+from ..core._deprecate import TotalSeconds, renamed_parameters
 from ..core._progress import Progress
-from ..core._validate import (
-    as_image,
-    as_rng,
-    as_size,
-    check_in_range,
-    check_positive_float,
-    check_positive_int,
-    restore_channels,
-    with_channels,
-)
+from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_size, check_bool, check_in_range,
+                              check_memory, check_positive_float, check_positive_int, restore_channels,
+                              with_channels)
 from ..core import search
 from ..core.search import PatchIndex
 from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
@@ -82,31 +77,38 @@ class InterpolationInfo:
 
     Attributes
     ----------
-    seconds : dict
-        Wall time per stage of the method: ``"correspondences"``,
-        ``"tps_rpm"``, ``"warping"`` (warp, blend, similarity filter),
-        ``"synthesis"`` (searches, relaxation, mean shift) and
-        ``"statistics"`` (Portilla-Simoncelli).
+    energy : numpy.ndarray
+        Mean distance of the pasted neighbourhoods to the synthesized image:
+        per (r, s) stage, after the stage's first search, then after each
+        iteration; all stages in order.
+    stage : numpy.ndarray of int
+        The stage (index into ``stages``) of each energy value.
     pairs : list of int
         Corresponding neighbourhood pairs per (r, s) stage.
     kept : list of int
         Interpolated neighbourhoods kept in ``N'`` per stage (all alphas).
-    energy : list of list of float
-        Mean distance of the pasted neighbourhoods to the synthesized image,
-        per stage: after the stage's first search, then after each iteration.
+    seconds : float
+        Total wall time.
+    stage_seconds : dict
+        Wall time per step of the method: ``"correspondences"``,
+        ``"tps_rpm"``, ``"warping"`` (warp, blend, similarity filter),
+        ``"synthesis"`` (searches, relaxation, mean shift) and
+        ``"statistics"`` (Portilla-Simoncelli).
     colour_only : bool
         True when the feature maps were empty and the warps fell back to
         the identity.
     """
 
-    seconds: dict = field(default_factory=dict)
+    energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    stage: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     pairs: list = field(default_factory=list)
     kept: list = field(default_factory=list)
-    energy: list = field(default_factory=list)
+    seconds: float = 0.0
+    stage_seconds: dict = field(default_factory=dict)
     colour_only: bool = False
 
     def add(self, key, t0):
-        self.seconds[key] = self.seconds.get(key, 0.0) + time.perf_counter() - t0
+        self.stage_seconds[key] = self.stage_seconds.get(key, 0.0) + time.perf_counter() - t0
 
 
 # --------------------------------------------------------------------------- inputs
@@ -198,20 +200,24 @@ def ridge_feature_map(image, *, sigmas=(1.0, 2.0), min_size=8):
     return remove_small_objects(lines, max_size=check_positive_int(min_size, "min_size") - 1, connectivity=2)
 
 
-def transition_alpha_map(shape, *, start=0.0, stop=1.0):
+@renamed_parameters(shape="size")
+def transition_alpha_map(size, *, start=0.0, stop=1.0):
     """A left-to-right ramp of alpha values for a transition strip (Figure 4).
 
     >>> transition_alpha_map((2, 5))[0].tolist()
     [0.0, 0.25, 0.5, 0.75, 1.0]
     """
-    h, w = as_size(shape, "shape")
+    h, w = as_size(size, "size")
     start = check_in_range(start, "start", 0.0, 1.0)
     stop = check_in_range(stop, "stop", 0.0, 1.0)
+    check_memory(float(h) * w * 8, (h, w), what="the map")
     return np.broadcast_to(np.linspace(start, stop, w), (h, w)).copy()
 
 
 def linear_blend(a, b, alpha):
     """Plain cross-fade ``(1 - alpha) a + alpha b`` (Figure 1a: ghosted features).
+
+    ``alpha`` is a number in [0, 1] or an ``(H, W)`` map of them.
 
     >>> linear_blend(np.zeros((2, 2)), np.ones((2, 2)), 0.25).tolist()
     [[0.25, 0.25], [0.25, 0.25]]
@@ -220,9 +226,15 @@ def linear_blend(a, b, alpha):
     b = as_image(b, "b")
     if a.shape != b.shape:
         raise ValueError(f"a {a.shape} and b {b.shape} must have the same shape for a linear blend")
-    alpha = np.asarray(alpha, dtype=np.float64)
-    if alpha.ndim == 2 and a.ndim == 3:
-        alpha = alpha[..., None]
+    if np.ndim(alpha) == 0:
+        alpha = np.float64(check_in_range(alpha, "alpha", 0.0, 1.0))
+    else:
+        alpha = as_float_array(as_array(alpha, "alpha"), "alpha")  # a map: finite values in [0, 1]
+        if alpha.shape != a.shape[:2]:
+            raise ValueError(f"alpha map has shape {alpha.shape} but the images are {a.shape[:2]}; pass an "
+                             f"(H, W) map of the images' size or one number")
+        if a.ndim == 3:
+            alpha = alpha[..., None]
     return (1.0 - alpha) * a + alpha * b
 
 
@@ -251,18 +263,14 @@ def _distance_channel(feature, size):
     return np.minimum(d / (size / 2.0), 1.0)
 
 
-def _downsample(image, r):
+def _downsample(image, r, reduce=np.mean):
+    """Resolution 1/r of Pseudocode 1: the mean (features: any) of r x r blocks, a remainder cropped."""
+    from skimage.measure import block_reduce
+
     if r == 1:
         return image
-    h, w = image.shape[0] // r, image.shape[1] // r
-    return image[: h * r, : w * r].reshape(h, r, w, r, -1).mean(axis=(1, 3))
-
-
-def _downsample_features(feature, r):
-    if r == 1:
-        return feature
-    h, w = feature.shape[0] // r, feature.shape[1] // r
-    return feature[: h * r, : w * r].reshape(h, r, w, r).any(axis=(1, 3))
+    h, w = image.shape[0] // r * r, image.shape[1] // r * r
+    return block_reduce(image[:h, :w], (r, r) + (1,) * (image.ndim - 2), reduce)
 
 
 # --------------------------------------------------------------------------- Section 4.1, 4.2
@@ -483,14 +491,17 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
     return np.concatenate(out)
 
 
-def interpolate_neighborhoods(a, b, alpha, size, *, features=None, resolution=1, distance_weight=1.0, k=1,
+@renamed_parameters(size="neighborhood_size")
+def interpolate_neighborhoods(a, b, alpha, neighborhood_size, *, features=None, resolution=1, distance_weight=1.0,
+                              k=1,
                               keep_fraction=0.5, feature_weight=0.5, max_feature_points=24,
                               max_neighborhoods=1024, max_set_size=16384, rpm_options=None, method="auto", rng=None):
     """The interpolated neighbourhood set ``N'`` for one (r, s) (Sections 4.1-4.2).
 
-    Parameters are those of :func:`interpolate_textures`; ``alpha`` is a
-    number. Returns ``(M, s, s, C + 1)`` float32 patches: the colour channels
-    then the interpolated distance channel.
+    ``neighborhood_size`` is ``s`` and ``resolution`` is ``r`` of a stage;
+    ``alpha`` is a number; the other parameters are those of
+    :func:`interpolate_textures`. Returns ``(M, s, s, C + 1)`` float32
+    patches: the colour channels then the interpolated distance channel.
 
     Examples
     --------
@@ -505,8 +516,8 @@ def interpolate_neighborhoods(a, b, alpha, size, *, features=None, resolution=1,
                       method=method)
     alpha = check_in_range(alpha, "alpha", 0.0, 1.0)
     rng = as_rng(rng)
-    t1, t2 = _stage_textures(p, resolution, size)
-    return _interpolated_set(t1, t2, size, [alpha], p, rng, InterpolationInfo())
+    t1, t2 = _stage_textures(p, resolution, neighborhood_size)
+    return _interpolated_set(t1, t2, neighborhood_size, [alpha], p, rng, InterpolationInfo())
 
 
 def _stage_textures(p, r, size):
@@ -518,7 +529,7 @@ def _stage_textures(p, r, size):
                 f"texture of shape {img.shape[:2]} downsampled by {r} is smaller than the neighbourhood size "
                 f"{size}; pass larger textures or smaller stages=((r, s), ...)"
             )
-        out.append(_prepare_texture(colour, _downsample_features(feat, r), size, p.max_neighborhoods))
+        out.append(_prepare_texture(colour, _downsample(feat, r, np.any), size, p.max_neighborhoods))
     return out
 
 
@@ -551,6 +562,8 @@ def _check_inputs(a, b, *, features, distance_weight, k, keep_fraction, feature_
         raise ValueError(f"a has {a.shape[-1]} channels and b has {b.shape[-1]}; pass two grey or two colour textures")
     if features is None:
         features = (None, None)
+    elif isinstance(features, (str, bytes, np.ndarray)) or not hasattr(features, "__len__"):
+        raise TypeError(f"features must be a pair (F1, F2) of binary maps or None, got {type(features).__name__}")
     elif len(features) != 2:
         raise ValueError(f"features must be a pair (F1, F2) of binary maps or None, got {len(features)} items")
     fa, fb = _feature_map(features[0], a, 0), _feature_map(features[1], b, 1)
@@ -573,9 +586,22 @@ def _check_inputs(a, b, *, features, distance_weight, k, keep_fraction, feature_
         max_feature_points=check_positive_int(max_feature_points, "max_feature_points", 3),
         max_neighborhoods=check_positive_int(max_neighborhoods, "max_neighborhoods"),
         max_set_size=check_positive_int(max_set_size, "max_set_size"),
-        rpm=dict(_RPM_DEFAULTS, **(rpm_options or {})),
+        rpm=_check_rpm_options(rpm_options),
         method=search.check_method(method),
     )
+
+
+def _check_rpm_options(rpm_options):
+    """The TPS-RPM options: this module's defaults updated by the user's dict (names of :func:`tps_rpm`)."""
+    if rpm_options is None:
+        return dict(_RPM_DEFAULTS)
+    if not isinstance(rpm_options, dict):
+        raise TypeError(f"rpm_options must be a dict of tps_rpm options or None, got {type(rpm_options).__name__}")
+    known = set(inspect.signature(tps_rpm).parameters) - {"X", "Y"}
+    unknown = sorted(set(rpm_options) - known)
+    if unknown:
+        raise TypeError(f"rpm_options has unknown options {unknown}; tps_rpm takes {sorted(known)}")
+    return dict(_RPM_DEFAULTS, **rpm_options)
 
 
 # Faster-than-paper annealing for thousands of small point sets, and a stiffer affine part (the
@@ -802,12 +828,14 @@ class _Statistics:
 
 
 # --------------------------------------------------------------------------- public
+@renamed_parameters(iterations="max_iterations", min_improvement="tolerance", grid_spacing="relative_grid_spacing",
+                    statistics="statistics_step")
 def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 33), (2, 17), (1, 17)),
-                         iterations=10, distance_weight=1.0, k=1, keep_fraction=0.5, feature_weight=0.5,
+                         max_iterations=10, distance_weight=1.0, k=1, keep_fraction=0.5, feature_weight=0.5,
                          max_feature_points=24, max_neighborhoods=1024, max_set_size=16384, alpha_steps=20, alpha_weight=4.0,
-                         statistics_bands=5, grid_spacing=0.25, candidate_stride=2, relaxation_radius=2,
+                         statistics_bands=5, relative_grid_spacing=0.25, candidate_stride=2, relaxation_radius=2,
                          spring_weight=0.002, mean_shift_bandwidth=0.03, mean_shift_iterations=3,
-                         min_improvement=0.0, statistics=True, rpm_options=None, method="auto", rng=None, progress=False,
+                         tolerance=0.0, statistics_step=True, rpm_options=None, method="auto", rng=None, progress=False,
                          return_info=False):
     """Interpolate two textures by warping and blending their neighbourhoods (Ruiters et al. 2010).
 
@@ -835,7 +863,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         Coarse-to-fine ``(r, s)``: downsampling factor and neighbourhood size;
         the paper's default ``(2, 33), (2, 17), (1, 17)``, with ``(2, 49)``
         first for large regular features.
-    iterations : int
+    max_iterations : int
         Synthesis iterations per stage (10 in the paper).
     distance_weight : float
         Channel weight ``W_C`` of the distance channel (colour channels 1) in
@@ -863,9 +891,6 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         max_neighborhoods`` per stage). Each kept pair is reused shifted by
         up to the stride with the same warp (see ``max_set_size``), so the
         cap costs variety of the warps, not coverage of positions.
-        Doubling both caps (48, 2048) on 128 px brick <-> slate took
-        2.2-2.6x the time and changed the texture energy at alpha = 0.5
-        by less than two seeds differ (see the docs page).
     max_set_size : int
         Cap on the size of ``N'`` per stage (all alphas together): the
         number of shifted copies per kept pair is reduced to stay below it.
@@ -882,7 +907,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         distribution map, each run "only on the relevant parts of the image"
         (the pixels nearest to its alpha); the results are blended by alpha
         (Section 4.5).
-    grid_spacing : float
+    relative_grid_spacing : float
         Cell size of the irregular-centre grid as a fraction of ``s``
         (Kwatra et al.'s ``w/4``).
     candidate_stride : int
@@ -897,23 +922,16 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         Colour bandwidth of the per-pixel mean shift (Gaussian kernel on
         the colour distance, colours in [0, 1]). Default 0.03: with 0.1 the
         kernel spans the disagreement of the overlapping patches and the
-        mode is their mean; 0.05 gave sharpness 0.092 instead of 0.100
-        (Notes).
+        mode is their mean (Notes).
     mean_shift_iterations : int
-        Mean-shift steps per update (0 keeps the IRLS-weighted mean). One
-        step instead of 3 changed the texture energy by less than the
-        difference between two seeds and saved under 5 % of the time.
-    min_improvement : float or None
+        Mean-shift steps per update (0 keeps the IRLS-weighted mean).
+    tolerance : float or None
         Kwatra et al.'s stopping rule: a stage ends early at the first
         iteration whose energy (``info.energy``) is above ``(1 -
-        min_improvement)`` times the previous one; default 0.0, stop when the
-        energy stops falling. ``None`` always runs ``iterations`` (the
-        paper's fixed N = 10). Measured on 128 px brick <-> slate (see the
-        docs page): at alpha = 0.5 the stages stop after 2-8 iterations
-        with the same texture energy against both inputs (within the
-        spread of two seeds); at alpha = 0 and 1 the energy keeps falling
-        and nearly all iterations run.
-    statistics : bool
+        tolerance)`` times the previous one; default 0.0, stop when the
+        energy stops falling. ``None`` always runs ``max_iterations`` (the
+        paper's fixed N = 10).
+    statistics_step : bool
         Perform one Portilla-Simoncelli step with linearly interpolated
         statistics per iteration (Section 4.5); in the last stage it is
         weighted by ``2 min(alpha, 1 - alpha)`` (see Notes).
@@ -953,17 +971,12 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     -----
     Correspondences use ``||W_C (N_i^(1) - N_j^(2))||_2`` over colour and
     distance channels (Section 4.1), searched in both directions through
-    :class:`texsynth.core.search.PatchIndex`: exact when the other texture has
-    at most 20000 neighbourhoods (every texture up to about 150 px per
-    stage; with at most ``max_neighborhoods`` queries this is faster than
-    building a kd-tree), the paper's PCA + kd-tree above. The synthesis
-    searches ``N'`` with ``PatchIndex(method="auto")``: exact up to 5000
-    neighbourhoods, PCA + kd-tree (16 candidates re-ranked by their exact
-    distance) above, which is the case at full resolution (measured there:
-    recall@1 0.87, mean distance 0.5 % above the exact nearest, 3x
-    faster). Each pair is colour-adjusted to the alpha-
-    interpolated means and deviations, TPS-RPM (eq. 1) gives ``theta_12``
-    and ``theta_21`` from the same correspondences, and
+    :mod:`texsynth.core.search` (profile ``"correspondence"``: exact up to
+    20000 neighbourhoods of the other texture, the paper's PCA + kd-tree
+    above); the synthesis searches ``N'`` with the default profile. Each pair
+    is colour-adjusted to the alpha-interpolated means and deviations,
+    TPS-RPM (eq. 1) gives ``theta_12`` and ``theta_21`` from the same
+    correspondences, and
 
     .. math:: N'(x) = (1 - \\alpha) N_1(\\theta'_{21}(x)) + \\alpha N_2(\\theta'_{12}(x)),
               \\quad \\theta'_{12} = (1-\\alpha)\\theta_{12} + \\alpha I,\\;
@@ -972,79 +985,53 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     The synthesis per iteration: irregular centres (best centre per grid
     cell), relaxation with a spring term, IRLS weights ``(rho + eps)^((r-2)/2)``
     with ``r = 0.8`` (Kwatra et al. 2005) and a per-pixel mean-shift mode
-    (Kopf et al. 2007) started at the densest pasted value, then one Portilla-Simoncelli step with linearly
-    interpolated statistics.
+    (Kopf et al. 2007) started at the densest pasted value, then one
+    Portilla-Simoncelli step with linearly interpolated statistics.
 
     Departures for speed, all options: TPS-RPM anneals faster than the
     authors' schedule (``rpm_options``), feature points and neighbourhoods
     are capped, candidate centres use a stride of 2, and a stage stops
-    when its energy stops falling (``min_improvement``). The distance
-    channel is synthesized with the colour (so the output's features are
-    matched too) and dropped at the end.
+    when its energy stops falling (``tolerance``). The distance channel is
+    synthesized with the colour (so the output's features are matched too)
+    and dropped at the end.
 
-    Departures for quality, each measured (see the docs page): the
-    synthesis starts from a random tiling of ``N'`` rather than noise (the
-    nearest neighbourhoods of noise are the flattest ones and the result
-    collapsed onto horizontal streaks); the distance channel is scaled to
-    the colours' deviation (unscaled it dominated the search and the
-    colours averaged to grey); each kept pair is reused at shifted
-    positions (otherwise ``N'`` held one position in ``stride**2`` and
-    elements broke up); the keep fraction depends on alpha (above); the
-    overlapping patches carry Kwatra et al.'s Gaussian fall-off; and the
-    Portilla-Simoncelli step comes *before* the patch step of each
-    iteration (after it, as listed in Pseudocode 1, its colour fringes and
-    broken lines stayed in the output). In the last (r, s) stage the
-    Portilla-Simoncelli step is weighted by ``2 min(alpha, 1 - alpha)``
-    (per pixel for a map): it restores the detail that blending removes,
-    and at alpha = 0 and 1 nothing is blended, so there the last stage is
-    Kwatra et al.'s texture optimization on the input's own neighbourhoods
-    while the coarser stages keep the full step, which prevents a collapse
-    onto flat patches. The ends' texture energy fell from 2.4x to 1.8x
-    periodic :func:`texsynth.optimization.optimize_texture` (geometric mean,
-    64 px, 4 ends x 3 seeds; 1.4x with no step at all, but collapsed); at
-    the defaults on 128 px crops it is 1.09x (6 ends, 0.69-1.59x). At
-    alpha = 0.5 nothing changes. The output is periodic.
+    Departures for quality, each measured on ``docs/methods/interpolation.md``:
 
-    Departure in the warps (measured 2026-11-23): the affine part of
-    TPS-RPM is regularised towards the identity with ``affine_lambda_init
-    = 10`` instead of Chui and Rangarajan's 0.01. A patch's feature points
-    lie along a few mortar lines or cracks, which leave the affine part
-    free across them: with 0.01, on 128 px brick <-> slate (stage (1, 17)),
-    36 % of ``theta_12`` and 44 % of ``theta_21`` compressed one axis to
-    less than half (smallest singular value of their linear fit; 5 % below
-    0.04), and ``N'`` held stretched, smeared patches that made swirls in
-    the output. With 10: 5 % and 15 %. At alpha = 0.5 (256 px) the wavy
-    smears became rows of slabs with vertical joints (sharpness 0.112 ->
-    0.123); on pebbles <-> paving alpha = 0.25 rose from 0.105 to 0.126
-    (blend 0.129) and the texture energy at 0.5 and 0.75 fell by 6-30 %;
-    the transition strip lost its olive-grey blotches. 3 and 30 gave
-    similar images (30: a few smeared streaks again).
+    - the synthesis starts from a random tiling of ``N'`` rather than noise
+      (the nearest neighbourhoods of noise are the flattest ones, and the
+      result collapsed onto horizontal streaks);
+    - the distance channel is scaled to the colours' deviation (unscaled it
+      dominated the search and the colours averaged to grey);
+    - each kept pair is reused at shifted positions (otherwise ``N'`` held
+      one position in ``stride**2`` and elements broke up);
+    - the keep fraction depends on alpha (above);
+    - the overlapping patches carry Kwatra et al.'s Gaussian fall-off;
+    - the Portilla-Simoncelli step comes *before* the patch step of each
+      iteration (after it, as listed in Pseudocode 1, its colour fringes and
+      broken lines stayed in the output), and in the last (r, s) stage it is
+      weighted by ``2 min(alpha, 1 - alpha)`` (per pixel for a map): it
+      restores the detail that blending removes, and at alpha = 0 and 1
+      nothing is blended, so there the last stage is Kwatra et al.'s texture
+      optimization on the input's own neighbourhoods while the coarser
+      stages keep the full step, which prevents a collapse onto flat
+      patches;
+    - the affine part of TPS-RPM is regularised towards the identity with
+      ``affine_lambda_init = 10`` instead of Chui and Rangarajan's 0.01: a
+      patch's feature points lie along a few mortar lines or cracks, which
+      leave the affine part free across them, and the warps squeezed patches
+      across one axis into smeared swirls;
+    - against blur: the warps sample with cubic splines (bilinear sampling at
+      a warp's fractional positions is a blur); the blend of each pair keeps
+      the contrast the colour adjustment intended (the average of two partly
+      uncorrelated patches has less: its deviation from the patch mean is
+      rescaled to ``(1 - a)`` times that of the warped ``N1`` plus ``a``
+      times that of ``N2``, with a gain between 1 and ``1 / sqrt((1 - a)^2 +
+      a^2)``, the observation behind Heitz and Neyret's variance-preserving
+      blending); and the per-pixel mean shift starts at the densest of the
+      pasted values with a bandwidth of 0.03 rather than at their mean with
+      0.1, where the "mode" of disagreeing patches was their mean.
 
-    Departures against blur (measured 2026-11-23 on 96 px pebbles <->
-    paving with the settings of ``examples/plot_interpolation_pairs.py``;
-    sharpness = mean absolute difference of vertically plus horizontally
-    neighbouring grey values; inputs 0.168 and 0.088, linear blend 0.099):
-    the output at alpha = 0.5 had 0.063, less than the blend, because every
-    averaging step of the method removes contrast. Three changes bring it
-    to 0.100, each alone to at most 0.079. (1) The warps sample with cubic
-    splines (bilinear sampling at the fractional positions of a warp is a
-    blur; ``N'`` 0.070 -> 0.086). (2) Contrast-preserving blend: after the
-    colour adjustment both warped patches have the interpolated deviation,
-    but their blend has less where they are not perfectly correlated
-    (variance ``((1-a)^2 + a^2 + 2 a (1-a) corr) std^2``, the observation
-    behind Heitz and Neyret's variance-preserving blending); each blended
-    patch's deviation from its mean is rescaled to ``(1-a)`` times that of
-    the warped ``N1`` plus ``a`` times that of ``N2`` (gain between 1 and
-    ``1 / sqrt((1-a)^2 + a^2)``, the gain of uncorrelated patches), so
-    that ``N'`` has the contrast the colour adjustment intended (with (1):
-    ``N'`` 0.113). (3) The per-pixel mean shift starts at the densest of
-    the pasted values rather than at their weighted mean, with a bandwidth
-    of 0.03 rather than 0.1: the overlapping interpolated patches disagree
-    by more than their own detail, and from the mean with a wide kernel the
-    "mode" was the mean. The price is texture energy at alpha = 0.5 of
-    0.0066 / 0.0053 against the inputs instead of 0.0052 / 0.0038 (the
-    blurred output was closer to the flat patches of the inputs; the linear
-    blend has 0.0060 / 0.0048), and about 20 % more time.
+    The output is periodic.
 
     References
     ----------
@@ -1067,11 +1054,13 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     Examples
     --------
     >>> x = np.indices((24, 24)).sum(0) % 6 / 5.0
-    >>> out = interpolate_textures(x, x.T, 0.5, stages=((1, 9),), iterations=1, statistics=False, rng=0)
+    >>> out = interpolate_textures(x, x.T, 0.5, stages=((1, 9),), max_iterations=1, statistics_step=False, rng=0)
     >>> out.shape
     (24, 24)
     """
+    t_start = time.perf_counter()
     info = InterpolationInfo()
+    stage_energies = []
     p = _check_inputs(a, b, features=features, distance_weight=distance_weight, k=k, keep_fraction=keep_fraction,
                       feature_weight=feature_weight, max_feature_points=max_feature_points,
                       max_neighborhoods=max_neighborhoods, max_set_size=max_set_size, rpm_options=rpm_options,
@@ -1095,23 +1084,29 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
             )
         out_shape = alpha_map.shape
         alphas = list(np.linspace(0.0, 1.0, check_positive_int(alpha_steps, "alpha_steps", 2)))
+    # the per-pixel mean shift gathers the ~(1/relative_grid_spacing)^2 values pasted on every pixel
+    # (float32, colour + distance + alpha channels), the relaxation a few image-sized sums
+    check_memory(float(out_shape[0]) * out_shape[1] * (p.a.shape[-1] + 2) * 200, tuple(out_shape))
     stages = _check_stages(stages)
-    iterations = check_positive_int(iterations, "iterations")
+    max_iterations = check_positive_int(max_iterations, "max_iterations")
     alpha_weight = check_positive_float(alpha_weight, "alpha_weight", allow_zero=True)
     bands = check_positive_int(statistics_bands, "statistics_bands", 2)
-    grid_spacing = check_in_range(grid_spacing, "grid_spacing", 0.0, 1.0, low_open=True)
+    relative_grid_spacing = check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True)
     candidate_stride = check_positive_int(candidate_stride, "candidate_stride")
     relaxation_radius = check_positive_int(relaxation_radius, "relaxation_radius", 0)
+    if relaxation_radius >= min(s for _, s in stages):
+        raise ValueError(f"relaxation_radius={relaxation_radius} lets a neighbourhood move past its own size; pass "
+                         f"less than the smallest stage's neighbourhood size {min(s for _, s in stages)}")
     spring_weight = check_positive_float(spring_weight, "spring_weight", allow_zero=True)
     bandwidth = check_positive_float(mean_shift_bandwidth, "mean_shift_bandwidth")
     ms_iterations = check_positive_int(mean_shift_iterations, "mean_shift_iterations", 0)
-    if min_improvement is not None:
-        min_improvement = check_in_range(min_improvement, "min_improvement", 0.0, 1.0)
+    if tolerance is not None:
+        tolerance = check_in_range(tolerance, "tolerance", 0.0, 1.0)
     n_colour = p.a.shape[-1]
     channel_weights = p.channel_weights
     if alpha_map is not None:
         channel_weights = np.append(channel_weights, alpha_weight)
-    with Progress(progress, len(stages) * iterations, "interpolate") as bar:
+    with Progress(progress, len(stages) * max_iterations, "interpolate") as bar:
         x = None
         for stage, (r, s) in enumerate(stages):
             shape = (max(1, out_shape[0] // r), max(1, out_shape[1] // r))
@@ -1125,7 +1120,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
             nset = _PatchSet(patches, channel_weights, p.method, rng)
             amap = None if alpha_map is None else ndimage.zoom(alpha_map, (shape[0] / out_shape[0], shape[1] / out_shape[1]),
                                                                order=1)[: shape[0], : shape[1]]
-            spacing = max(1, int(round(grid_spacing * s)))
+            spacing = max(1, int(round(relative_grid_spacing * s)))
             if x is None:
                 x = _bootstrap(patches[..., : n_colour + 1], shape, spacing, rng)
             elif x.shape[:2] != shape:
@@ -1135,7 +1130,8 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
             info.add("synthesis", t0)
             t0 = time.perf_counter()
             stats = _Statistics(_downsample(p.a, r), _downsample(p.b, r),
-                                alphas if alpha_map is None else np.linspace(0, 1, bands), shape) if statistics else None
+                                alphas if alpha_map is None else np.linspace(0, 1, bands), shape) if check_bool(
+                    statistics_step, "statistics_step") else None
             info.add("statistics", t0)
             ps_weight = _statistics_weight(alphas[0] if amap is None else amap[..., None], stage == len(stages) - 1)
 
@@ -1177,18 +1173,21 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
                 return energies[-1]
 
             def report(iteration, value, stop):
-                bar.advance({"stage": (r, s), "energy": value}, n=iterations - iteration if stop else 1)
+                bar.advance({"stage": (r, s), "energy": value}, n=max_iterations - iteration if stop else 1)
 
             state, err, _ = search(x, None)
             x, *_ = expectation_maximization(
-                x, state, err, update, search, energy, max_iterations=iterations,
-                tolerance=min_improvement, eps2=_EPS, on_iteration=report,
+                x, state, err, update, search, energy, max_iterations=max_iterations,
+                tolerance=tolerance, eps2=_EPS, on_iteration=report,
             )
-            info.energy.append(energies)
+            stage_energies.append(energies)
     if x.shape[:2] != out_shape:
         x = ndimage.zoom(x, (out_shape[0] / x.shape[0], out_shape[1] / x.shape[1], 1), order=1)
     out = np.clip(x[..., :n_colour], 0.0, 1.0).astype(p.a.dtype)
     out = restore_channels(out, p.grey)
+    info.energy = np.concatenate([np.asarray(e, float) for e in stage_energies])
+    info.stage = np.repeat(np.arange(len(stage_energies)), [len(e) for e in stage_energies])
+    info.seconds = TotalSeconds(time.perf_counter() - t_start, info.stage_seconds, "InterpolationInfo")
     return (out, info) if return_info else out
 
 

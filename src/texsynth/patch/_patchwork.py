@@ -68,19 +68,15 @@ cell" with the plain and the tapered weights and keeps the union; for
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core._validate import (
-    as_image,
-    as_rng,
-    as_size,
-    check_positive_int,
-    restore_channels,
-    with_channels,
-)
+from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
+from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memory, check_positive_int,
+                              restore_channels, with_channels)
 from ..core.neighborhood import extract
 from ..core.search import nearest_candidates
 
@@ -131,6 +127,11 @@ class PatchworkInfo:
         intermediate sequence (eqs. 3-6).
     frame_sources : numpy.ndarray or None
         Video only: ``(n, k)`` matching input frames ``q_{i,k}``.
+    seconds : float
+        Total wall time.
+    stage_seconds : dict
+        ``"matching"`` (transfer: choosing the ``q_i``) and ``"blending"``
+        (eq. 2 or 7 over the output).
     """
 
     p: np.ndarray
@@ -144,6 +145,8 @@ class PatchworkInfo:
     local_means: np.ndarray | None = None
     frame_keys: np.ndarray | None = None
     frame_sources: np.ndarray | None = None
+    seconds: float = 0.0
+    stage_seconds: dict = field(default_factory=dict)
 
 
 # --------------------------------------------------------------------------
@@ -153,9 +156,10 @@ class PatchworkInfo:
 def _check_sharpness(sharpness):
     if not isinstance(sharpness, (int, float, np.integer, np.floating)) or isinstance(sharpness, bool):
         raise TypeError(f"sharpness f must be a positive number (paper: 6), got {sharpness!r}")
-    if not np.isfinite(sharpness) or sharpness <= 0:
+    if not np.isfinite(sharpness) or sharpness <= 0 or sharpness > 1000:
         raise ValueError(
-            f"sharpness f must be a finite number > 0 (paper: 2, 6 or 20; default 6), got {sharpness}"
+            f"sharpness f must be a number in (0, 1000] (paper: 2, 6 or 20; default 6; at 1000 the joins are "
+            f"already hard Voronoi edges), got {sharpness}"
         )
     return float(sharpness)
 
@@ -495,7 +499,12 @@ def _finish(out, dtype, was_grey):
     return restore_channels(out.astype(dtype, copy=False), was_grey), clipped
 
 
-def _info(geom, cells, clipped, **extra):
+def _info(geom, cells, clipped, start, matched=None, **extra):
+    """The info of a run that began at ``start`` (perf_counter) and chose its q_i by ``matched``."""
+    end = time.perf_counter()
+    stages = {"blending": end - (matched or start)}
+    if matched is not None:
+        stages = {"matching": matched - start, **stages}
     p = np.stack([geom.py.ravel(), geom.px.ravel()], 1)
     q = np.stack([geom.qy.ravel(), geom.qx.ravel()], 1)
     return PatchworkInfo(
@@ -507,8 +516,19 @@ def _info(geom, cells, clipped, **extra):
         neighbors=geom.m,
         exact_sources=geom.exact,
         clipped=clipped,
+        seconds=end - start,
+        stage_seconds=stages,
         **extra,
     )
+
+
+def _check_memory(size, channels, spacing, frames=1, cells=False):
+    """Refuse an output that cannot fit: float32 while blending, the result in float64, the cell map,
+    and about 100 bytes per grid point of the geometry."""
+    h, w = size
+    per_pixel = frames * channels * (4 + 8) + (8 if cells else 0)
+    check_memory(float(h) * w * per_pixel + 100.0 * (h / spacing + 2) * (w / spacing + 2), size,
+                 also={"n_frames": frames} if frames > 1 else None)
 
 
 def _padded_flat(image, pads):
@@ -582,7 +602,8 @@ def voronoi_weights(size, *, grid_spacing=64, sharpness=6, tileable=False, neigh
     f = _check_sharpness(sharpness)
     s = check_positive_int(grid_spacing, "grid_spacing")
     m = _check_neighbors(neighbors)
-    geom = _Geometry((H, W), (H, W), s, f, m, bool(tileable), as_rng(rng), choose_q=False)
+    _check_memory((H, W), 1, s, cells=True)
+    geom = _Geometry((H, W), (H, W), s, f, m, check_bool(tileable, "tileable"), as_rng(rng), choose_q=False)
     largest = np.zeros((H, W), np.float64)
     cells = np.zeros((H, W), np.intp)
     for band in geom.bands():
@@ -683,11 +704,9 @@ def patchwork(
     ``phi_i(x)`` that is 1 except over the outer half grid spacing of the
     region where cell ``i`` is summed and falls there, as a raised cosine,
     to exactly 0 where the cell stops being summed. The plain cut left faint
-    straight seams every ``grid_spacing`` pixels at ``f = 2`` (on the ink
-    texture the mean neighbour difference across them was 1.2-1.3 times that
-    elsewhere; with the window 0.95-1.0, like the all-cells sum's 0.9-1.0,
-    see ``docs/methods/patchwork.md``); at ``f = 6`` the window
-    changes the output by about 2e-4 on average, at ``f = 20`` by far less.
+    straight seams every ``grid_spacing`` pixels at ``f = 2``, which the
+    window removes (``docs/methods/patchwork.md``); at larger ``f`` the
+    window changes the output very little.
     When the block covers every cell with room to spare, ``phi_i = 1`` and
     eq. 2 is exact. The window does not change how ``q_i`` is drawn for
     ``m >= 4``; with ``m = 2`` or 3 at ``f >= 6`` it can widen a cell's
@@ -723,13 +742,15 @@ def patchwork(
     >>> bool(abs(out.mean() - metal.mean()) < 0.05)
     True
     """
+    start = time.perf_counter()
     image = as_image(exemplar, "exemplar")
     ex, grey = with_channels(image)
     H, W = as_size(size)
     f = _check_sharpness(sharpness)
     s = _check_grid(grid_spacing, ex.shape[:2])
     m = _check_neighbors(neighbors)
-    geom = _Geometry((H, W), ex.shape[:2], s, f, m, bool(tileable), as_rng(rng))
+    _check_memory((H, W), ex.shape[-1], s, cells=return_info)
+    geom = _Geometry((H, W), ex.shape[:2], s, f, m, check_bool(tileable, "tileable"), as_rng(rng))
 
     C = ex.shape[-1]
     src = ex.astype(np.float32)
@@ -746,7 +767,7 @@ def patchwork(
     cells = _run_bands(geom, width, pads, return_info, compose, progress, "patchwork")
     result, clipped = _finish(out, image.dtype, grey)
     if return_info:
-        return result, _info(geom, cells, clipped)
+        return result, _info(geom, cells, clipped, start)
     return result
 
 
@@ -959,6 +980,7 @@ def patchwork_video(
     >>> loop.shape
     (8, 48, 48)
     """
+    start = time.perf_counter()
     video = _check_video(frames)
     vid, grey = with_channels(video, spatial_dims=3)
     H, W = as_size(size)
@@ -968,11 +990,12 @@ def patchwork_video(
     m = _check_neighbors(neighbors)
     spacing = _frame_spacing(frame_spacing, vid.shape[0], N)
     gen = as_rng(rng)
-    geom = _Geometry((H, W), vid.shape[1:3], s, f, m, bool(tileable), gen)
+    _check_memory((H, W), vid.shape[-1], s, frames=N, cells=return_info)
+    geom = _Geometry((H, W), vid.shape[1:3], s, f, m, check_bool(tileable, "tileable"), gen)
     out, cells, seq = _synthesize_video(geom, vid, N, spacing, gen, None, progress, "patchwork_video")
     result, clipped = _finish(out, video.dtype, grey)
     if return_info:
-        info = _info(geom, cells, clipped, frame_keys=seq.keys[:, :-1], frame_sources=seq.sources[:, :-1])
+        info = _info(geom, cells, clipped, start, frame_keys=seq.keys[:, :-1], frame_sources=seq.sources[:, :-1])
         return result, info
     return result
 
@@ -1027,6 +1050,7 @@ def _match_sources(geom, pattern, texture, candidates, patch, gen, progress):
     return qy, qx, means.astype(np.float32)
 
 
+@renamed_parameters(patch_size="neighborhood_size")
 def patchwork_transfer(
     texture,
     pattern,
@@ -1034,7 +1058,7 @@ def patchwork_transfer(
     grid_spacing=16,
     sharpness=2,
     candidates=64,
-    patch_size=None,
+    neighborhood_size=None,
     prescale=True,
     n_frames=None,
     frame_spacing=None,
@@ -1069,7 +1093,7 @@ def patchwork_transfer(
         Size of the random subset of texture positions tried for each ``q_i``
         (the paper's remedy against one texture area repeated everywhere; it
         gives no number).
-    patch_size : int, optional
+    neighborhood_size : int, optional
         Side of the square patches compared around ``p_i`` and ``q_i`` and
         averaged for ``a_i``; default ``grid_spacing``.
     prescale : bool
@@ -1099,7 +1123,7 @@ def patchwork_transfer(
     ------
     ValueError
         If the texture and the pattern have different numbers of channels,
-        ``grid_spacing`` or ``patch_size`` exceed the texture, ``sharpness <=
+        ``grid_spacing`` or ``neighborhood_size`` exceed the texture, ``sharpness <=
         0``, or a video texture has fewer than 2 frames.
 
     Notes
@@ -1115,10 +1139,8 @@ def patchwork_transfer(
     paper's plain omission of small terms, see the module notes). Transfer
     needs it most: at its default ``f = 2`` the weights fall off slowly and
     the second term uses their first power, so the plain cut left faint
-    straight seams every ``grid_spacing`` pixels in flat areas (mean
-    neighbour difference across them 1.19-1.33 times that elsewhere, ink onto
-    the cameraman); with the window 0.95-1.0, as for eq. 7 over every cell.
-    The ``q_i`` are chosen exactly as without it.
+    straight seams every ``grid_spacing`` pixels in flat areas. The ``q_i``
+    are chosen exactly as without it.
 
     References
     ----------
@@ -1134,6 +1156,7 @@ def patchwork_transfer(
     >>> out.shape, bool(out[16:32, 16:32].mean() > out[:8].mean())
     ((48, 48), True)
     """
+    start = time.perf_counter()
     is_video = n_frames is not None
     if is_video:
         source = _check_video(texture, "texture")
@@ -1148,6 +1171,8 @@ def patchwork_transfer(
     pat, pat_grey = with_channels(as_image(pattern, "pattern"))
     if pat.shape[-1] != reference.shape[-1]:
         hint = " (repeat a grey pattern: np.repeat(pattern[..., None], 3, axis=-1))" if pat.shape[-1] == 1 else ""
+        if is_video:
+            hint += f"; with n_frames={n_frames}, texture is read as a video (T, H, W[, C])"
         raise ValueError(
             f"pattern has {pat.shape[-1]} channel(s) but texture has {reference.shape[-1]}; "
             f"pass images with the same number of channels{hint}"
@@ -1156,19 +1181,24 @@ def patchwork_transfer(
     s = _check_grid(grid_spacing, reference.shape[:2], "texture")
     m = _check_neighbors(neighbors)
     K = check_positive_int(candidates, "candidates")
-    patch = s if patch_size is None else check_positive_int(patch_size, "patch_size")
+    # the candidates of a chunk of grid points are compared at once; every point keeps its K positions
+    check_memory(8.0 * K * (pat.shape[0] / s + 2) * (pat.shape[1] / s + 2) * 3, K, "candidates",
+                 "the candidate positions")
+    patch = s if neighborhood_size is None else check_positive_int(neighborhood_size, "neighborhood_size")
     if patch > min(reference.shape[:2]) or patch > min(pat.shape[:2]):
         raise ValueError(
             f"patch_size {patch} is larger than the texture {reference.shape[:2]} or the pattern "
-            f"{pat.shape[:2]}; pass a smaller patch_size"
+            f"{pat.shape[:2]}; pass a smaller neighborhood_size"
         )
     gen = as_rng(rng)
     H, W = pat.shape[:2]
+    _check_memory((H, W), reference.shape[-1], s, frames=N if is_video else 1, cells=return_info)
     geom = _Geometry((H, W), reference.shape[:2], s, f, m, False, gen, choose_q=False)
     target = pat.astype(np.float32)
-    if prescale:
+    if check_bool(prescale, "prescale"):
         target = _prescale(target, reference)
     qy, qx, local = _match_sources(geom, target, reference, K, patch, gen, progress)
+    matched = time.perf_counter()
     geom.set_sources(qy, qx)
 
     if is_video:
@@ -1189,5 +1219,5 @@ def patchwork_transfer(
         extra = {}
     result, clipped = _finish(out, source.dtype, grey)
     if return_info:
-        return result, _info(geom, cells, clipped, local_means=local, **extra)
+        return result, _info(geom, cells, clipped, start, matched, local_means=local, **extra)
     return result

@@ -40,8 +40,8 @@ References
 from __future__ import annotations
 
 import contextlib
+import math
 import numbers
-import os
 import time
 from concurrent.futures import ThreadPoolExecutor
 import dataclasses
@@ -52,7 +52,8 @@ import numpy as np
 from ..core import search
 from ..core._deprecate import renamed_parameters, warn
 from ..core._progress import Progress
-from ..core._validate import as_image, as_rng, as_size, check_positive_int, restore_channels, with_channels
+from ..core._validate import (as_image, as_rng, as_size, check_memory, check_positive_int, max_threads,
+                              restore_channels, with_channels)
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
 from ..core.search import PatchIndex, SequentialExact
@@ -95,26 +96,33 @@ class PixelSynthesisInfo:
 
     Attributes
     ----------
-    energy : list of float
+    energy : numpy.ndarray
         Per level, coarsest first: the mean over output pixels of eq. 1,
         ``sum_i a_i (||p - p_i||^2 + ||N_i(p) - N_i(p_i)||^2)`` with the
         weights normalised to sum to 1 at each pixel, at the last update.
-    iterations : list of float
+    stage : numpy.ndarray of int
+        The stage of each energy value in synthesis order: stage ``k`` is
+        the ``k``-th level synthesised, coarsest first.
+    iterations : numpy.ndarray
         Per level: mean number of eq. 1 alternation steps per pixel update.
     level_shapes : list of tuple
         Output shape of each level, coarsest first.
     order, method : str
         Visiting order and search backend actually used.
     seconds : float
-        Wall time.
+        Total wall time.
+    stage_seconds : dict
+        Wall time per level, ``{"level 2": ..., "level 1": ..., "level 0": ...}``.
     """
 
-    energy: list = field(default_factory=list)
-    iterations: list = field(default_factory=list)
+    energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    stage: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    iterations: np.ndarray = field(default_factory=lambda: np.zeros(0))
     level_shapes: list = field(default_factory=list)
     order: str = "scanline"
     method: str = "exact"
     seconds: float = 0.0
+    stage_seconds: dict = field(default_factory=dict)
 
     @property
     def search(self):
@@ -383,11 +391,10 @@ def _check_output_levels(sources, shape, out_pyr, levels):
         plane = tuple(n for a, n in enumerate(coarse) if a != src.axis) if src.axis is not None else coarse
         need = src.size if levels == 1 else tuple(max(a, b) for a, b in zip(src.size, src.parent_size))
         if plane[0] < need[0] or plane[1] < need[1]:
-            what = "shape" if src.axis is not None else "size"
             raise ValueError(
-                f"the output {what} {tuple(shape)} is only {plane[0]}x{plane[1]} at the coarsest of levels={levels}, "
-                f"smaller than the neighbourhood {need[0]}x{need[1]} of {src.name}; pass a larger {what}, "
-                f"fewer levels or a smaller neighbourhood"
+                f"the output size {tuple(shape)} is only {plane[0]}x{plane[1]} at the coarsest of levels={levels}, "
+                f"smaller than the neighborhood {need[0]}x{need[1]} of {src.name}; pass a larger size, "
+                f"fewer levels or a smaller neighborhood"
             )
 
 
@@ -421,8 +428,22 @@ class _Level:
     weights: list  # per source: its normalised weight image at this level
 
 
+def _check_memory(sources, shape, channels, dtype, order):
+    """Refuse an output whose arrays cannot fit: its pyramid, and in independent order every pixel's
+    neighbourhood vector for every source at once (scanline order holds one row of them)."""
+    n = float(math.prod(shape))  # Python ints: numpy's int64 product of a huge size wraps negative
+    item = np.dtype(dtype).itemsize
+    need = 3 * n * channels * item  # noise, the output pyramid, one pass's new values
+    if order != "scanline":
+        for src in sources:
+            dim = (src.size[0] * src.size[1] + src.parent_size[0] * src.parent_size[1]) * channels
+            need += 2 * n * (dim + channels) * item  # the query vectors and a temporary of the search
+    check_memory(need, tuple(shape))
+
+
 def _synthesize(sources, shape, channels, dtype, *, levels, order, method, iterations, passes, rng, progress, desc):
     """Multi-resolution synthesis minimising eq. 1 at every pixel, coarse to fine."""
+    _check_memory(sources, shape, channels, dtype, order)
     start = time.perf_counter()
     spatial_dims = len(shape)
     raw = [np.broadcast_to(np.asarray(s.weights, dtype=np.float64), shape) for s in sources]
@@ -432,7 +453,8 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
     out_pyr = [np.array(level, dtype=dtype) for level in gaussian_pyramid(noise, levels, spatial_dims=spatial_dims, mode="wrap")]
     _check_output_levels(sources, shape, out_pyr, levels)
     tables = [[_candidates(s, level, levels) for s in sources] for level in range(levels)]
-    total = sum(out_pyr[lv].shape[0] for lv in range(levels)) if order == "scanline" else levels * (passes + 1)
+    # scanline: one step per row; independent: `passes` per level, and one parent-only pass per finer level
+    total = sum(out_pyr[lv].shape[0] for lv in range(levels)) if order == "scanline" else levels * passes + levels - 1
     profile = "scanline" if order == "scanline" else "solid" if sources[0].axis is not None else "pixels"
     used = search.resolve(method, max(len(t) for t in tables[0]), None, profile=profile,
                           queries=int(np.prod(out_pyr[0].shape[:-1])))
@@ -440,8 +462,10 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
     # Index builds (PCA subsample, k-means) draw from their own streams, so the
     # synthesis stream does not depend on the search backend or on `iterations`.
     run = _Run(levels, order, used, profile, iterations, passes, int(rng.integers(2**62)))
+    energies, steps = [], []
     with Progress(progress, total, desc) as bar:
         for level in range(levels - 1, -1, -1):
+            t_level = time.perf_counter()
             lv = _Level(level, out_pyr[level], out_pyr[level + 1] if level + 1 < levels else None, sources,
                         tables[level], weights[level])
             if order == "scanline":
@@ -452,9 +476,12 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
                 # slows down on a busy machine (tsvq 64^3 at load 3: 31 s -> 13 s)
                 with _one_blas_thread() if used != "exact" else contextlib.nullcontext():
                     energy, iters = _independent_level(lv, run, bar)
-            info.energy.append(float(energy))
-            info.iterations.append(float(iters))
+            energies.append(float(energy))
+            steps.append(float(iters))
             info.level_shapes.append(lv.out.shape[:-1])
+            info.stage_seconds[f"level {level}"] = time.perf_counter() - t_level
+    info.energy, info.iterations = np.asarray(energies), np.asarray(steps)
+    info.stage = np.arange(levels)
     info.seconds = time.perf_counter() - start
     return out_pyr[0], info
 
@@ -658,7 +685,7 @@ def _independent_level(lv, run, bar):
     # the previous pass, so the sources' direct solutions (the "index" search)
     # are needed only for pixels with a single source of positive weight.
     direct = not volume or bool(np.any(sum((a > 0).astype(int) for a in a_flat) == 1))
-    threads = (os.cpu_count() or 1) if run.method == "kdtree" else 1
+    threads = max_threads() if run.method == "kdtree" else 1
     shared = {}  # views given as one image share their tables and indexes (built once)
     tabs = []
     for i, (src, cen) in enumerate(zip(lv.sources, lv.centers)):
@@ -855,6 +882,7 @@ def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name, work_d
         size = patch_shape(sizes[i], f"{size_name}[{i}]" if len(images) > 1 else size_name)
         psize = _default_parent_size(size) if parent_sizes[i] is None else patch_shape(parent_sizes[i], "parent_size")
         _check_fits(img, size, name, size_name)
+        _check_fits(img, psize, name, size_name.replace("neighborhood", "parent") if parent_sizes[i] is not None else size_name)
         if id(images[i]) not in pyramids:
             pyramids[id(images[i])] = [
                 np.asarray(level, dtype=work) for level in gaussian_pyramid(img.astype(work, copy=False), levels)
@@ -864,11 +892,11 @@ def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name, work_d
     return sources, channels, dtype, converted[0][1]
 
 
-def _check_order_method(order, method, passes, iterations=1):
+def _check_order_method(order, method, passes, max_iterations=1):
     _choice(order, ORDERS, "order")
     search.check_method(method)
     check_positive_int(passes, "passes")
-    check_positive_int(iterations, "iterations")
+    check_positive_int(max_iterations, "max_iterations")
 
 
 @renamed_parameters(search="method")
@@ -1025,7 +1053,7 @@ def _check_weights(weights, n, size):
     return result
 
 
-@renamed_parameters(search="method")
+@renamed_parameters(search="method", iterations="max_iterations")
 def mix_textures(
     sources,
     size,
@@ -1035,7 +1063,7 @@ def mix_textures(
     neighborhood_shapes="square",
     parent_sizes=None,
     levels=3,
-    iterations=4,
+    max_iterations=4,
     order="scanline",
     method="auto",
     passes=2,
@@ -1079,7 +1107,7 @@ def mix_textures(
         default about half of each source's size, odd (5 -> 3, 9 -> 5).
     levels : int
         Pyramid levels (default 3).
-    iterations : int
+    max_iterations : int
         Most alternation steps of eq. 1 per pixel (default 4: the paper found
         1 to 4 enough). Stops earlier when E stops falling.
     order, method, passes, rng, progress, return_info
@@ -1112,7 +1140,7 @@ def mix_textures(
     yet); then ``p`` is set to the weighted average of the ``p_i``; then,
     with ``p`` fixed, each ``p_i`` minimises its whole term, and so on. Both
     steps never raise E; the loop stops when E stops falling or after
-    ``iterations`` steps. The weights are normalised to sum 1 at each pixel,
+    ``max_iterations`` steps. The weights are normalised to sum 1 at each pixel,
     which does not move the minimum. With one source the first step is
     Wei & Levoy 2000 and later steps keep it, so the result equals
     :func:`synthesize_pixels` bit for bit.
@@ -1159,7 +1187,7 @@ def mix_textures(
     n = len(sources)
     size = as_size(size)
     levels = _check_levels(levels)
-    _check_order_method(order, method, passes, iterations)
+    _check_order_method(order, method, passes, max_iterations)
     rng = as_rng(rng)
     sizes = _per_source(neighborhood_sizes, n, "neighborhood_sizes")
     psizes = _per_source(parent_sizes, n, "parent_sizes")
@@ -1168,27 +1196,28 @@ def mix_textures(
     srcs, channels, dtype, grey = _prepare(
         sources, names, sizes, psizes, [None] * n, levels, "neighborhood_sizes", shapes=shapes
     )
+    _check_memory(srcs, size, channels, dtype, order)  # before the weight images are summed at the output size
     for src, w in zip(srcs, _check_weights(weights, n, size)):
         src.weights = w
     out, info = _synthesize(
-        srcs, size, channels, dtype, levels=levels, order=order, method=method, iterations=iterations,
+        srcs, size, channels, dtype, levels=levels, order=order, method=method, iterations=max_iterations,
         passes=passes, rng=rng, progress=progress, desc="Wei mixture",
     )
     out = restore_channels(out, grey)
     return (out, info) if return_info else out
 
 
-@renamed_parameters(search="method")
+@renamed_parameters(search="method", shape="size", iterations="max_iterations")
 def synthesize_solid(
     views,
-    shape,
+    size,
     *,
     axes=None,
     neighborhood_size=5,
     neighborhood_shape="square",
     parent_size=None,
     levels=3,
-    iterations=2,
+    max_iterations=2,
     passes=2,
     method="auto",
     rng=None,
@@ -1203,7 +1232,7 @@ def synthesize_solid(
         One image (used as the view along all three axes) or a list of 1 to 3
         images with the same channels. ``views[k]`` is what the solid looks
         like when cut perpendicular to ``axes[k]``.
-    shape : int or (int, int, int)
+    size : int or (int, int, int)
         Output ``(depth, height, width)``.
     axes : sequence of int, optional
         Volume axis of each view: 0 (z: the slice ``volume[d]`` has rows H,
@@ -1213,15 +1242,15 @@ def synthesize_solid(
     neighborhood_size, neighborhood_shape, parent_size, levels
         As in :func:`synthesize_pixels` (one setting for every view; each
         view's neighbourhood lies in the plane perpendicular to its axis).
-    iterations : int
+    max_iterations : int
         Most alternation steps of eq. 1 per voxel and pass (default 2).
     passes : int
         Passes per level of the order-independent update (default 2).
     method : {"auto", "exact", "kdtree", "tsvq"}
         Search backend; ``"auto"``: exact for small volumes, kd-tree (4
         re-ranked candidates, profile ``"solid"``) for large ones.
-        ``"tsvq"`` is Wei & Levoy's tree-structured vector quantization;
-        see Notes for measured speed and quality.
+        ``"tsvq"`` is Wei & Levoy's tree-structured vector quantization
+        (faster, less exact; see Notes).
     rng, progress, return_info
         As in :func:`synthesize_pixels`.
 
@@ -1254,11 +1283,9 @@ def synthesize_solid(
     the alternation of eq. 1 starts from the previous pass's voxel (the
     direct per-view search is skipped); volumes and their neighbourhood
     vectors are float32 inside (the output keeps the views' dtype); kd-tree
-    search re-ranks 4 candidates, the views' searches run in threads. 64^3
-    from a 64x64 exemplar (2-core VM, load ~3): about 41-42 s with the
-    kd-tree (was 165-183 s) at the same slice energy; ``"tsvq"`` 13-17 s
-    with slice energy within 3 % of the kd-tree's on bread and paving but
-    30 % higher on grey nuts (``docs/methods/multisource.md``).
+    search re-ranks 4 candidates, the views' searches run in threads
+    (``docs/methods/multisource.md`` has the times and the quality of each
+    backend).
 
     References
     ----------
@@ -1274,9 +1301,9 @@ def synthesize_solid(
     >>> vol.shape
     (8, 8, 8, 3)
     """
-    shape = as_size(shape, "shape", ndim=3)
+    size = as_size(size, "size", ndim=3)
     levels = _check_levels(levels)
-    _check_order_method("independent", method, passes, iterations)
+    _check_order_method("independent", method, passes, max_iterations)
     rng = as_rng(rng)
     if isinstance(views, np.ndarray) or not isinstance(views, (list, tuple)):
         views = [views]
@@ -1285,12 +1312,14 @@ def synthesize_solid(
         raise ValueError(f"views must hold 1 to 3 images (one per axis), got {len(views)}")
     if axes is None:
         axes = (0, 1, 2) if len(views) in (1, 3) else (0, 1)
+    if isinstance(axes, (str, bytes)) or not hasattr(axes, "__len__"):
+        raise TypeError(f"axes must be a sequence of volume axes (0, 1 or 2), one per view, got {axes!r}")
     axes = tuple(axes)
     if len(views) == 1 and len(axes) > 1:
         views = views * len(axes)
-    if len(axes) != len(views) or len(set(axes)) != len(axes) or not all(
-        isinstance(a, numbers.Integral) and 0 <= a <= 2 for a in axes
-    ):
+    if len(axes) != len(views) or not all(isinstance(a, numbers.Integral) and 0 <= a <= 2 for a in axes) or len(
+        set(axes)
+    ) != len(axes):
         raise ValueError(f"axes must name a distinct volume axis (0, 1 or 2) for each of the {len(views)} views, got {axes!r}")
     n = len(views)
     names = [f"views[{i}]" for i in range(n)]
@@ -1304,8 +1333,8 @@ def synthesize_solid(
     for src in srcs:
         src.weights = 1.0
     out, info = _synthesize(
-        srcs, shape, channels, _SOLID_DTYPE, levels=levels, order="independent", method=method,
-        iterations=iterations, passes=passes, rng=rng, progress=progress, desc="Wei solid",
+        srcs, size, channels, _SOLID_DTYPE, levels=levels, order="independent", method=method,
+        iterations=max_iterations, passes=passes, rng=rng, progress=progress, desc="Wei solid",
     )
     out = restore_channels(out.astype(dtype, copy=False), grey)
     return (out, info) if return_info else out

@@ -32,6 +32,12 @@ the y factors and ``M`` (4d x width) the x factors multiplied by the corner
 gradients. That is several times faster than evaluating every pixel on its
 own, and gives the same numbers as the point evaluation (up to rounding).
 
+Memory is proportional to the output, whatever the frequency: a grid is
+filled in blocks of rows (slices of a volume), and only the lattice rows and
+cells that a block's samples fall in are hashed, as Perlin's own code hashes
+the corners of each sample (the whole lattice of a 64 x 64 image at frequency
+20000 would have 4e8 points).
+
 References
 ----------
 .. [1] K. Perlin, "An image synthesizer", SIGGRAPH 1985, Computer Graphics
@@ -43,11 +49,13 @@ References
 from __future__ import annotations
 
 import contextlib
+import math
 import numbers
 
 import numpy as np
 
-from ..core._validate import as_rng, as_size, check_positive_float
+from ..core._deprecate import renamed_parameters
+from ..core._validate import as_rng, as_size, check_memory, check_positive_float
 
 __all__ = ["perlin", "FADES", "band_limit_octaves"]
 
@@ -95,37 +103,99 @@ FADES = {"quintic": _fade_quintic, "cubic": _fade_cubic}
 # validation helpers shared by the procedural package
 # --------------------------------------------------------------------------
 
+# Largest lattice coordinate: at 2**52 a float64 has no fractional bits left, so
+# every sample would sit on a lattice point (where the noise is 0).
+_MAX_COORDINATE = 2.0**52
+
+
+def _is_real(value):
+    """A real number that is not a bool (``True`` is not a frequency)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
+def _is_sequence(value):
+    """A tuple, list or array of at least one dimension (one value per axis)."""
+    return isinstance(value, (tuple, list)) or (isinstance(value, np.ndarray) and value.ndim > 0)
+
+
+def _finite_real(value):
+    """A real, non-bool number that converts to a finite float."""
+    if not _is_real(value):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:  # an int beyond the float range
+        return False
+
+
+def _check_float(value, name, *, allow_zero=False):
+    """``check_positive_float``, also for ints too large for a float (ValueError naming ``name``)."""
+    try:
+        return check_positive_float(value, name, allow_zero=allow_zero)
+    except OverflowError:
+        bound = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{name} must be a finite number {bound}, got {value!r} (too large for a float)") from None
+
 
 def _check_fade(fade):
-    if callable(fade):
-        return fade
-    if fade not in FADES:
-        raise ValueError(f"fade must be one of {sorted(FADES)} or a callable, got {fade!r}")
-    return FADES[fade]
+    if isinstance(fade, str):
+        if fade not in FADES:
+            raise ValueError(f"fade must be one of {sorted(FADES)} or a callable, got {fade!r}")
+        return FADES[fade]
+    if not callable(fade):
+        raise TypeError(f"fade must be one of {sorted(FADES)} or a callable t -> weight, got {type(fade).__name__}")
+    probe = np.array([0.0, 0.25, 0.5, 0.75, 1.0])
+    try:
+        values = np.asarray(fade(probe.copy()))
+    except Exception as exc:  # the user's callable: say which parameter failed
+        raise ValueError(f"fade callable failed on t = {probe.tolist()}: {exc!r}") from exc
+    if values.shape != probe.shape or not (np.issubdtype(values.dtype, np.floating)
+                                           or np.issubdtype(values.dtype, np.integer)):
+        raise ValueError(f"fade callable must return real weights of the same shape as t (got shape {values.shape}, "
+                         f"dtype {values.dtype} for t of shape {probe.shape})")
+    if not np.all(np.isfinite(values)) or abs(values[0]) > 1e-6 or abs(values[-1] - 1) > 1e-6:
+        raise ValueError(f"fade callable must be finite with fade(0) = 0 and fade(1) = 1 (else the noise jumps at "
+                         f"cell borders), got {values.tolist()} at t = {probe.tolist()}")
+    return fade
 
 
 def _check_dtype(dtype):
-    dt = np.dtype(dtype)
-    if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
-        raise ValueError(f"dtype must be numpy.float32 or numpy.float64, got {dt}")
+    try:
+        dt = None if dtype is None else np.dtype(dtype)  # (np.dtype(None) would be float64)
+    except (TypeError, ValueError):
+        dt = None
+    if dt is None or dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+        raise TypeError(f"dtype must be numpy.float32 or numpy.float64, got {dtype!r}")
     return dt
 
 
-def _check_shape(shape):
-    """A 2-D (H, W) or 3-D (D, H, W) shape; an int means a square image."""
-    if isinstance(shape, numbers.Integral) and not isinstance(shape, bool):
-        return as_size(shape, "shape", 2)
-    try:
-        ndim = len(shape)
-    except TypeError:
-        raise TypeError(f"shape must be an int or a tuple (H, W) or (D, H, W), got {shape!r}") from None
+def _check_size(size, name="size"):
+    """A 2-D (H, W) or 3-D (D, H, W) size; an int means a square image."""
+    if isinstance(size, numbers.Integral) and not isinstance(size, (bool, np.bool_)):
+        return as_size(size, name, 2)
+    if not isinstance(size, (tuple, list, np.ndarray)):
+        raise TypeError(f"{name} must be an int or a tuple (H, W) or (D, H, W), got {size!r}")
+    ndim = len(size)
     if ndim not in (2, 3):
-        raise ValueError(f"shape must be (H, W) for an image or (D, H, W) for a volume, got {shape!r}")
-    return as_size(shape, "shape", ndim)
+        raise ValueError(f"{name} must be (H, W) for an image or (D, H, W) for a volume, got {size!r}")
+    return as_size(tuple(size), name, ndim)
+
+
+def _check_fits(size, itemsize, copies, name="size", value=None):
+    """Refuse, before allocating, an output that cannot fit in memory (:func:`~texsynth.core._validate.check_memory`).
+
+    ``copies`` is how many arrays of ``size`` elements of ``itemsize`` bytes the
+    call holds at once (the result and its full-size companions); the message
+    names the parameter ``name`` (given as ``value``, default ``size``).
+    """
+    check_memory(float(math.prod(size)) * itemsize * copies, size if value is None else value, name)
 
 
 def _check_points(points):
-    pts = np.asarray(points)
+    try:
+        pts = np.asarray(points)
+    except (TypeError, ValueError) as exc:  # ragged lists
+        raise ValueError(f"points must be an array of shape (N, 2) or (N, 3) (columns x, y[, z]): {exc}") from None
     if pts.ndim != 2 or pts.shape[1] not in (2, 3):
         raise ValueError(f"points must have shape (N, 2) or (N, 3) (columns x, y[, z]), got shape {pts.shape}")
     if not (np.issubdtype(pts.dtype, np.floating) or np.issubdtype(pts.dtype, np.integer)):
@@ -140,29 +210,47 @@ def _check_period(period, ndim):
     """``None`` or a positive integer lattice period per axis, in (x, y[, z]) order."""
     if period is None:
         return None
-    items = (period,) * ndim if np.ndim(period) == 0 else tuple(period)
+    items = tuple(period) if _is_sequence(period) else (period,) * ndim
+    hint = f"an int or {ndim} ints (x, y{', z' if ndim == 3 else ''})"
     if len(items) != ndim:
-        raise ValueError(f"period must be an int or {ndim} ints (x, y{', z' if ndim == 3 else ''}), got {period!r}")
+        raise ValueError(f"period must be {hint}, got {period!r}")
     out = []
     for p in items:
-        if isinstance(p, bool) or not isinstance(p, numbers.Integral):
-            if isinstance(p, numbers.Real) and float(p).is_integer() and p > 0:
-                p = int(p)
-            else:
-                raise ValueError(f"period must be a positive integer number of lattice cells, got {period!r}")
-        if p < 1:
-            raise ValueError(f"period must be a positive integer number of lattice cells, got {period!r}")
-        out.append(int(p))
+        if isinstance(p, np.ndarray) and p.ndim == 0:
+            p = p.item()
+        integral = isinstance(p, numbers.Integral) and _is_real(p)
+        value = int(p) if integral or (_finite_real(p) and float(p).is_integer()) else 0
+        if value < 1:
+            raise ValueError(f"period must be {hint}, each a positive integer number of lattice cells, "
+                             f"got {period!r}")
+        if value > _MAX_COORDINATE:
+            raise ValueError(f"period must be at most 2**52 lattice cells (float64 coordinates cannot go "
+                             f"further), got {period!r}")
+        out.append(value)
     return tuple(out)
 
 
 def _check_offset(offset, ndim):
     if offset is None:
         return (0.0,) * ndim
-    items = (offset,) * ndim if np.ndim(offset) == 0 else tuple(offset)
-    if len(items) != ndim or not all(isinstance(o, numbers.Real) and np.isfinite(o) for o in items):
+    items = tuple(offset) if _is_sequence(offset) else (offset,) * ndim
+    items = tuple(o.item() if isinstance(o, np.ndarray) and o.ndim == 0 else o for o in items)
+    if len(items) != ndim or not all(_finite_real(o) for o in items):
         raise ValueError(f"offset must be a number or {ndim} finite numbers (x, y[, z]), got {offset!r}")
     return tuple(float(o) for o in items)
+
+
+def _check_extent(largest, what, hint):
+    """Lattice coordinates must stay below 2**52, where float64 still resolves a cell."""
+    if not largest <= _MAX_COORDINATE:  # also catches inf and NaN
+        raise ValueError(f"{what} put lattice coordinates at up to {largest:.3g}, beyond 2**52 = 4.5e15 where "
+                         f"float64 has no fractional part left (the noise would be 0 everywhere); {hint}")
+
+
+def _grid_extent(size, spacing, origin):
+    """Largest absolute lattice coordinate of the grid (``origin`` in x, y[, z] order)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return max(max(abs(o), abs(o + spacing * (n - 1))) for o, n in zip(origin, size[::-1]))
 
 
 def _permutation(rng):
@@ -171,35 +259,76 @@ def _permutation(rng):
     return np.concatenate([perm, perm]).astype(np.intp)
 
 
-def _pixel_spacing(shape, frequency):
+def _pixel_spacing(size, frequency):
     """Lattice units per pixel: ``frequency`` cells across the longest axis (square cells)."""
-    return float(frequency) / max(shape)
+    return float(frequency) / max(size)
 
 
-def band_limit_octaves(shape, frequency, lacunarity=2.0):
+def _band_limit(size, frequency, lacunarity):
+    """:func:`band_limit_octaves` without the argument checks."""
+    cell = max(size) / float(frequency)
+    if cell < 1:
+        return 1
+    if math.isinf(cell):  # frequency so low that size / frequency overflows: logarithms instead
+        ratio = (math.log(max(size)) - math.log(frequency)) / math.log(lacunarity)
+    else:
+        ratio = np.log(cell) / np.log(lacunarity)
+    return int(np.floor(ratio + 1e-9)) + 1
+
+
+def _check_lacunarity(lacunarity):
+    lacunarity = _check_float(lacunarity, "lacunarity")
+    if lacunarity <= 1:
+        raise ValueError(f"lacunarity must be > 1 (each octave finer than the last), got {lacunarity}")
+    return lacunarity
+
+
+@renamed_parameters(shape="size")
+def band_limit_octaves(size, frequency, lacunarity=2.0):
     """Number of octaves up to the band limit of a grid.
 
-    Octave ``i`` has lattice spacing ``max(shape) / (frequency * lacunarity**i)``
+    Octave ``i`` has lattice spacing ``max(size) / (frequency * lacunarity**i)``
     pixels; the sum stops at the last octave whose spacing is still at least
     one pixel (the slide "Turbulence Function": truncate when
     ``1 / 2^(k+1)`` is smaller than one pixel).
+
+    Parameters
+    ----------
+    size : int or tuple of int
+        ``(H, W)`` or ``(D, H, W)`` grid (an int means a square image).
+        ``shape`` is the deprecated name of this parameter.
+    frequency : float
+        Lattice cells of the first octave across the longest axis (> 0).
+    lacunarity : float, default 2.0
+        Frequency ratio between octaves (> 1).
+
+    Returns
+    -------
+    int
+        At least 1 (a first octave finer than a pixel is still one octave).
+
+    Raises
+    ------
+    ValueError
+        For a non-positive size or frequency, or ``lacunarity <= 1``.
+    TypeError
+        For a size, frequency or lacunarity of the wrong type (e.g. a bool).
 
     Examples
     --------
     >>> band_limit_octaves((1024, 1024), 8)
     8
-    >>> band_limit_octaves((64, 64), 64)
+    >>> band_limit_octaves(64, 64)
     1
     """
-    cell = max(shape) / float(frequency)
-    if cell < 1:
-        return 1
-    k = int(np.floor(np.log(cell) / np.log(lacunarity) + 1e-9))
-    return k + 1
+    size = _check_size(size)
+    frequency = _check_float(frequency, "frequency")
+    lacunarity = _check_lacunarity(lacunarity)
+    return _band_limit(size, frequency, lacunarity)
 
 
 # --------------------------------------------------------------------------
-# the lattice: gradients at lattice points
+# hashing: gradients at lattice points
 # --------------------------------------------------------------------------
 
 
@@ -208,28 +337,6 @@ def _wrap(indices, period):
     if period is not None:
         indices = np.mod(indices, period)
     return indices & 255
-
-
-def _lattice_gradients(perm, lattice, period, dtype):
-    """Gradient components at the lattice points of an outer product of axes.
-
-    ``lattice`` lists integer coordinates per axis in (x, y[, z]) order; the
-    result is one array per component (x, y[, z]), each of shape
-    ``(len(z), len(y), len(x))`` (array axis order), with
-    ``hash = P[P[P[x] + y] + z]`` (Perlin 2002; z = 0 in 2-D).
-    """
-    ndim = len(lattice)
-    per = period or (None,) * ndim
-    wrapped = [_wrap(np.asarray(ax, dtype=np.intp), p) for ax, p in zip(lattice, per)]
-    h = np.take(perm, wrapped[0])  # P[x], shape (nx,)
-    h = np.take(perm, h[None, :] + wrapped[1][:, None])  # P[P[x] + y], shape (ny, nx)
-    if ndim == 3:
-        h = np.take(perm, h[None, :, :] + wrapped[2][:, None, None])  # P[P[P[x] + y] + z]
-    else:
-        h = np.take(perm, h)  # P[P[P[x] + y] + 0]
-    h &= 15
-    table = _gradient_table(ndim)
-    return [np.take(table[:, k].astype(dtype), h) for k in range(ndim)]
 
 
 # --------------------------------------------------------------------------
@@ -289,7 +396,33 @@ def _noise_points(points, perm, period, fade, dtype, gradients=None):
 #     Qz(r, x) = w0 Vz[j] + w1 Vz[j+1]
 # and z the noise  n = w0 (P[k] + f Qz[k]) + w1 (P[k+1] + (f - 1) Qz[k+1]).
 # Each contraction of samples that share a cell is one small matrix product
-# (samples x 4) @ (4 x rest), see ``_contract``.
+# (samples x 4) @ (4 x rest).
+#
+# Memory. Only the lattice rows (and slices) that the samples of a block of
+# the output fall in are hashed, and the output is filled block by block along
+# its first axis, so the temporaries are proportional to a block whatever the
+# frequency (the whole lattice of a 64 x 64 image at frequency 20000 would be
+# 4e8 points).
+#
+# Rounding. The products are BLAS calls and must give the same bits as the
+# whole-lattice evaluation of texsynth 0.1 (same seed, same output). Measured
+# on this OpenBLAS (0.3.31, Haswell kernels), float32 and float64, thousands of
+# random products each: a product of two or more rows and columns (gemm)
+# computes every element as the same fused multiply-add chain, so any subset of
+# its rows or columns gives the same bits; a one-row product goes to gemv, whose
+# rounding of a column depends on where it sits within blocks of 4096 columns
+# (not on the other columns' values, nor on memory alignment); and numpy hands
+# a product with a non-C-contiguous operand to another routine. Hence: every
+# operand is C-contiguous, blocks never cut a run of samples into a one-row
+# piece (such a piece is computed as two rows), and a one-row product over a
+# compressed set of lattice slices runs on whole 4096-column blocks of the
+# whole-lattice layout, zeros where no column is wanted
+# (``_GridNoise._gemv_groups``). 1518 configurations hashed before and after
+# the change, and thousands of random ones compared in one process, were identical.
+
+_BLOCK = 1 << 18  # lattice points of one block-sized temporary (2 MiB in float64)
+_GEMV_BLOCK = 4096  # OpenBLAS gemv: rounding depends on the position within such blocks
+_GEMV_GROUP = 8  # gemv blocks per product for one-row runs (memory: 8 x 4096 columns)
 
 
 def _axis_factors(coords, fade, dtype):
@@ -304,38 +437,54 @@ def _axis_factors(coords, fade, dtype):
     return cell - first, first, factors
 
 
-def _runs(cell):
-    """``(cell, start, stop)`` for each run of consecutive samples in one cell."""
-    edges = np.flatnonzero(np.diff(cell)) + 1
-    starts = np.concatenate([[0], edges]).astype(int)
-    stops = np.concatenate([edges, [len(cell)]]).astype(int)
-    return [(int(cell[a]), int(a), int(b)) for a, b in zip(starts, stops)]
+class _Axis:
+    """The samples of one grid axis: lattice cells, interpolation factors and runs."""
+
+    def __init__(self, coords, fade, dtype, period):
+        self.rel, self.first, self.factors = _axis_factors(coords, fade, dtype)
+        self.period = period
+        self.n_lattice = int(self.rel[-1]) + 2  # lattice points spanned (the old whole-lattice size)
+        edges = np.flatnonzero(np.diff(self.rel)) + 1
+        self.starts = np.concatenate([[0], edges]).astype(np.intp)
+        self.stops = np.concatenate([edges, [len(self.rel)]]).astype(np.intp)
+
+    def wrapped(self, lattice):
+        """Permutation index of relative lattice coordinates ``lattice``."""
+        return _wrap(self.first + np.asarray(lattice, dtype=np.int64), self.period)
+
+    def pieces(self, a, b):
+        """The runs of samples in one cell, clipped to ``[a, b)``: ``(cell, start, stop, lo, hi)``.
+
+        ``[lo, hi)`` is what to compute: ``[start, stop)`` itself, or two
+        samples of the run when clipping left a single sample of a longer run
+        (a one-row product would round differently, see above).
+        """
+        first = int(np.searchsorted(self.stops, a, side="right"))
+        last = int(np.searchsorted(self.starts, b, side="left"))
+        out = []
+        for r in range(first, last):
+            r0, r1 = int(self.starts[r]), int(self.stops[r])
+            start, stop = max(r0, a), min(r1, b)
+            lo, hi = start, stop
+            if stop - start == 1 and r1 - r0 >= 2:
+                lo, hi = (start, start + 2) if start + 2 <= r1 else (start - 1, start + 1)
+            out.append((int(self.rel[r0]), start, stop, lo, hi))
+        return out
 
 
-def _contract(stack, cell, coeffs, out):
-    """``out[r] = sum_{c, ch} coeffs[r, c * nch + ch] * stack[cell[r] + c, ch]``.
-
-    ``stack`` is (L, nch, *rest) C-contiguous, so ``stack[j:j + 2]`` is a
-    (2 nch, rest) matrix and every run of samples in lattice cell ``j`` is one
-    matrix product.
-    """
-    n = len(cell)
-    lat, nch = stack.shape[:2]
-    flat = stack.reshape(lat, nch, -1)
-    rest = flat.shape[2]
-    out2 = out.reshape(n, rest)
-    for j, r0, r1 in _runs(cell):
-        np.matmul(coeffs[r0:r1], flat[j : j + 2].reshape(2 * nch, rest), out=out2[r0:r1])
-    return out
-
-
-_BLAS_CONTROLLER = []
+def _product(coeffs, lo, hi, matrix, out, start, stop):
+    """``out[...] = coeffs[start:stop] @ matrix``, computed over the rows ``[lo, hi)``."""
+    if (lo, hi) == (start, stop):
+        np.matmul(coeffs[lo:hi], matrix, out=out)
+    else:
+        out[...] = np.matmul(coeffs[lo:hi], matrix)[start - lo : stop - lo]
 
 
 def _single_thread_blas():
     """Limit BLAS to one thread: the products here are small, and on a busy
     machine a multi-threaded BLAS waiting for its second thread was measured
-    3x slower (105 ms vs 370 ms for 8-octave turbulence at 1024^2)."""
+    3x slower (105 ms vs 370 ms for 8-octave turbulence at 1024^2). It also
+    keeps the rounding of the products independent of the thread count."""
     if not _BLAS_CONTROLLER:
         try:
             import threadpoolctl  # a dependency of scikit-learn
@@ -347,49 +496,207 @@ def _single_thread_blas():
     return contextlib.nullcontext() if ctl is None else ctl.limit(limits=1, user_api="blas")
 
 
-def _noise_grid(shape, spacing, origin, perm, period, fade, dtype, out=None):
-    with _single_thread_blas():
-        return _noise_grid_impl(shape, spacing, origin, perm, period, fade, dtype, out)
+_BLAS_CONTROLLER = []
 
 
-def _noise_grid_impl(shape, spacing, origin, perm, period, fade, dtype, out=None):
-    """Perlin noise on the grid ``x = origin + spacing * index`` (per axis).
+class _GridNoise:
+    """Perlin noise on the grid ``x = origin + spacing * index`` (per axis), block by block.
 
-    ``shape`` is in array order ((H, W) or (D, H, W)); ``origin`` in (x, y[, z])
-    order. Writes into ``out`` (a C-contiguous array of ``shape``) if given.
+    ``size`` is in array order ((H, W) or (D, H, W)); ``origin`` in (x, y[, z])
+    order. :meth:`fill` writes the rows (2-D) or slices (3-D) ``[a, b)``.
     Equal to ``_noise_points`` at the grid's coordinates up to rounding.
     """
-    ndim = len(shape)
-    sizes_xyz = shape[::-1]
-    axes = []
-    for a in range(ndim):
-        coords = origin[a] + spacing * np.arange(sizes_xyz[a], dtype=np.float64)
-        axes.append(_axis_factors(coords, fade, dtype))
-    lattice = [first + np.arange(int(rel[-1]) + 2) for rel, first, _ in axes]
-    grads = _lattice_gradients(perm, lattice, period, dtype)  # per component (..., Ly, Lx)
+
+    def __init__(self, size, spacing, origin, perm, period, fade, dtype):
+        self.size, self.ndim, self.perm, self.dtype = tuple(size), len(size), perm, dtype
+        period = period or (None,) * self.ndim
+        self.axes = []
+        for a, n in enumerate(self.size[::-1]):
+            coords = origin[a] + spacing * np.arange(n, dtype=np.float64)
+            self.axes.append(_Axis(coords, fade, dtype, period[a]))
+        ax = self.axes[0]
+        width = self.size[-1]
+        # Hash P[x] per lattice column and gather the columns' corners afterwards when the
+        # columns span fewer lattice points than there are samples (cells of a pixel or
+        # more), else per sample column directly (left corner i and right corner i + 1).
+        self.x_lattice = ax.n_lattice <= width
+        if self.x_lattice:
+            self.px = [np.take(perm, ax.wrapped(np.arange(ax.n_lattice)))]
+        else:
+            self.px = [np.take(perm, ax.wrapped(ax.rel + c)) for c in (0, 1)]
+        table = _gradient_table(self.ndim)
+        self.tables = [table[:, k].astype(dtype) for k in range(self.ndim)]
+        self.fyq = np.ascontiguousarray(self.axes[1].factors[:, [0, 2]])  # w0, w1 of y (3-D Qz)
+        ay = self.axes[1]
+        runs = list(zip(ay.starts.tolist(), ay.stops.tolist()))
+        self.multi_rows = [r for r in runs if r[1] - r[0] >= 2]
+        self.single_rows = [r for r in runs if r[1] - r[0] == 1]  # one-row products (gemv) in 3-D
+
+    def blocks(self):
+        """Ranges ``[a, b)`` of the first array axis whose lattice rows (slices) hold about
+        ``_BLOCK`` points each (a block of samples finer than the lattice touches up to twice
+        as many lattice rows as it has rows)."""
+        n, inner = self.size[0], math.prod(self.size[1:])
+        per_row = min(2.0, max(1.0, self.axes[-1].n_lattice / n))
+        # one-column products (inner == 1) are gemv along the samples: never cut them
+        step = n if inner == 1 else max(1, int(_BLOCK / (inner * per_row)))
+        return [(a, min(a + step, n)) for a in range(0, n, step)]
+
+    def fill(self, out, a, b):
+        """Write the noise of rows (2-D) or slices (3-D) ``[a, b)`` into ``out`` (C-contiguous)."""
+        if self.ndim == 2:
+            self._fill_2d(out, a, b)
+        else:
+            self._fill_3d(out, a, b)
+        return out
+
+    # -- x: hash the lattice rows (and slices), contract the x axis ---------------
+
+    def _contract_x(self, wy, wz=None):
+        """s and V_a (see above) at the wrapped lattice rows ``wy`` (and slices ``wz``).
+
+        The gradient index is ``P[P[P[x] + y] + z] & 15`` (Perlin 2002; z = 0 in
+        2-D), hashed for the needed lattice points only.
+        """
+        grads = []
+        for px in self.px:
+            h = np.take(self.perm, px[None, :] + wy[:, None])  # P[P[x] + y], (Ny, columns)
+            if wz is None:
+                h = np.take(self.perm, h)  # P[P[P[x] + y] + 0]
+            else:
+                h = np.take(self.perm, h[None, :, :] + wz[:, None, None])  # (Nz, Ny, columns)
+            h &= 15
+            grads.append([np.take(t, h) for t in self.tables])
+        if self.x_lattice:  # gradients per lattice column: gather the corners of every sample
+            cx = self.axes[0].rel
+            grads = [[np.take(g, cx + c, axis=-1) for g in grads[0]] for c in (0, 1)]
+        (left, right), fx = grads, self.axes[0].factors
+        s = left[0] * fx[:, 1] + right[0] * fx[:, 3]
+        v = [left[k] * fx[:, 0] + right[k] * fx[:, 2] for k in range(1, self.ndim)]
+        return s, v
+
+    # -- 2-D -------------------------------------------------------------------------
+
+    def _fill_2d(self, out, a, b):
+        ay = self.axes[1]
+        width = self.size[1]
+        pieces = ay.pieces(a, b)
+        cells = np.array([p[0] for p in pieces], dtype=np.int64)
+        lattice = np.unique(np.concatenate([cells, cells + 1]))  # the lattice rows this block touches
+        s, v = self._contract_x(ay.wrapped(lattice))
+        # rows 2p .. 2p + 3 of `matrix` are [s_j; Vy_j; s_j+1; Vy_j+1] for lattice row j = lattice[p]
+        # (C-contiguous, as the products' operands always are: numpy hands a non-C-contiguous
+        # operand to another BLAS routine, which rounds differently)
+        matrix = np.ascontiguousarray(np.stack([s, v[0]], axis=1)).reshape(-1, width)
+        del s, v
+        out2 = out.reshape(b - a, width)
+        fy = ay.factors
+        for (_, start, stop, lo, hi), p in zip(pieces, np.searchsorted(lattice, cells).tolist()):
+            if lo == start and hi == stop:  # (samples x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1]
+                np.matmul(fy[lo:hi], matrix[2 * p : 2 * p + 4], out=out2[start - a : stop - a])
+            else:
+                out2[start - a : stop - a] = np.matmul(fy[lo:hi], matrix[2 * p : 2 * p + 4])[start - lo : stop - lo]
+
+    # -- 3-D -------------------------------------------------------------------------
+
+    def _fill_3d(self, out, a, b):
+        _, ay, az = self.axes
+        _, height, width = self.size
+        zpieces = az.pieces(a, b)
+        zcells = np.array([p[0] for p in zpieces], dtype=np.int64)
+        zlat = np.unique(np.concatenate([zcells, zcells + 1]))  # lattice slices this block touches
+        nz = len(zlat)
+        planes = np.empty((2, height, nz, width), dtype=self.dtype)  # P and Qz per row and slice
+        flat_planes = planes.reshape(2, height, nz * width)
+        fy, fyq = ay.factors, self.fyq
+        # contract y, runs of two or more rows: (rows x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1] and
+        # (rows x 2) @ [Vz_j; Vz_j+1] over every lattice slice at once
+        for group, ylat, pos in self._row_batches(self.multi_rows, nz):
+            s, v = self._contract_x(ay.wrapped(ylat), az.wrapped(zlat))  # each (Nz, Ny, W)
+            # rows 2p .. 2p + 3 of `sy` are [s_j; Vy_j; s_j+1; Vy_j+1], rows p, p + 1 of `vz`
+            # [Vz_j; Vz_j+1] (C-contiguous, as the operands of the products always are: numpy hands
+            # a non-C-contiguous operand to another BLAS routine, which rounds differently)
+            sy = np.ascontiguousarray(np.stack([s, v[0]], axis=0).transpose(2, 0, 1, 3)).reshape(2 * len(ylat), -1)
+            vz = np.ascontiguousarray(v[1].transpose(1, 0, 2)).reshape(len(ylat), -1)
+            del s, v
+            for (r0, r1), p in zip(group, pos):
+                np.matmul(fy[r0:r1], sy[2 * p : 2 * p + 4], out=flat_planes[0, r0:r1])
+                np.matmul(fyq[r0:r1], vz[p : p + 2], out=flat_planes[1, r0:r1])
+            del sy, vz
+        # one-row runs: products over the columns of whole gemv blocks of the whole lattice's
+        # layout (slice-major, then x), so that they round as over the whole lattice. Columns
+        # of those blocks that are not wanted are zeros, and the blocks go a few at a time (a
+        # gemv column depends only on its own values and its place in its block: measured).
+        if self.single_rows:
+            widest = _GEMV_GROUP * _GEMV_BLOCK  # columns of a group of gemv blocks, at most
+            flat_rows = planes.reshape(2, height, -1)  # row r of P (Qz): the wanted columns in order
+            for group, ylat, pos in self._row_batches(self.single_rows, max(nz, -(-widest // width))):
+                s, v = self._contract_x(ay.wrapped(ylat), az.wrapped(zlat))  # each (Nz, Ny, W)
+                ny = len(ylat)
+                wanted = [x.transpose(1, 0, 2).reshape(ny, -1) for x in (s, v[0], v[1])]  # (Ny, Nz W)
+                del s, v
+                for cols, lo, hi, pick in self._gemv_groups(zlat):
+                    sy = np.zeros((ny, 2, len(cols)), dtype=self.dtype)
+                    vz = np.zeros((ny, len(cols)), dtype=self.dtype)
+                    sy[:, 0, pick] = wanted[0][:, lo:hi]
+                    sy[:, 1, pick] = wanted[1][:, lo:hi]
+                    vz[:, pick] = wanted[2][:, lo:hi]
+                    sy = sy.reshape(2 * ny, -1)  # rows 2p .. 2p + 3: [s_j; Vy_j; s_j+1; Vy_j+1]
+                    for (r0, _), p in zip(group, pos):
+                        flat_rows[0, r0, lo:hi] = np.matmul(fy[r0 : r0 + 1], sy[2 * p : 2 * p + 4])[0, pick]
+                        flat_rows[1, r0, lo:hi] = np.matmul(fyq[r0 : r0 + 1], vz[p : p + 2])[0, pick]
+                    del sy, vz
+        # contract z: (slices x 4) @ [P_k; Qz_k; P_k+1; Qz_k+1]
+        matrix = np.empty((4, height, width), dtype=self.dtype)
+        out2 = out.reshape(b - a, height * width)
+        fz = az.factors
+        for (_, start, stop, lo, hi), q in zip(zpieces, np.searchsorted(zlat, zcells).tolist()):
+            matrix[0], matrix[1] = planes[0, :, q], planes[1, :, q]
+            matrix[2], matrix[3] = planes[0, :, q + 1], planes[1, :, q + 1]
+            _product(fz, lo, hi, matrix.reshape(4, height * width), out2[start - a : stop - a], start, stop)
+
+    def _gemv_groups(self, zlat):
+        """Columns for one-row products that round as over the whole lattice.
+
+        The whole-lattice layout has ``n_lattice(z) x W`` columns (slice-major).
+        A one-row product (gemv) rounds a column according to its place within
+        blocks of ``_GEMV_BLOCK`` columns, so it runs on whole blocks that hold
+        wanted columns (those of the slices ``zlat``), a few blocks at a time.
+        Yields, per group of blocks, its columns and the range ``[lo, hi)`` of
+        the wanted columns (in the order slice, x) that it holds, and where they
+        lie among the group's columns.
+        """
+        width = self.size[2]
+        n_columns = self.axes[2].n_lattice * width
+        wanted = (zlat[:, None] * width + np.arange(width)[None, :]).ravel()
+        blocks = np.unique(wanted // _GEMV_BLOCK)
+        for k in range(0, len(blocks), _GEMV_GROUP):
+            chosen = blocks[k : k + _GEMV_GROUP]
+            cols = np.concatenate([np.arange(b * _GEMV_BLOCK, min((b + 1) * _GEMV_BLOCK, n_columns)) for b in chosen])
+            lo, hi = np.searchsorted(wanted, [chosen[0] * _GEMV_BLOCK, (chosen[-1] + 1) * _GEMV_BLOCK])
+            yield cols, int(lo), int(hi), np.searchsorted(cols, wanted[lo:hi])
+
+    def _row_batches(self, runs, nz):
+        """Batches of runs of rows ``(r0, r1)`` whose lattice rows x ``nz`` slices x W stay
+        within ``_BLOCK``: ``(runs, lattice rows, index of each run's lattice row)``."""
+        ay, width = self.axes[1], self.size[2]
+        limit = max(1, _BLOCK // max(1, 2 * nz * width))
+        for k in range(0, len(runs), limit):
+            group = runs[k : k + limit]
+            cells = ay.rel[[r0 for r0, _ in group]]
+            ylat = np.unique(np.concatenate([cells, cells + 1]))
+            yield group, ylat, np.searchsorted(ylat, cells).tolist()
+
+
+def _noise_grid(size, spacing, origin, perm, period, fade, dtype, out=None):
+    """Perlin noise on a grid (see :class:`_GridNoise`), into ``out`` if given."""
+    grid = _GridNoise(size, spacing, origin, perm, period, fade, dtype)
     if out is None:
-        out = np.empty(shape, dtype=dtype)
-    (cx, _, fx), (cy, _, fy) = axes[0], axes[1]
-    # contract x: gather the gradients of the left (i) and right (i + 1) corner per column
-    left = [np.take(g, cx, axis=-1) for g in grads]
-    right = [np.take(g, cx + 1, axis=-1) for g in grads]
-    s = left[0] * fx[:, 1] + right[0] * fx[:, 3]
-    v = [left[k] * fx[:, 0] + right[k] * fx[:, 2] for k in range(1, ndim)]
-    if ndim == 2:
-        # contract y: (rows x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1]
-        return _contract(np.stack([s, v[0]], axis=1), cy, fy, out)
-    depth, height, width = shape
-    lz = s.shape[0]
-    # (Ly, ch, Lz, W) so the y contraction handles every lattice slice at once
-    sy = np.ascontiguousarray(np.stack([s, v[0]], axis=0).transpose(2, 0, 1, 3))
-    vz = np.ascontiguousarray(v[1].transpose(1, 0, 2)[:, None])
-    planes = np.empty((2, height, lz, width), dtype=dtype)
-    _contract(sy, cy, fy, planes[0])  # P
-    _contract(vz, cy, np.ascontiguousarray(fy[:, [0, 2]]), planes[1])  # Qz
-    # contract z: (slices x 4) @ [P_k; Qz_k; P_k+1; Qz_k+1]
-    stack = np.ascontiguousarray(planes.transpose(2, 0, 1, 3))  # (Lz, 2, H, W)
-    cz, _, fz = axes[2]
-    return _contract(stack, cz, fz, out)
+        out = np.empty(size, dtype=dtype)
+    with _single_thread_blas():
+        for a, b in grid.blocks():
+            grid.fill(out[a:b], a, b)
+    return out
 
 
 # --------------------------------------------------------------------------
@@ -397,15 +704,17 @@ def _noise_grid_impl(shape, spacing, origin, perm, period, fade, dtype, out=None
 # --------------------------------------------------------------------------
 
 
-def perlin(shape=None, *, frequency=8, points=None, period=None, offset=None, fade="quintic",
+@renamed_parameters(shape="size")
+def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fade="quintic",
            rng=None, dtype=np.float64):
     """Perlin gradient noise on a grid (image or volume) or at arbitrary points.
 
     Parameters
     ----------
-    shape : int or tuple of int, optional
+    size : int or tuple of int, optional
         ``(H, W)`` for an image or ``(D, H, W)`` for a volume (an int means a
-        square image). Give either ``shape`` or ``points``.
+        square image). Give either ``size`` or ``points``. ``shape`` is the
+        deprecated name of this parameter.
     frequency : float, default 8
         Lattice cells across the longest axis of the grid (cells are square,
         so a 256 x 512 image with ``frequency=8`` has 4 x 8 cells). Ignored
@@ -415,7 +724,7 @@ def perlin(shape=None, *, frequency=8, points=None, period=None, offset=None, fa
         "evaluation of the function on the object surface" (mesh vertices,
         ray-surface intersections). Grid sample ``[row, col]`` (``[depth,
         row, col]``) lies at ``x = col * s``, ``y = row * s``, ``z = depth * s``
-        with ``s = frequency / max(shape)``, plus ``offset``.
+        with ``s = frequency / max(size)``, plus ``offset``.
     period : int or tuple of int, optional
         Make the lattice wrap every ``period`` cells (per axis in (x, y[, z])
         order): the noise is then periodic. A grid spanning a whole number of
@@ -425,7 +734,8 @@ def perlin(shape=None, *, frequency=8, points=None, period=None, offset=None, fa
         Translation of the grid in lattice units, (x, y[, z]) order.
     fade : {"quintic", "cubic"} or callable, default "quintic"
         Interpolation curve: Perlin 2002's ``6t^5 - 15t^4 + 10t^3`` or Perlin
-        1985's cubic Hermite ``3t^2 - 2t^3``.
+        1985's cubic Hermite ``3t^2 - 2t^3``. A callable maps an array of
+        ``t`` in [0, 1) to weights, with ``fade(0) = 0`` and ``fade(1) = 1``.
     rng : None, int or numpy.random.Generator
         Seeds the permutation table (which gradient sits at which lattice point).
     dtype : numpy.float32 or numpy.float64, default float64
@@ -435,16 +745,20 @@ def perlin(shape=None, *, frequency=8, points=None, period=None, offset=None, fa
     Returns
     -------
     numpy.ndarray
-        ``shape`` (grid) or ``(N,)`` (points), values in [-1, 1] (standard
+        ``size`` (grid) or ``(N,)`` (points), values in [-1, 1] (standard
         deviation about 0.31 in 2-D, 0.27 in 3-D), exactly 0 at lattice
         points.
 
     Raises
     ------
     ValueError
-        If neither or both of ``shape`` and ``points`` are given, for a
-        non-positive shape or frequency, a period that is not a positive
-        integer, or an unknown fade.
+        If neither or both of ``size`` and ``points`` are given, for a
+        non-positive size or frequency, a period that is not a positive
+        integer, an unknown fade, lattice coordinates beyond 2**52 (a huge
+        frequency or offset), or an output larger than this machine's memory.
+    TypeError
+        For arguments of the wrong type (a bool or string as a number, a
+        dtype other than float32/float64).
 
     Notes
     -----
@@ -459,6 +773,10 @@ def perlin(shape=None, *, frequency=8, points=None, period=None, offset=None, fa
     directions ([2]_, section 3) in 3-D, and (with ``i_z = 0``) into eight
     directions 45 degrees apart in 2-D; with ``period`` the lattice index is
     taken modulo the period first.
+
+    Only the lattice cells that the samples fall in are hashed, and a grid is
+    filled in blocks of rows (slices), so memory is proportional to the
+    output whatever the frequency.
 
     The noise is band-limited around the lattice frequency and its
     distribution over a region does not depend on where the region lies
@@ -489,18 +807,24 @@ def perlin(shape=None, *, frequency=8, points=None, period=None, offset=None, fa
     """
     fade_fn = _check_fade(fade)
     dt = _check_dtype(dtype)
-    perm = _permutation(rng)
-    if (shape is None) == (points is None):
-        raise ValueError("give exactly one of shape (a grid) or points (lattice coordinates), "
-                         f"got shape={shape!r} and points={'None' if points is None else 'an array'}")
+    if (size is None) == (points is None):
+        raise ValueError("give exactly one of size (a grid) or points (lattice coordinates), "
+                         f"got size={size!r} and points={'None' if points is None else 'an array'}")
     if points is not None:
         pts = _check_points(points)
         ndim = pts.shape[1]
         per = _check_period(period, ndim)
         pts = pts + np.asarray(_check_offset(offset, ndim))
-        return _noise_points(pts, perm, per, fade_fn, dt)
-    shape = _check_shape(shape)
-    frequency = check_positive_float(frequency, "frequency")
-    per = _check_period(period, len(shape))
-    origin = _check_offset(offset, len(shape))
-    return _noise_grid(shape, _pixel_spacing(shape, frequency), origin, perm, per, fade_fn, dt)
+        _check_extent(float(np.abs(pts).max(initial=0.0)), "points (plus offset)",
+                      "pass smaller coordinates (the lattice repeats every 256 cells, or every period)")
+        return _noise_points(pts, _permutation(rng), per, fade_fn, dt)
+    size = _check_size(size)
+    frequency = _check_float(frequency, "frequency")
+    per = _check_period(period, len(size))
+    origin = _check_offset(offset, len(size))
+    spacing = _pixel_spacing(size, frequency)
+    _check_extent(_grid_extent(size, spacing, origin), f"frequency={frequency:g} and offset={offset!r}",
+                  "pass a smaller frequency or offset")
+    _check_fits(size, dt.itemsize, 1)
+    perm = _permutation(rng)
+    return _noise_grid(size, spacing, origin, perm, per, fade_fn, dt)

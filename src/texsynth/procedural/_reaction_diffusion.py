@@ -11,7 +11,7 @@ with ``beta_ij`` random around 12, starting from the uniform steady state
 self-enhancing chemical, a the fast-diffusing substrate), the uniform state is
 Turing-unstable only if ``D_a / D_b > 4``; Turk's spot rates (1/8, 1/32) sit
 exactly at that threshold. Far above it (``D_a / D_b >= 10``) the same
-equations make labyrinthine stripes (``pattern="stripes"``).
+equations make labyrinthine stripes (``preset="stripes"``).
 
 Turk's own stripes (his 1991 program ``spots.c``, option ``-x``) come from a
 different system, Meinhardt's five-chemical "two-species balance" [4]_:
@@ -60,14 +60,17 @@ References
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
-from ..core._validate import as_rng, as_size, check_positive_float, check_positive_int
-from ._noise import _check_dtype
-from ._patterns import apply_colormap
+from ..core._validate import as_rng, as_size, check_positive_int
+from ._noise import _check_dtype, _check_fits, _check_float
+from ._patterns import _colormap_function, apply_colormap
 
 __all__ = [
     "reaction_diffusion",
@@ -153,10 +156,42 @@ class ReactionDiffusionInfo:
 def stability_limit(diffusion, h=1.0):
     """Largest stable time step ``h^2 / (4 D)`` of forward Euler with the 5-point Laplacian.
 
+    Parameters
+    ----------
+    diffusion : float
+        Diffusion rate ``D`` (finite, >= 0).
+    h : float, default 1.0
+        Grid spacing (finite, > 0).
+
+    Returns
+    -------
+    float
+        ``h^2 / (4 D)``; ``inf`` for ``D = 0`` (no diffusion, no bound) or
+        when the bound is beyond the float range.
+
+    Raises
+    ------
+    ValueError
+        For a negative, NaN or infinite diffusion, or a non-positive or
+        non-finite ``h``.
+    TypeError
+        For a diffusion or ``h`` that is not a real number (e.g. a bool).
+
+    Examples
+    --------
     >>> stability_limit(0.25)
     1.0
+    >>> stability_limit(0)
+    inf
     """
-    return h * h / (4.0 * diffusion)
+    diffusion = _check_float(diffusion, "diffusion", allow_zero=True)
+    h = _check_float(h, "h")
+    if diffusion == 0:
+        return math.inf
+    try:
+        return h * h / (4.0 * diffusion)
+    except (OverflowError, ZeroDivisionError):  # pragma: no cover - float division gives inf here
+        return math.inf
 
 
 def _check_stable(dt, rates):
@@ -169,8 +204,25 @@ def _check_stable(dt, rates):
             )
 
 
+def _check_grid(size):
+    """``(H, W)``, an int meaning a square."""
+    if isinstance(size, (str, bytes)) or not isinstance(size, (numbers.Integral, tuple, list, np.ndarray)):
+        raise TypeError(f"size must be an int or a tuple (height, width), got {size!r}")
+    return as_size(size, "size", 2)
+
+
 def _check_rate(value, name):
-    return check_positive_float(value, name, allow_zero=True)
+    return _check_float(value, name, allow_zero=True)
+
+
+def _check_choice(value, choices, name):
+    if not isinstance(value, str) or value not in choices:
+        raise ValueError(f"{name} must be one of {sorted(choices)}, got {value!r}")
+    return value
+
+
+def _rates_text(rates):
+    return ", ".join(f"{k}={v:g}" for k, v in rates.items())
 
 
 class _PeriodicGrid:
@@ -223,7 +275,7 @@ class _PeriodicGrid:
         return lap
 
 
-def _run(grid, step, steps, progress, desc, record_every, pattern_index):
+def _run(grid, step, steps, progress, desc, record_every, pattern_index, rates):
     frames = []
     chunk = max(1, steps // 100)
     with Progress(progress, steps, desc) as bar, np.errstate(over="ignore", invalid="ignore"):
@@ -235,10 +287,11 @@ def _run(grid, step, steps, progress, desc, record_every, pattern_index):
                 if record_every and (done + i + 1) % record_every == 0:
                     frames.append(grid.inner[pattern_index].copy())
             done += n
-            if not np.isfinite(grid.inner[:, 0, :]).all():
+            rows = grid.inner[:, 0, :] if done < steps else grid.inner  # all of it at the end
+            if not np.isfinite(rows).all():
                 raise ValueError(
-                    f"{desc} diverged after {done} steps (non-finite concentrations): the reaction terms are "
-                    "unstable at this time step; reduce dt or the reaction rate")
+                    f"{desc} diverged after {done} steps (non-finite concentrations) with {_rates_text(rates)}: "
+                    "the reaction terms are unstable at this time step; reduce dt or the reaction rates")
             bar.advance(n=n)
     return np.stack(frames) if frames else None
 
@@ -249,27 +302,37 @@ def _colour(field, colormap):
     return apply_colormap(t, colormap, default=RD_COLORS)
 
 
+def _check_memory(size, dtype, copies, steps, record_every):
+    """Refuse a grid, or recorded frames, that cannot fit in memory (before allocating)."""
+    _check_fits(size, max(dtype.itemsize, 8), copies)  # the chemicals, buffers and float64 set-up
+    if record_every:
+        _check_fits((steps // record_every,) + tuple(size), dtype.itemsize, 1, "record_every", record_every)
+
+
 def _check_record(record_every):
     if record_every is None:
         return None
     return check_positive_int(record_every, "record_every")
 
 
-def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, Db=None, beta=None,
+@renamed_parameters(shape="size", pattern="preset")
+def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db=None, beta=None,
                        beta_spread=None, dt=1.0, cascade=None, colormap=None, record_every=None, rng=None,
                        dtype=np.float32, progress=False, return_info=False):
     """Turk's reaction-diffusion texture: spots or stripes from Turing's two-chemical system.
 
     Parameters
     ----------
-    shape : int or (int, int)
-        Grid size ``(H, W)``; the result tiles (periodic boundary).
+    size : int or (int, int)
+        Grid size ``(H, W)`` (an int means a square); the result tiles
+        (periodic boundary). ``shape`` is the deprecated name of this
+        parameter.
     steps : int, default 10000
         Time steps. With the "spots" preset the spots have formed after about
         4,000-6,000 steps and then only shift slightly; "stripes" has joined
         into a labyrinth after about 3,000-6,000 steps and then slowly
         straightens (measured at 128^2, ``examples/plot_reaction_diffusion.py``).
-    pattern : {"spots", "small-spots", "large-spots", "irregular", "stripes"}, default "spots"
+    preset : {"spots", "small-spots", "large-spots", "irregular", "stripes"}, default "spots"
         Preset of :data:`TURK_PRESETS` supplying the parameters not given.
         "stripes" (``D_a / D_b = 15``) gives labyrinthine stripes; Turk's own
         stripes used Meinhardt's system, :func:`meinhardt_stripes`.
@@ -319,8 +382,13 @@ def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, 
     Raises
     ------
     ValueError
-        Non-positive shape or steps, an unknown pattern, negative rates, or a
-        time step above the stability bound ``dt <= 1 / (4 max(Da, Db))``.
+        Non-positive size or steps, an unknown preset, negative or
+        non-finite rates, a malformed cascade, a time step above the
+        stability bound ``dt <= 1 / (4 max(Da, Db))``, a run that diverges,
+        or a size (or recorded frames) larger than this machine's memory.
+    TypeError
+        For arguments of the wrong type (a bool or string as a number, a
+        float ``steps``, a dtype other than float32/float64).
 
     Notes
     -----
@@ -361,59 +429,67 @@ def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, 
     ...
     ValueError: Da=0.5 with dt=1 is unstable: the explicit scheme with the 5-point Laplacian needs 4 * Da * dt / h^2 <= 1 (h = 1 pixel), here 2; use dt <= 0.5 or a smaller Da
     """
-    size = as_size(shape, "shape", 2)
+    size = _check_grid(size)
     steps = check_positive_int(steps, "steps")
-    if pattern not in TURK_PRESETS:
-        raise ValueError(f"pattern must be one of {sorted(TURK_PRESETS)}, got {pattern!r}")
-    params = dict(TURK_PRESETS[pattern])
+    _check_choice(preset, TURK_PRESETS, "preset")
+    params = dict(TURK_PRESETS[preset])
     for name, value in dict(s=s, Da=Da, Db=Db, beta=beta, beta_spread=beta_spread).items():
         if value is not None:
             params[name] = value
     for name in ("s", "Da", "Db", "beta", "beta_spread"):
         params[name] = _check_rate(params[name], name)
-    dt = check_positive_float(dt, "dt")
+    dt = _check_float(dt, "dt")
     _check_stable(dt, {"Da": params["Da"], "Db": params["Db"]})
     stages = [(params["s"], steps)]
+    if cascade is not None and not isinstance(cascade, (tuple, list)):
+        raise TypeError(f"cascade must be a list of (s, steps) pairs, got {type(cascade).__name__}")
     for item in cascade or ():
-        if len(item) != 2:
+        if not isinstance(item, (tuple, list)) or len(item) != 2:
             raise ValueError(f"cascade must be a sequence of (s, steps) pairs, got {cascade!r}")
         stages.append((_check_rate(item[0], "cascade s"), check_positive_int(item[1], "cascade steps")))
     record_every = _check_record(record_every)
     dt_ = _check_dtype(dtype)
+    if colormap is not None:
+        _colormap_function(colormap)
+    _check_memory(size, dt_, 10, sum(n for _, n in stages), record_every)
     gen = as_rng(rng)
 
-    beta_ij = params["beta"] + gen.uniform(-params["beta_spread"], params["beta_spread"], size)
-    grid = _PeriodicGrid([np.full(size, 4.0), np.full(size, 4.0)], dt_)
-    a, b = grid.inner[0], grid.inner[1]
-    diffusion = np.array([params["Da"], params["Db"]], dtype=dt_).reshape(2, 1, 1) * dt_.type(dt)
-    frozen = None
-    all_frames = []
-    for stage, (s_k, n_k) in enumerate(stages):
-        rate = dt_.type(s_k * dt)
-        # linear terms: -4 D a ; -4 D b - s b     constant terms: s 16 ; -s beta_ij
-        decay = (4 * diffusion + np.array([0, rate], dtype=dt_).reshape(2, 1, 1)).astype(dt_)
-        constant = np.stack([np.full(size, 16 * s_k * dt), -beta_ij * (s_k * dt)]).astype(dt_)
-        if stage > 0:
-            lo, hi = float(b.min()), float(b.max())
-            spots = b < (lo + hi) / 2  # Turk's spots are the cells where b is depleted
-            frozen = spots if frozen is None else (frozen | spots)
-            keep = (~frozen).astype(dt_)
+    # extreme (finite) rates overflow the dtype: that shows as divergence, checked in _run
+    with np.errstate(over="ignore", invalid="ignore"):
+        beta_ij = params["beta"] + gen.uniform(-params["beta_spread"], params["beta_spread"], size)
+        grid = _PeriodicGrid([np.full(size, 4.0), np.full(size, 4.0)], dt_)
+        a, b = grid.inner[0], grid.inner[1]
+        diffusion = np.array([params["Da"], params["Db"]], dtype=dt_).reshape(2, 1, 1) * dt_.type(dt)
+        frozen = None
+        all_frames = []
+        for stage, (s_k, n_k) in enumerate(stages):
+            rate = dt_.type(s_k * dt)
+            # linear terms: -4 D a ; -4 D b - s b     constant terms: s 16 ; -s beta_ij
+            decay = (4 * diffusion + np.array([0, rate], dtype=dt_).reshape(2, 1, 1)).astype(dt_)
+            constant = np.stack([np.full(size, 16 * s_k * dt), -beta_ij * (s_k * dt)]).astype(dt_)
+            if stage > 0:
+                lo, hi = float(b.min()), float(b.max())
+                spots = b < (lo + hi) / 2  # Turk's spots are the cells where b is depleted
+                frozen = spots if frozen is None else (frozen | spots)
+                keep = (~frozen).astype(dt_)
 
-        def step():
-            lap = grid.linear_part(diffusion, decay)  # D lap(.) - s b
-            lap += constant  # + s 16 ; - s beta
-            ab = np.multiply(a, b, out=grid.tmp)
-            ab *= rate  # s a b
-            lap[0] -= ab  # eq. (1): s (16 - a b) + D_a lap(a)
-            lap[1] += ab  # eq. (2): s (a b - b - beta) + D_b lap(b)
-            if frozen is not None:
-                lap *= keep
-            grid.inner += lap
-            np.maximum(b, 0, out=b)  # Turk: b is never negative
+            def step():
+                lap = grid.linear_part(diffusion, decay)  # D lap(.) - s b
+                lap += constant  # + s 16 ; - s beta
+                ab = np.multiply(a, b, out=grid.tmp)
+                ab *= rate  # s a b
+                lap[0] -= ab  # eq. (1): s (16 - a b) + D_a lap(a)
+                lap[1] += ab  # eq. (2): s (a b - b - beta) + D_b lap(b)
+                if frozen is not None:
+                    lap *= keep
+                grid.inner += lap
+                np.maximum(b, 0, out=b)  # Turk: b is never negative
 
-        frames = _run(grid, step, n_k, progress, "reaction-diffusion", record_every, 1)
-        if frames is not None:
-            all_frames.append(frames)
+            frames = _run(grid, step, n_k, progress, "reaction-diffusion", record_every, 1,
+                          {"s": s_k, "Da": params["Da"], "Db": params["Db"], "beta": params["beta"],
+                           "beta_spread": params["beta_spread"], "dt": dt})
+            if frames is not None:
+                all_frames.append(frames)
     image = _colour(-b, colormap)  # spots (b depleted) dark
     if not return_info:
         return image
@@ -430,15 +506,17 @@ def reaction_diffusion(shape, *, steps=10000, pattern="spots", s=None, Da=None, 
     return image, info
 
 
-def meinhardt_stripes(shape, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.009, diff2=0.2, arand=0.02,
+@renamed_parameters(shape="size")
+def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.009, diff2=0.2, arand=0.02,
                       colormap=None, record_every=None, rng=None, dtype=np.float32, progress=False,
                       return_info=False):
     """Turk's stripes: Meinhardt's five-chemical two-species balance.
 
     Parameters
     ----------
-    shape : int or (int, int)
-        Grid size ``(H, W)``; periodic boundary (the result tiles).
+    size : int or (int, int)
+        Grid size ``(H, W)`` (an int means a square); periodic boundary (the
+        result tiles). ``shape`` is the deprecated name of this parameter.
     steps : int, default 4000
         Time steps (dt = 1, as Turk). Stripes have joined into a labyrinth of
         period about 7 px after 2,000 steps at 128^2; the system never
@@ -468,9 +546,13 @@ def meinhardt_stripes(shape, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.0
     Raises
     ------
     ValueError
-        Non-positive shape or steps, negative rates, p1 = 0 or p2 = 0 (no
-        steady state), diffusion rates above the stability bound
-        ``4 D <= 1``, or a run that diverges.
+        Non-positive size or steps, negative or non-finite rates, p1 = 0 or
+        p2 = 0 (no steady state), a steady state ``p2 / (2 p1)`` beyond the
+        range of the dtype, diffusion rates above the stability bound
+        ``4 D <= 1``, a run that diverges, or a size larger than this
+        machine's memory.
+    TypeError
+        For arguments of the wrong type (see :func:`reaction_diffusion`).
 
     Notes
     -----
@@ -500,10 +582,10 @@ def meinhardt_stripes(shape, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.0
     >>> img.shape, sorted(info.concentrations)
     ((24, 24, 3), ['a', 'b', 'c', 'd', 'e'])
     """
-    size = as_size(shape, "shape", 2)
+    size = _check_grid(size)
     steps = check_positive_int(steps, "steps")
-    p1 = check_positive_float(p1, "p1")
-    p2 = check_positive_float(p2, "p2")
+    p1 = _check_float(p1, "p1")
+    p2 = _check_float(p2, "p2")
     p3 = _check_rate(p3, "p3")
     diff1 = _check_rate(diff1, "diff1")
     diff2 = _check_rate(diff2, "diff2")
@@ -511,38 +593,51 @@ def meinhardt_stripes(shape, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.0
     _check_stable(1.0, {"diff1": diff1, "diff2": diff2})
     record_every = _check_record(record_every)
     dt_ = _check_dtype(dtype)
+    a0 = p2 / (2 * p1)  # semi-stable equilibrium (Turk's semi_equilibria)
+    try:
+        c0 = 0.02 * a0 ** 3 / p2
+    except OverflowError:
+        c0 = math.inf
+    if not max(a0, c0) < float(np.finfo(dt_).max) / 1e6:
+        raise ValueError(f"p1={p1:g} and p2={p2:g} put the steady state at a = p2 / (2 p1) = {a0:.3g}, "
+                         f"c = 0.02 a^3 / p2 = {c0:.3g}, beyond the range of {dt_.name}; use a larger p1")
+    if colormap is not None:
+        _colormap_function(colormap)
+    _check_memory(size, dt_, 16, steps, record_every)
     gen = as_rng(rng)
 
-    a0 = p2 / (2 * p1)  # semi-stable equilibrium (Turk's semi_equilibria)
-    r_ij = (1 + gen.uniform(-0.5 * arand, 0.5 * arand, size)).astype(dt_)
-    grid = _PeriodicGrid([np.full(size, a0)] * 4, dt_)  # a, b, d, e diffuse
-    a, b, d, e = grid.inner
-    c = np.full(size, 0.02 * a0 ** 3 / p2, dtype=dt_)
-    diffusion = np.array([diff1, diff1, diff2, diff2], dtype=dt_).reshape(4, 1, 1)
-    decay = (4 * diffusion + np.array([p1, p1, p3, p3], dtype=dt_).reshape(4, 1, 1)).astype(dt_)
-    buffers = np.empty((2,) + size, dtype=dt_)
-    p2_, p3_ = dt_.type(p2), dt_.type(p3)
+    # extreme (finite) rates overflow the dtype: that shows as divergence, checked in _run
+    with np.errstate(over="ignore", invalid="ignore"):
+        r_ij = (1 + gen.uniform(-0.5 * arand, 0.5 * arand, size)).astype(dt_)
+        grid = _PeriodicGrid([np.full(size, a0)] * 4, dt_)  # a, b, d, e diffuse
+        a, b, d, e = grid.inner
+        c = np.full(size, 0.02 * a0 ** 3 / p2, dtype=dt_)
+        diffusion = np.array([diff1, diff1, diff2, diff2], dtype=dt_).reshape(4, 1, 1)
+        decay = (4 * diffusion + np.array([p1, p1, p3, p3], dtype=dt_).reshape(4, 1, 1)).astype(dt_)
+        buffers = np.empty((2,) + size, dtype=dt_)
+        p2_, p3_ = dt_.type(p2), dt_.type(p3)
 
-    def step():
-        fa, fb = buffers
-        lap = grid.linear_part(diffusion, decay)  # D lap(x) - p x
-        np.multiply(a, a, out=fa)
-        fa *= e
-        fa *= r_ij
-        fa *= 0.01  # 0.01 r a^2 e
-        np.multiply(b, b, out=fb)
-        fb *= d
-        fb *= 0.01  # 0.01 b^2 d
-        lap[0] += fa / c  # eq. (5)
-        lap[1] += fb / c  # eq. (6)
-        lap[2] += p3_ * a  # eq. (8): p3 (a - d) + D2 lap(d)
-        lap[3] += p3_ * b  # eq. (9)
-        fa += fb
-        fa -= p2_ * c  # eq. (7), from the old c
-        grid.inner += lap
-        np.add(c, fa, out=c)  # c += eq. (7)
+        def step():
+            fa, fb = buffers
+            lap = grid.linear_part(diffusion, decay)  # D lap(x) - p x
+            np.multiply(a, a, out=fa)
+            fa *= e
+            fa *= r_ij
+            fa *= 0.01  # 0.01 r a^2 e
+            np.multiply(b, b, out=fb)
+            fb *= d
+            fb *= 0.01  # 0.01 b^2 d
+            lap[0] += fa / c  # eq. (5)
+            lap[1] += fb / c  # eq. (6)
+            lap[2] += p3_ * a  # eq. (8): p3 (a - d) + D2 lap(d)
+            lap[3] += p3_ * b  # eq. (9)
+            fa += fb
+            fa -= p2_ * c  # eq. (7), from the old c
+            grid.inner += lap
+            np.add(c, fa, out=c)  # c += eq. (7)
 
-    frames = _run(grid, step, steps, progress, "meinhardt-stripes", record_every, 0)
+        frames = _run(grid, step, steps, progress, "meinhardt-stripes", record_every, 0,
+                      {"p1": p1, "p2": p2, "p3": p3, "diff1": diff1, "diff2": diff2, "arand": arand})
     image = _colour(a, colormap)  # high a dark (the default colours put high values dark)
     if not return_info:
         return image
@@ -556,14 +651,16 @@ def meinhardt_stripes(shape, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.0
     return image, info
 
 
-def gray_scott(shape, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0, steps=10000, seeds=None,
+@renamed_parameters(shape="size")
+def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0, steps=10000, seeds=None,
                colormap=None, record_every=None, rng=None, dtype=np.float32, progress=False, return_info=False):
     """Gray-Scott reaction-diffusion: spots, stripes, mazes, coral... from (F, k).
 
     Parameters
     ----------
-    shape : int or (int, int)
-        Grid size ``(H, W)``; periodic boundary (the result tiles).
+    size : int or (int, int)
+        Grid size ``(H, W)`` (an int means a square); periodic boundary (the
+        result tiles). ``shape`` is the deprecated name of this parameter.
     preset : str, default "spots"
         A name of :data:`GRAY_SCOTT_PRESETS` supplying F and k when not given.
     F, k : float, optional
@@ -576,7 +673,8 @@ def gray_scott(shape, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.
         Time steps.
     seeds : int, optional
         Number of random square seeds of ``v = 0.5`` (``u = 0.25``) in the
-        trivial state ``u = 1, v = 0``; default one per 1000 pixels (at least 1).
+        trivial state ``u = 1, v = 0``; default one per 1000 pixels (at least
+        1), at most one per pixel.
     colormap, record_every, rng, dtype, progress, return_info
         As in :func:`reaction_diffusion` (the pattern chemical is ``v``).
 
@@ -590,8 +688,11 @@ def gray_scott(shape, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.
     Raises
     ------
     ValueError
-        Unknown preset, non-positive sizes or steps, negative rates, or
-        ``dt`` above the stability bound.
+        Unknown preset, non-positive sizes or steps, negative or non-finite
+        rates, ``dt`` above the stability bound, more seeds than pixels, a
+        run that diverges, or a size larger than this machine's memory.
+    TypeError
+        For arguments of the wrong type (see :func:`reaction_diffusion`).
 
     Notes
     -----
@@ -610,10 +711,9 @@ def gray_scott(shape, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.
     >>> img.shape, sorted(info.concentrations)
     ((32, 32, 3), ['u', 'v'])
     """
-    size = as_size(shape, "shape", 2)
+    size = _check_grid(size)
     steps = check_positive_int(steps, "steps")
-    if preset not in GRAY_SCOTT_PRESETS:
-        raise ValueError(f"preset must be one of {sorted(GRAY_SCOTT_PRESETS)}, got {preset!r}")
+    _check_choice(preset, GRAY_SCOTT_PRESETS, "preset")
     params = dict(GRAY_SCOTT_PRESETS[preset])
     if F is not None:
         params["F"] = F
@@ -623,15 +723,20 @@ def gray_scott(shape, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.
     params["k"] = _check_rate(params["k"], "k")
     Du = _check_rate(Du, "Du")
     Dv = _check_rate(Dv, "Dv")
-    dt = check_positive_float(dt, "dt")
+    dt = _check_float(dt, "dt")
     _check_stable(dt, {"Du": Du, "Dv": Dv})
     record_every = _check_record(record_every)
     dt_ = _check_dtype(dtype)
-    gen = as_rng(rng)
     h, w = size
     if seeds is None:
         seeds = max(1, (h * w) // 1000)
     seeds = check_positive_int(seeds, "seeds")
+    if seeds > h * w:
+        raise ValueError(f"seeds must be at most the number of pixels ({h * w}), got {seeds}")
+    if colormap is not None:
+        _colormap_function(colormap)
+    _check_memory(size, dt_, 10, steps, record_every)
+    gen = as_rng(rng)
 
     u = np.ones(size)
     v = np.zeros(size)
@@ -644,26 +749,29 @@ def gray_scott(shape, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.
     u += 0.01 * gen.standard_normal(size)
     v += 0.01 * gen.standard_normal(size)
     np.clip(v, 0, None, out=v)
-    grid = _PeriodicGrid([u, v], dt_)
-    uu, vv = grid.inner[0], grid.inner[1]
-    diffusion = np.array([Du, Dv], dtype=dt_).reshape(2, 1, 1) * dt_.type(dt)
-    # linear terms: -4 Du u - F u ; -4 Dv v - (F + k) v    constant: + F (for u)
-    decay = (4 * diffusion + np.array([params["F"], params["F"] + params["k"]]).reshape(2, 1, 1) * dt).astype(dt_)
-    feed = dt_.type(params["F"] * dt)
-    step_dt = dt_.type(dt)
+    # extreme (finite) rates overflow the dtype: that shows as divergence, checked in _run
+    with np.errstate(over="ignore", invalid="ignore"):
+        grid = _PeriodicGrid([u, v], dt_)
+        uu, vv = grid.inner[0], grid.inner[1]
+        diffusion = np.array([Du, Dv], dtype=dt_).reshape(2, 1, 1) * dt_.type(dt)
+        # linear terms: -4 Du u - F u ; -4 Dv v - (F + k) v    constant: + F (for u)
+        decay = (4 * diffusion + np.array([params["F"], params["F"] + params["k"]]).reshape(2, 1, 1) * dt).astype(dt_)
+        feed = dt_.type(params["F"] * dt)
+        step_dt = dt_.type(dt)
 
-    def step():
-        lap = grid.linear_part(diffusion, decay)
-        lap[0] += feed  # eq. (3): D_u lap(u) - u v^2 + F (1 - u)
-        uvv = np.multiply(vv, vv, out=grid.tmp)
-        uvv *= uu
-        if dt != 1.0:
-            uvv *= step_dt
-        lap[0] -= uvv
-        lap[1] += uvv  # eq. (4): D_v lap(v) + u v^2 - (F + k) v
-        grid.inner += lap
+        def step():
+            lap = grid.linear_part(diffusion, decay)
+            lap[0] += feed  # eq. (3): D_u lap(u) - u v^2 + F (1 - u)
+            uvv = np.multiply(vv, vv, out=grid.tmp)
+            uvv *= uu
+            if dt != 1.0:
+                uvv *= step_dt
+            lap[0] -= uvv
+            lap[1] += uvv  # eq. (4): D_v lap(v) + u v^2 - (F + k) v
+            grid.inner += lap
 
-    frames = _run(grid, step, steps, progress, "gray-scott", record_every, 1)
+        frames = _run(grid, step, steps, progress, "gray-scott", record_every, 1,
+                      {"F": params["F"], "k": params["k"], "Du": Du, "Dv": Dv, "dt": dt})
     image = _colour(vv, colormap)
     if not return_info:
         return image

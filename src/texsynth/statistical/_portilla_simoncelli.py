@@ -96,6 +96,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -103,8 +104,10 @@ import scipy.fft as sfft
 from numpy.polynomial import polynomial as npoly
 from threadpoolctl import threadpool_limits
 
+from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
-from ..core._validate import as_image, as_rng, as_size, check_in_range, check_positive_int, restore_channels, with_channels
+from ..core._validate import (as_image, as_rng, as_size, check_in_range, check_memory, check_positive_int,
+                              restore_channels, with_channels)
 from ..core.pyramid import SteerableCoefficients, SteerablePyramid, max_scales, periodic_smooth_decomposition
 
 __all__ = [
@@ -224,11 +227,18 @@ class PSInfo:
         Root-mean-square change of the image in every iteration.
     statistics : PSStatistics
         The target statistics (the exemplar's, or the ones given).
+    seconds : float
+        Total wall time.
+    stage_seconds : dict
+        ``"analysis"`` (measuring the exemplar's statistics; 0 when they
+        were given) and ``"synthesis"`` (the iterated projections).
     """
 
     snr: dict
     change: np.ndarray
     statistics: PSStatistics = field(repr=False)
+    seconds: float = 0.0
+    stage_seconds: dict = field(default_factory=dict)
 
 
 def _snr(target, current):
@@ -516,19 +526,37 @@ def _pca_basis(pixels):
 def _check_scales_fit(scales, shape, what):
     """The pyramid needs 2^(scales+2) pixels along each axis (its coarsest band keeps 8)."""
     if scales > max_scales(shape):
-        need = 2 ** (scales + 2)
-        sizes = ", ".join(f"{s} scale{'s' if s > 1 else ''}: >= {2 ** (s + 2)} px" for s in range(1, scales + 1))
+        need = 2 ** (scales + 2) if scales < 60 else float("inf")  # no trillion-bit integers in a message
+        sizes = ", ".join(f"{s} scale{'s' if s > 1 else ''}: >= {2 ** (s + 2)} px" for s in range(1, min(scales, 6) + 1))
+        name = "size" if what == "output" else what
         raise ValueError(
-            f"{what} is {shape[0]}x{shape[1]} but scales={scales} needs at least {need}x{need} pixels "
-            f"({sizes}); pass scales={max(max_scales(shape), 1)} or a larger {what}"
+            f"{name} is {shape[0]}x{shape[1]} but scales={scales} needs at least {need}x{need} pixels "
+            f"({sizes}); pass scales={max(max_scales(shape), 1)} or a larger {name}"
         )
 
 
-def _check_neighborhood(neighborhood):
-    neighborhood = check_positive_int(neighborhood, "neighborhood", minimum=1)
-    if neighborhood % 2 == 0:
-        raise ValueError(f"neighborhood must be odd (a centred window, e.g. 7 as in the paper), got {neighborhood}")
-    return neighborhood
+def _check_neighborhood(neighborhood_size):
+    neighborhood_size = check_positive_int(neighborhood_size, "neighborhood_size", minimum=1)
+    if neighborhood_size % 2 == 0:
+        raise ValueError(f"neighborhood_size must be odd (a centred window, e.g. 7 as in the paper), "
+                         f"got {neighborhood_size}")
+    return neighborhood_size
+
+
+#: Values of ``periodic_exemplar`` (the vocabulary of :func:`~texsynth.statistical.heeger_bergen`).
+PERIODIC_EXEMPLAR = ("periodic+smooth", "none")
+
+
+def _check_periodic(periodic_exemplar):
+    """True for Moisan's periodic component, False for the image itself."""
+    if not isinstance(periodic_exemplar, str) or periodic_exemplar not in PERIODIC_EXEMPLAR:
+        raise ValueError(f"periodic_exemplar must be one of {PERIODIC_EXEMPLAR}, got {periodic_exemplar!r}")
+    return periodic_exemplar == "periodic+smooth"
+
+
+def _old_periodic_smooth(value):
+    """The 0.1 spelling periodic_smooth=True/False as periodic_exemplar."""
+    return "periodic+smooth" if value else "none"
 
 
 def _check_mask(mask, shape):
@@ -555,8 +583,9 @@ def _image_from_components(components, stats):
 
 
 @_single_threaded_blas
-def ps_statistics(image, *, scales=4, orientations=4, neighborhood=7, mask=None, color_basis=None,
-                  periodic_smooth=False):
+@renamed_parameters(neighborhood="neighborhood_size", periodic_smooth=("periodic_exemplar", _old_periodic_smooth))
+def ps_statistics(image, *, scales=4, orientations=4, neighborhood_size=7, mask=None, color_basis=None,
+                  periodic_exemplar="none"):
     """Portilla-Simoncelli statistics of a grey or colour texture.
 
     Parameters
@@ -568,7 +597,7 @@ def ps_statistics(image, *, scales=4, orientations=4, neighborhood=7, mask=None,
         Number of pyramid scales (4 in the paper).
     orientations : int
         Number of orientations (4 in the paper).
-    neighborhood : int
+    neighborhood_size : int
         Odd size ``Na`` of the central autocorrelation windows (7 in the paper).
     mask : array_like of bool, optional
         ``(H, W)``: measure the statistics only on these pixels (the pyramid
@@ -580,11 +609,12 @@ def ps_statistics(image, *, scales=4, orientations=4, neighborhood=7, mask=None,
         analyse in; default the principal axes of the image's colours (in the
         mask). Pass ``other.color_basis`` to make two sets of statistics
         comparable (:func:`interpolate_statistics` needs the same basis).
-    periodic_smooth : bool
-        Analyse the periodic component of Moisan's periodic-plus-smooth
-        decomposition instead of the image (removes the cross that the border
-        jump adds to the spectrum of a non-tileable exemplar). Off by default,
-        as in textureAnalysis.m; the pixel statistics are always the image's.
+    periodic_exemplar : {"none", "periodic+smooth"}
+        ``"periodic+smooth"`` analyses the periodic component of Moisan's
+        periodic-plus-smooth decomposition instead of the image (removes the
+        cross that the border jump adds to the spectrum of a non-tileable
+        exemplar). ``"none"`` by default, as in textureAnalysis.m; the pixel
+        statistics are always the image's.
 
     Returns
     -------
@@ -594,7 +624,7 @@ def ps_statistics(image, *, scales=4, orientations=4, neighborhood=7, mask=None,
     ------
     ValueError
         If the image is too small for ``scales`` (the message lists the sizes
-        that work), not finite, ``neighborhood`` is even, or the mask is empty
+        that work), not finite, ``neighborhood_size`` is even, or the mask is empty
         or of the wrong shape.
 
     Notes
@@ -621,11 +651,11 @@ def ps_statistics(image, *, scales=4, orientations=4, neighborhood=7, mask=None,
     img, _ = with_channels(img)
     scales = check_positive_int(scales, "scales", minimum=1)
     orientations = check_positive_int(orientations, "orientations", minimum=1)
-    neighborhood = _check_neighborhood(neighborhood)
+    neighborhood_size = _check_neighborhood(neighborhood_size)
     shape = img.shape[:2]
     _check_scales_fit(scales, shape, "image")
     m = _check_mask(mask, shape)
-    return _statistics(img, scales, orientations, neighborhood, m, color_basis, periodic_smooth)
+    return _statistics(img, scales, orientations, neighborhood_size, m, color_basis, _check_periodic(periodic_exemplar))
 
 
 def _statistics(img, scales, orientations, neighborhood, mask, color_basis, periodic_smooth):
@@ -1236,23 +1266,32 @@ def _synthesise(stats, shape, iterations, gen, progress):
     return previous, history, change
 
 
-def _check_from_statistics(stats, size, scales, orientations, neighborhood, periodic_smooth):
+def _check_memory(shape, channels, scales, orientations):
+    """Refuse an output whose complex steerable pyramid (of every channel, with its magnitudes and
+    phase-doubled parents) cannot fit."""
+    check_memory(float(shape[0]) * shape[1] * channels * 16 * (3 * scales * orientations + 10), tuple(shape),
+                 also={"orientations": orientations})
+
+
+def _check_from_statistics(stats, size, scales, orientations, neighborhood_size, periodic_smooth):
     """Options that only an exemplar's analysis uses must be left out (or agree) with given statistics."""
     if size is None:
         raise ValueError("size is required when synthesising from statistics (they carry no image size); "
                          "pass size=(height, width), e.g. size=256")
-    for name, value in (("scales", scales), ("orientations", orientations), ("neighborhood", neighborhood)):
-        if value is not None and value != getattr(stats, name):
-            raise ValueError(f"{name}={value} but the statistics were measured with {name}={getattr(stats, name)}; "
+    for name, value, attribute in (("scales", scales, "scales"), ("orientations", orientations, "orientations"),
+                               ("neighborhood_size", neighborhood_size, "neighborhood")):
+        if value is not None and value != getattr(stats, attribute):
+            raise ValueError(f"{name}={value} but the statistics were measured with {name}={getattr(stats, attribute)}; "
                              f"leave {name} out when passing statistics (it is theirs)")
     if periodic_smooth:
-        raise ValueError("periodic_smooth applies to the analysis of an exemplar, and these statistics are "
-                         "already measured; pass periodic_smooth=True to ps_statistics instead")
+        raise ValueError("periodic_exemplar applies to the analysis of an exemplar, and these statistics are "
+                         "already measured; pass periodic_exemplar='periodic+smooth' to ps_statistics instead")
 
 
 @_single_threaded_blas
-def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, neighborhood=None, iterations=50,
-                        periodic_smooth=False, rng=None, progress=False, return_info=False):
+@renamed_parameters(neighborhood="neighborhood_size", periodic_smooth=("periodic_exemplar", _old_periodic_smooth))
+def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, neighborhood_size=None, iterations=50,
+                        periodic_exemplar="none", rng=None, progress=False, return_info=False):
     """Synthesise a texture with an exemplar's (or given) Portilla-Simoncelli statistics.
 
     Parameters
@@ -1263,18 +1302,18 @@ def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, 
         the default 4 scales). Or the statistics themselves, as
         :func:`ps_statistics` measures them or :func:`interpolate_statistics`
         mixes them: then ``size`` is required and ``scales``,
-        ``orientations`` and ``neighborhood`` are the statistics' own.
+        ``orientations`` and ``neighborhood_size`` are the statistics' own.
     size : int or (int, int), optional
         Output ``(height, width)``, default the exemplar's (required with
         statistics); any size with at least ``2^(scales+2)`` pixels per axis
         (the statistics do not depend on the image's size).
-    scales, orientations, neighborhood : int, optional
+    scales, orientations, neighborhood_size : int, optional
         Pyramid scales, orientations and the autocorrelation window; None
         (the default) means 4, 4 and 7 as in the paper for an exemplar, and
         the statistics' own for statistics (another value is then an error).
     iterations : int
         Number of projection iterations (50 in the paper's examples).
-    periodic_smooth : bool
+    periodic_exemplar : {"none", "periodic+smooth"}
         Analyse the exemplar's periodic component (see :func:`ps_statistics`);
         not with statistics.
     rng : None, int or numpy.random.Generator
@@ -1300,9 +1339,9 @@ def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, 
     ValueError
         If the exemplar or the output is too small for ``scales`` (the message
         lists which sizes work), the exemplar has NaN/inf values,
-        ``iterations < 1`` or ``neighborhood`` is even; with statistics, if
-        ``size`` is missing, ``scales``/``orientations``/``neighborhood``
-        disagree with them or ``periodic_smooth`` is set.
+        ``iterations < 1`` or ``neighborhood_size`` is even; with statistics, if
+        ``size`` is missing, ``scales``/``orientations``/``neighborhood_size``
+        disagree with them or ``periodic_exemplar`` is set.
 
     Notes
     -----
@@ -1353,12 +1392,14 @@ def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, 
     >>> mixed.shape, mixed.dtype
     ((48, 64), dtype('float64'))
     """
+    t_start = time.perf_counter()
     if isinstance(exemplar, PSStatistics):
         stats = exemplar
-        _check_from_statistics(stats, size, scales, orientations, neighborhood, periodic_smooth)
+        _check_from_statistics(stats, size, scales, orientations, neighborhood_size, _check_periodic(periodic_exemplar))
         shape = as_size(size)
         iterations = check_positive_int(iterations, "iterations", minimum=1)
         _check_scales_fit(stats.scales, shape, "output")
+        _check_memory(shape, stats.channels, stats.scales, stats.orientations)
         dtype, grey = np.dtype(np.float64), stats.channels == 1
         gen = as_rng(rng)
     else:
@@ -1368,15 +1409,19 @@ def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, 
         shape = ex.shape[:2] if size is None else as_size(size)
         scales = check_positive_int(4 if scales is None else scales, "scales", minimum=1)
         orientations = check_positive_int(4 if orientations is None else orientations, "orientations", minimum=1)
-        neighborhood = _check_neighborhood(7 if neighborhood is None else neighborhood)
+        neighborhood_size = _check_neighborhood(7 if neighborhood_size is None else neighborhood_size)
         iterations = check_positive_int(iterations, "iterations", minimum=1)
         _check_scales_fit(scales, ex.shape[:2], "exemplar")
         _check_scales_fit(scales, shape, "output")
+        _check_memory(shape, ex.shape[-1], scales, orientations)
         gen = as_rng(rng)
-        stats = _statistics(ex, scales, orientations, neighborhood, None, None, periodic_smooth)
+        stats = _statistics(ex, scales, orientations, neighborhood_size, None, None, _check_periodic(periodic_exemplar))
+    t_synthesis = time.perf_counter()
     components, history, change = _synthesise(stats, shape, iterations, gen, progress)
     out = np.clip(_image_from_components(components, stats), 0.0, 1.0)
     out = restore_channels(out.astype(dtype, copy=False), grey)
     if return_info:
-        return out, PSInfo(history, change, stats)
+        end = time.perf_counter()
+        return out, PSInfo(history, change, stats, seconds=end - t_start,
+                           stage_seconds={"analysis": t_synthesis - t_start, "synthesis": end - t_synthesis})
     return out

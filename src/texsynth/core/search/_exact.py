@@ -51,6 +51,12 @@ def exact_chunk_rows(n, itemsize, memory_budget):
     return int(rows)
 
 
+# Hand-written rather than scikit-learn's brute-force NearestNeighbors / pairwise_distances_argmin_min:
+# benchmarks/bench_packages.py (50 176 x 147-D float32, 4 900 queries, the same run, equal thread
+# counts) takes 1.19 s against 1.67 s for k = 1 on one thread (the scanline loops and the test
+# workers run one) and the same 0.88 s on two; for k = 3 on two threads scikit-learn is faster
+# (0.88 s against 1.18 s). scikit-learn ranks float32 input in float64; this backend ranks float32
+# in float32 (the float64 truth differs for 0.04 % of queries, all within float32 rounding).
 class _Exact:
     """Chunked BLAS brute force with an exact, tie-stable re-ranking."""
 

@@ -95,6 +95,10 @@ class _KDTree:
         return best_k_of_pairs(m, rows, cols, d2, k)
 
 
+# Hand-written rather than scikit-learn's PCA or randomized_svd: benchmarks/bench_packages.py measures
+# 0.010 s against 0.021-0.076 s on 20 000 147-D rows (all capture the exact variance), and on 3072-D
+# rows 0.020 s capturing 0.998 of the exact 24-component variance, where randomized_svd takes as
+# long for 0.993 (n_iter=1) or 3.4x as long for 1.000.
 def _pca(centred, n_components, rng):
     """Leading singular values and right singular vectors of ``centred``, and its total variance.
 

@@ -178,6 +178,9 @@ def _tree_depth(kids):
     return int(depth.max()) + 1
 
 
+# Hand-written rather than scikit-learn's KMeans: benchmarks/bench_packages.py (50 176 colour 7x7
+# neighbourhoods, the same run) builds the tree in 0.23 s with it against 0.35 s with KMeans
+# (n_init=1, max_iter=5; recall@1 0.58 against our 0.56) and 0.44 s with MiniBatchKMeans (0.61).
 def _lloyd(x, n_clusters, rng, n_iter=_LLOYD_ITERATIONS):
     """k-means++ seeding then a few Lloyd iterations; returns (labels, codewords).
 

@@ -1,0 +1,320 @@
+"""The one list of texsynth's methods, which the command line, the demo gallery and the docs read.
+
+Each :class:`Method` names a public function, its paper and its docs page, how
+``texsynth NAME`` exposes it, and the gallery images ``texsynth demo`` makes of
+it. Adding a method to the library is: its module in its family's folder, its
+name in the family's ``__init__`` and in ``texsynth/__init__.py``, and one entry
+here; then a docs page, tests, and a row of the README table, which
+``tests/test_registry.py`` holds against this list. See ``docs/architecture.md``.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from typing import Callable
+
+from . import data
+
+__all__ = ["Method", "Demo", "METHODS", "demos"]
+
+
+@dataclass(frozen=True)
+class Demo:
+    """One image of the demo gallery: ``make(exemplar, seed)`` returns it.
+
+    ``sample`` is the bundled texture it starts from (None for procedural
+    entries); ``paper`` is shown under it.
+    """
+
+    slug: str
+    title: str
+    paper: str
+    sample: str | None
+    make: Callable
+
+
+@dataclass(frozen=True)
+class Method:
+    """One method of the library: its function, paper and page, its command and its gallery images.
+
+    Attributes
+    ----------
+    target : str
+        ``"module:function"`` inside texsynth (e.g. ``"pixel:synthesize_pixels"``).
+    summary : str
+        One line for ``texsynth list``.
+    paper : str
+        The paper, with its DOI.
+    page : str
+        Its page under ``docs/methods`` (without ``.md``).
+    inputs : str
+        ``"image"`` (one input image), ``"images"`` (one or more),
+        ``"frames"`` (a GIF, video or folder of frames), ``"pair"`` (two images)
+        or ``"none"`` (procedural: no input).
+    output : str
+        ``"image"``, ``"volume"`` (.npy plus PNG slices) or ``"frames"``.
+    size : str or None
+        Name of the function's size argument if it takes one.
+    files : tuple of str
+        Parameters whose value on the command line may be an image path
+        (numbers and other literals pass through).
+    ramps : tuple of str
+        Parameters for which the word ``ramp`` means a left-to-right ramp
+        from 0 to 1 at the output size (a transition strip).
+    flow : str or None
+        Parameter that takes a flow field, given on the command line as
+        ``KIND:AMOUNT`` (see :func:`texsynth.cli.parse_flow`) at the
+        ``--size`` of the output.
+    mixing : str or None
+        Parameter that takes one weight per input, given on the command line
+        as ``equal``, ``ramp`` or image files (see
+        :func:`texsynth.cli.parse_weights`).
+    maps : tuple of str
+        Parameters whose value on the command line may be an image file read
+        as one grey map ``(H, W)`` (colour channels averaged, an alpha channel
+        ignored), e.g. masks.
+    map_pairs : tuple of str
+        Parameters that take two binary maps, given as ``--NAME FILE1 FILE2``.
+    spatial : str or None
+        Parameter that is a number or a map of numbers at the output size.
+        Besides ``--NAME`` it gets ``--NAME-map FILE`` (a grey image of
+        values; the output then has the image's size unless ``--size`` is
+        given) and ``--transition`` (a left-to-right ramp from 0 to 1 at the
+        output size). The three are mutually exclusive.
+    skip : tuple of str
+        Keyword parameters not exposed on the command line (arrays, callables).
+    values : str
+        The function's value range: ``"unit"`` ([0, 1]), ``"signed"``
+        ([-1, 1]) or ``"positive"``; mapped to [0, 1] for saving.
+    demos : tuple of Demo
+        Its images in ``texsynth demo``.
+    """
+
+    target: str
+    summary: str
+    paper: str = ""
+    page: str = ""
+    inputs: str = "image"
+    output: str = "image"
+    size: str | None = "size"
+    files: tuple = ()
+    skip: tuple = ()
+    values: str = "unit"
+    ramps: tuple = ()
+    flow: str | None = None
+    mixing: str | None = None
+    maps: tuple = ()
+    map_pairs: tuple = ()
+    spatial: str | None = None
+    demos: tuple = ()
+
+    def to_unit(self, result):
+        """Map the function's values to [0, 1] for saving: "unit" (already), "signed" ([-1, 1]) or "positive"."""
+        import numpy as np
+
+        if self.values == "signed":
+            return np.clip((result + 1.0) / 2.0, 0.0, 1.0)
+        if self.values == "positive":
+            return result / max(float(result.max()), 1e-12)
+        return result
+
+    def function(self):
+        """The public function (its family is imported now)."""
+        module, name = self.target.split(":")
+        return getattr(importlib.import_module(f"texsynth.{module}"), name)
+
+
+# --------------------------------------------------------------------------- the gallery's images
+# Sizes are small so that the whole gallery takes about a minute on 2 cores.
+def _side_by_side(images, gap=4):
+    """Images of one height next to each other, separated by white gaps."""
+    import numpy as np
+
+    white = np.ones((images[0].shape[0], gap) + images[0].shape[2:])
+    parts = [images[0]]
+    for image in images[1:]:
+        parts += [white, image]
+    return np.concatenate(parts, axis=1)
+
+
+def _call(target, *args, crop=None, **options):
+    """``make(exemplar, seed)``: the function on the (cropped) exemplar with these arguments."""
+
+    def make(exemplar, seed):
+        module, name = target.split(":")
+        func = getattr(importlib.import_module(f"texsynth.{module}"), name)
+        inputs = () if exemplar is None else (exemplar if crop is None else exemplar[:crop, :crop],)
+        return func(*inputs, *args, rng=seed, **options)
+
+    return make
+
+
+def _mixture(exemplar, seed):
+    import numpy as np
+
+    from .pixel import mix_textures
+
+    ramp = np.broadcast_to(np.linspace(0.0, 1.0, 192), (96, 192))
+    other = data.load("bread")[:64, :64]
+    return mix_textures([exemplar[:64, :64], other], (96, 192), weights=[1.0 - ramp, ramp], rng=seed)
+
+
+def _solid(exemplar, seed):
+    from .pixel import synthesize_solid
+
+    volume = synthesize_solid(exemplar[:64, :64], 32, rng=seed)
+    # three faces of the cube, one per axis: each should look like the exemplar
+    return _side_by_side([volume[0], volume[:, 0], volume[:, :, 0]])
+
+
+def _animate(exemplar, seed):
+    from .core import flows
+    from .optimization import animate_texture
+
+    frames = animate_texture(exemplar[:96, :96], flows.rotation((96, 96), 0.06), n_frames=8, rng=seed)
+    return _side_by_side([frames[0], frames[3], frames[7]])
+
+
+def _interpolate(exemplar, seed):
+    from .optimization import interpolate_textures
+
+    other = data.load("bumpy")[:64, :64]
+    return interpolate_textures(exemplar[:64, :64], other, 0.5, size=(64, 64), stages=((2, 17), (1, 17)), rng=seed)
+
+
+def _patchwork_video(exemplar, seed):
+    import numpy as np
+
+    from .patch import patchwork_video
+
+    clip = np.stack([exemplar[:128, 4 * t:4 * t + 128] for t in range(16)])  # a window drifting over the photo
+    video = patchwork_video(clip, (128, 128), 12, grid_spacing=32, rng=seed)
+    return _side_by_side([video[0], video[5], video[11]])
+
+
+# --------------------------------------------------------------------------- the methods
+_WEI_LEVOY = "Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009"
+_WEI = "Wei, \"Texture synthesis from multiple sources\", SIGGRAPH 2003 sketch, doi:10.1145/965400.965507"
+_KWATRA = "Kwatra et al., SIGGRAPH 2005, doi:10.1145/1073204.1073263"
+_RUITERS = "Ruiters, Schnabel & Klein, Computer Graphics Forum 2010, doi:10.1111/j.1467-8659.2010.01739.x"
+_HARRISON = "Harrison, \"Patchwork texture synthesis\", Monash University technical report, 2002"
+_HB = "Heeger & Bergen, SIGGRAPH 1995, doi:10.1145/218380.218446; Briand et al., IPOL 2014"
+_PS = "Portilla & Simoncelli, IJCV 2000, doi:10.1023/A:1026553619983"
+_PERLIN = "Perlin, SIGGRAPH 1985 / 2002, doi:10.1145/325165.325247"
+_TURK = "Turk, SIGGRAPH 1991, doi:10.1145/122718.122749"
+_PEARSON = "Pearson, Science 1993, doi:10.1126/science.261.5118.189"
+
+
+def _m(target, summary, paper, page, demos=(), **cli):
+    """A Method whose demos ``(slug, title, sample, make)`` carry its paper."""
+    return Method(target, summary, paper, page, demos=tuple(Demo(s, t, paper, sample, make)
+                                                            for s, t, sample, make in demos), **cli)
+
+
+_PROCEDURAL = dict(inputs="none", skip=("points", "offset", "dtype"))
+
+#: Every method, in the order ``texsynth list`` and the gallery show them.
+METHODS: dict[str, Method] = {
+    "perlin": _m("procedural:perlin", "Perlin gradient noise (2-D image, or 3-D volume with --size WxHxD)",
+                 _PERLIN, "procedural", values="signed", **_PROCEDURAL),
+    "turbulence": _m("procedural:turbulence", "Perlin turbulence: sum of |noise| octaves to the band limit",
+                     _PERLIN, "procedural", values="positive", **_PROCEDURAL),
+    "fbm": _m("procedural:fbm", "fractional Brownian motion: signed sum of noise octaves", _PERLIN, "procedural",
+              values="signed", **_PROCEDURAL),
+    "marble": _m("procedural:marble", "Perlin marble: sin(x + turbulence) through a colour map (2-D or 3-D)",
+                 _PERLIN, "procedural", inputs="none", skip=("dtype",),
+                 demos=[("marble", "Perlin marble: sin(x + turbulence) through a colour map", None,
+                         _call("procedural:marble", (192, 192)))]),
+    "wood": _m("procedural:wood", "wood rings: sin(radius + turbulence) through a colour map (2-D or 3-D)",
+               _PERLIN, "procedural", inputs="none", skip=("dtype",),
+               demos=[("wood", "Solid wood rings: sin(radius + turbulence)", None,
+                       _call("procedural:wood", (192, 192)))]),
+    "reaction-diffusion": _m(
+        "procedural:reaction_diffusion", "Turk 1991 reaction-diffusion: spots or labyrinth stripes (two chemicals)",
+        _TURK, "procedural", inputs="none", skip=("dtype", "record_every"),
+        demos=[("reaction_diffusion", "Turk reaction-diffusion spots", None,
+                _call("procedural:reaction_diffusion", (192, 192), steps=6000)),
+               ("reaction_diffusion_stripes", "Turk's two-chemical system far above the Turing threshold: stripes",
+                None, _call("procedural:reaction_diffusion", (192, 192), preset="stripes", steps=10000))]),
+    "meinhardt-stripes": _m("procedural:meinhardt_stripes",
+                            "Meinhardt's five-chemical stripe system, as Turk's 1991 program used", _TURK,
+                            "procedural", inputs="none", skip=("dtype", "record_every")),
+    "gray-scott": _m("procedural:gray_scott",
+                     "Gray-Scott reaction-diffusion presets: spots, stripes, mazes, coral, mitosis, holes", _PEARSON,
+                     "procedural", inputs="none", skip=("dtype", "record_every", "seeds"),
+                     demos=[("gray_scott_mazes", "Gray-Scott reaction-diffusion, 'mazes' preset", None,
+                             _call("procedural:gray_scott", (192, 192), preset="mazes", steps=6000))]),
+    "pixels": _m("pixel:synthesize_pixels",
+                 "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)", _WEI_LEVOY,
+                 "multisource",
+                 demos=[("pixels_bread", "Wei-Levoy pixel synthesis (scanline, 3 levels, causal 5x5 neighbourhoods)",
+                         "bread", _call("pixel:synthesize_pixels", (160, 160), crop=64))]),
+    "mix": _m("pixel:mix_textures", "Wei 2002: mixture of two or more textures (--weights equal | ramp | w1.png,w2.png)",
+              _WEI, "multisource", inputs="images", mixing="weights",
+              demos=[("mix_brick_bread", "Wei texture mixture, ramp weights: brick (left) turning into bread (right)",
+                      "brick", _mixture)]),
+    "solid": _m("pixel:synthesize_solid",
+                "Wei 2002: solid texture from 1-3 views along z, y, x (.npy volume plus PNG slices)", _WEI,
+                "multisource", inputs="images", output="volume",
+                demos=[("solid_bread", "Wei solid texture from one 2-D view: three faces of a 32^3 cube (x, y and "
+                        "z slices)", "bread", _solid)]),
+    "optimize": _m("optimization:optimize_texture",
+                   "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling", _KWATRA,
+                   "optimization", files=("target", "init"), maps=("mask", "exemplar_mask"),
+                   demos=[("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
+                           "bread", _call("optimization:optimize_texture", (128, 128))),
+                          ("optimize_text_complete", "Kwatra texture optimization with the completeness term of the "
+                           "bidirectional similarity and a copy limit (completeness_weight=1, copy_limit=0.2): all "
+                           "of the 96x96 exemplar, in pieces of at most a third of it", "text",
+                           _call("optimization:optimize_texture", (144, 144), crop=96, completeness_weight=1.0,
+                                 copy_limit=0.2))]),
+    "animate": _m("optimization:animate_texture",
+                  "Kwatra 2005: flow-guided animation, e.g. --flows sink:1.5 --n-frames 16 --size 128",
+                  f"{_KWATRA}, Section 4.1", "optimization", output="frames", size=None, flow="flows",
+                  files=("first_frame",),
+                  demos=[("animate_bumpy", "Kwatra flow-guided animation, rotation 0.06 rad/frame: frames 1, 4 and 8 "
+                          "(elements follow the flow; they soften over the frames)", "bumpy", _animate)]),
+    "interpolate": _m("optimization:interpolate_textures",
+                      "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --transition | --alpha-map map.png; "
+                      "--features FA FB)", _RUITERS, "interpolation", inputs="pair", skip=("rpm_options",),
+                      maps=("alpha",), ramps=("alpha",), map_pairs=("features",), spatial="alpha",
+                      demos=[("interpolate_brick_bumpy", "Ruiters texture interpolation, alpha = 0.5: brick halfway "
+                              "to bumpy plaster (small: 64x64, stages (2, 17), (1, 17))", "brick", _interpolate)]),
+    "patchwork": _m("patch:patchwork", "Harrison 2002: Voronoi patchwork with invisible joins (fast, tileable)",
+                    _HARRISON, "patchwork",
+                    demos=[("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", "water",
+                            _call("patch:patchwork", (256, 256), grid_spacing=64, tileable=True)),
+                           ("patchwork_bread", "Harrison patchwork, tileable (grid 24, f = 6)", "bread",
+                            _call("patch:patchwork", (256, 256), grid_spacing=24, tileable=True))]),
+    "patchwork-video": _m("patch:patchwork_video",
+                          "Harrison 2002: seamlessly looping video texture from a frame sequence", _HARRISON,
+                          "patchwork", inputs="frames", output="frames",
+                          demos=[("patchwork_video_water", "Harrison video patchwork: frames 1, 6 and 12 of a looping "
+                                  "12-frame video from a 16-frame input clip (the water photograph drifting "
+                                  "sideways: no video texture is bundled)", "water", _patchwork_video)]),
+    "patchwork-transfer": _m("patch:patchwork_transfer",
+                             "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
+                             "pattern is repeated to the texture's channels)", _HARRISON, "patchwork", inputs="pair",
+                             size=None),
+    "heeger-bergen": _m("statistical:heeger_bergen",
+                        "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)", _HB,
+                        "heeger_bergen",
+                        demos=[(f"heeger_bergen_{sample}", title, sample, _call("statistical:heeger_bergen", (192, 192)))
+                               for sample, title in (("metal", "Heeger-Bergen: stochastic texture (works)"),
+                                                     ("bread", "Heeger-Bergen: colour by PCA (works)"),
+                                                     ("text", "Heeger-Bergen: structured texture (fails: no letters)"))]),
+    "portilla-simoncelli": _m("statistical:portilla_simoncelli",
+                              "Portilla-Simoncelli 2000: joint wavelet statistics by iterated projections", _PS,
+                              "portilla_simoncelli",
+                              demos=[(f"portilla_simoncelli_{sample}", title, sample,
+                                      _call("statistical:portilla_simoncelli", (128, 128), iterations=30))
+                                     for sample, title in (("reptile", "Portilla-Simoncelli: structured texture"),
+                                                           ("text", "Portilla-Simoncelli: text (letter-like strokes, "
+                                                                    "no words)"))]),
+}
+
+
+def demos():
+    """Every gallery image, in the order of :data:`METHODS`."""
+    return [d for method in METHODS.values() for d in method.demos]

@@ -1,0 +1,128 @@
+"""Bad input over every public function: refused at once, naming the parameter, before anything is allocated."""
+
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+# Every public function that makes something of a given size, called with a size that cannot fit
+# (10^10 pixels), in a child process whose address space is capped at 4 GiB: a missing pre-flight
+# check fails there with MemoryError (or is killed) instead of swapping the machine.
+HUGE = {
+    "synthesize_pixels": "texsynth.synthesize_pixels(ex, (100000, 100000), levels=2, rng=0)",
+    "synthesize_pixels independent": "texsynth.synthesize_pixels(ex, (100000, 100000), order='independent', rng=0)",
+    "mix_textures": "texsynth.mix_textures([ex, ex], (100000, 100000), weights=[1.0, 2.0], rng=0)",
+    "synthesize_solid": "texsynth.synthesize_solid(ex, 5000, rng=0)",
+    "optimize_texture": "texsynth.optimize_texture(ex, (100000, 100000), rng=0)",
+    "interpolate_textures": "texsynth.interpolate_textures(ex, ex, 0.5, size=(100000, 100000), rng=0)",
+    "patchwork": "texsynth.patchwork(ex, (100000, 100000), grid_spacing=16, rng=0)",
+    "patchwork default grid": "texsynth.patchwork(ex, (100000, 100000), rng=0)",
+    "patchwork_video": "texsynth.patchwork_video(np.stack([ex] * 3), (30000, 30000), 40, grid_spacing=16, rng=0)",
+    "voronoi_weights": "texsynth.patch.voronoi_weights((100000, 100000), grid_spacing=16, rng=0)",
+    "heeger_bergen": "texsynth.heeger_bergen(ex, (100000, 100000), rng=0)",
+    "portilla_simoncelli": "texsynth.portilla_simoncelli(ex, (100000, 100000), rng=0)",
+    "flows.rotation": "texsynth.core.flows.rotation((100000, 100000), 0.1)",
+    "transition_alpha_map": "texsynth.optimization.transition_alpha_map((100000, 100000))",
+    "noise_baseline": "texsynth.metrics.noise_baseline(ex, (100000, 100000), rng=0)",
+    "mosaic_baseline": "texsynth.metrics.mosaic_baseline(ex, (100000, 100000), rng=0)",
+    "tiled_baseline": "texsynth.metrics.tiled_baseline(ex, (100000, 100000))",
+    "perlin": "texsynth.procedural.perlin((100000, 100000))",
+    "turbulence": "texsynth.procedural.turbulence((100000, 100000))",
+    "marble": "texsynth.procedural.marble((100000, 100000))",
+    "reaction_diffusion": "texsynth.procedural.reaction_diffusion((100000, 100000), steps=1)",
+    "gray_scott": "texsynth.procedural.gray_scott((100000, 100000), steps=1)",
+}
+
+
+@pytest.mark.parametrize("name", list(HUGE))
+def test_a_size_that_cannot_fit_is_refused_before_allocating(name):
+    code = textwrap.dedent(f"""
+        import resource, numpy as np
+        resource.setrlimit(resource.RLIMIT_AS, (4 * 2**30, 4 * 2**30))
+        import texsynth, texsynth.core.flows, texsynth.optimization, texsynth.patch, texsynth.metrics
+        import texsynth.procedural
+        ex = texsynth.data.load("bread")[:64, :64]
+        try:
+            {HUGE[name]}
+        except ValueError as exc:
+            print("refused", exc)
+        """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    out = proc.stdout.strip()
+    # refused (not a MemoryError or a kill under the 4 GiB cap: nothing large was allocated first),
+    # naming the parameter and the memory it would need
+    assert out.startswith("refused"), (proc.returncode, out, proc.stderr[-500:])
+    assert "size" in out and "GiB" in out, out
+
+
+# --------------------------------------------------------------------------- junk values for every parameter
+import contextlib  # noqa: E402
+import inspect  # noqa: E402
+import resource  # noqa: E402
+
+import numpy as np  # noqa: E402
+from hypothesis import HealthCheck, assume, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+import texsynth  # noqa: E402
+from texsynth import data  # noqa: E402
+from texsynth.core import flows  # noqa: E402
+
+EX = data.load("bread")[:24, :24]
+GREY = data.load("metal")[:64, :64]
+# small valid calls: each bad-input trial replaces one argument of one of these
+CALLS = {
+    "synthesize_pixels": (texsynth.synthesize_pixels, (EX, 12), dict(levels=1, rng=0)),
+    "mix_textures": (texsynth.mix_textures, ([EX, EX], 12), dict(levels=1, max_iterations=1, rng=0)),
+    "synthesize_solid": (texsynth.synthesize_solid, (EX, 6), dict(levels=1, passes=1, neighborhood_size=3, rng=0)),
+    "optimize_texture": (texsynth.optimize_texture, (EX, 16), dict(neighborhood_sizes=(8,), levels=1,
+                                                                  max_iterations=1, rng=0)),
+    "animate_texture": (texsynth.animate_texture, (EX, flows.translation(12, (0.0, 1.0))),
+                        dict(n_frames=2, neighborhood_sizes=(8,), levels=1, max_iterations=1,
+                             max_frame_iterations=1, rng=0)),
+    "interpolate_textures": (texsynth.interpolate_textures, (EX, EX[::-1], 0.5),
+                             dict(stages=((1, 9),), max_iterations=1, statistics_step=False, rng=0)),
+    "patchwork": (texsynth.patchwork, (EX, 24), dict(grid_spacing=8, rng=0)),
+    "patchwork_video": (texsynth.patchwork_video, (np.stack([EX] * 3), 16, 3), dict(grid_spacing=8, rng=0)),
+    "patchwork_transfer": (texsynth.patchwork_transfer, (EX, EX), dict(grid_spacing=8, candidates=4, rng=0)),
+    "heeger_bergen": (texsynth.heeger_bergen, (GREY, 32), dict(scales=2, iterations=1, rng=0)),
+    "portilla_simoncelli": (texsynth.portilla_simoncelli, (GREY, 32), dict(scales=2, iterations=1, rng=0)),
+}
+LONG_RUNNING = {"iterations", "max_iterations", "max_frame_iterations", "passes", "mean_shift_iterations", "levels",
+                "k", "alpha_steps", "statistics_bands", "max_set_size", "max_neighborhoods", "max_feature_points"}
+JUNK = st.sampled_from([None, float("nan"), float("inf"), -1, 0, -0.5, 10**12, 1e308, True, "x", [1, 2],
+                        (0, 0), np.zeros(3), np.full((24, 24, 3), np.nan), {}])
+
+
+@contextlib.contextmanager
+def _memory_limit(extra=4 * 2**30):
+    """Cap this process's address space at its current size plus ``extra`` while a trial runs."""
+    with open("/proc/self/status") as f:
+        size = next(int(line.split()[1]) * 1024 for line in f if line.startswith("VmSize:"))
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    resource.setrlimit(resource.RLIMIT_AS, (size + extra, hard))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+
+
+@pytest.mark.parametrize("name", list(CALLS))
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_junk_in_any_parameter_is_a_clear_error(name, data):
+    func, args, kwargs = CALLS[name]
+    params = [p for p in inspect.signature(func).parameters if p not in ("progress", "return_info")]
+    param = data.draw(st.sampled_from(params), label="parameter")
+    value = data.draw(JUNK, label="value")
+    # a huge count of iterations, passes or candidates is valid: it would run, for years
+    assume(not (isinstance(value, int) and value > 10**6 and param in LONG_RUNNING))
+    bound = inspect.signature(func).bind_partial(*args, **kwargs).arguments
+    bound[param] = value
+    with _memory_limit():
+        try:
+            func(**bound)
+        except (ValueError, TypeError) as exc:
+            # the message names the parameter (or, for a value inside a container, a parameter's entry)
+            assert param in str(exc) or param.rstrip("s") in str(exc), f"{param}={value!r}: {exc}"
