@@ -25,6 +25,10 @@ HUGE = {
     "flows.rotation": "texsynth.core.flows.rotation((100000, 100000), 0.1)",
     "transition_alpha_map": "texsynth.optimization.transition_alpha_map((100000, 100000))",
     "noise_baseline": "texsynth.metrics.noise_baseline(ex, (100000, 100000), rng=0)",
+    "accumulate": "texsynth.core.neighborhood.accumulate(np.zeros((1, 2, 2, 3)), [[0, 0]], (100000, 100000))",
+    "grid_centers": "texsynth.core.neighborhood.grid_centers((10**7, 10**7), 4, 1)",
+    "gaussian_falloff": "texsynth.core.neighborhood.gaussian_falloff(10**6)",
+    "SteerablePyramid": "texsynth.core.pyramid.SteerablePyramid((100000, 100000))",
     "mosaic_baseline": "texsynth.metrics.mosaic_baseline(ex, (100000, 100000), rng=0)",
     "tiled_baseline": "texsynth.metrics.tiled_baseline(ex, (100000, 100000))",
     "perlin": "texsynth.procedural.perlin((100000, 100000))",
@@ -41,6 +45,7 @@ def test_a_size_that_cannot_fit_is_refused_before_allocating(name):
         import resource, numpy as np
         resource.setrlimit(resource.RLIMIT_AS, (4 * 2**30, 4 * 2**30))
         import texsynth, texsynth.core.flows, texsynth.optimization, texsynth.patch, texsynth.metrics
+        import texsynth.core.neighborhood, texsynth.core.pyramid
         import texsynth.procedural
         ex = texsynth.data.load("bread")[:64, :64]
         try:
@@ -53,7 +58,7 @@ def test_a_size_that_cannot_fit_is_refused_before_allocating(name):
     # refused (not a MemoryError or a kill under the 4 GiB cap: nothing large was allocated first),
     # naming the parameter and the memory it would need
     assert out.startswith("refused"), (proc.returncode, out, proc.stderr[-500:])
-    assert "size" in out and "GiB" in out, out
+    assert ("size" in out or "shape" in out) and "GiB" in out, out
 
 
 # --------------------------------------------------------------------------- junk values for every parameter

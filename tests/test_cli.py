@@ -469,3 +469,45 @@ def test_old_option_names_still_work_with_a_warning(tmp_path, metal_file, capsys
     err = capsys.readouterr().err
     assert status == 0 and (tmp_path / "f.gif").exists()
     assert "--frames is deprecated; use --n-frames" in err and "--frame-iterations is deprecated" in err
+
+
+def test_sigterm_during_the_write_leaves_nothing(tmp_path, metal_file):
+    """`timeout` (SIGTERM) while the command writes: no hidden partial file, the process ends by SIGTERM."""
+    import signal
+    import textwrap
+    import time
+
+    out = tmp_path / "out.png"
+    code = textwrap.dedent(f"""
+        import time, texsynth.io as tio
+        from texsynth import cli
+        real = tio.iio.imwrite
+        def slow(path, *args, **kwargs):
+            open(path, "wb").write(b"partial")
+            print("writing", flush=True)
+            time.sleep(30)
+        tio.iio.imwrite = slow
+        cli.main(["patchwork", {str(metal_file)!r}, "-o", {str(out)!r}, "--grid-spacing", "8", "--no-progress"])
+        """)
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert proc.stdout.readline().strip() == "writing"
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=20) == -signal.SIGTERM
+    time.sleep(0.1)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["metal.png"]  # no out.png, no .out-XXXX.png
+
+
+def test_outputs_get_the_umask_permissions(tmp_path, metal_file):
+    import os
+    import stat
+
+    old = os.umask(0o022)
+    try:
+        assert run("patchwork", str(metal_file), "-o", str(tmp_path / "out.png"), "--grid-spacing", "8") == 0
+        assert stat.S_IMODE((tmp_path / "out.png").stat().st_mode) == 0o644
+        os.chmod(tmp_path / "out.png", 0o640)
+        assert run("patchwork", str(metal_file), "-o", str(tmp_path / "out.png"), "--grid-spacing", "8",
+                   "--overwrite") == 0
+        assert stat.S_IMODE((tmp_path / "out.png").stat().st_mode) == 0o640  # a replaced file keeps its mode
+    finally:
+        os.umask(old)

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from ._deprecate import renamed_parameters
-from ._validate import as_size
+from ._validate import as_size, check_memory
 
 __all__ = [
     "MODES",
@@ -254,6 +254,7 @@ def accumulate(patches, centers, shape, *, patch_weights=None, pixel_weights=Non
     _check_mode(mode)
     n, h, w, c = patches.shape
     height, width = as_size(shape, "shape")
+    check_memory(float(height) * width * (c + 1) * 8 * 2, (height, width), "shape", "the accumulated image")
     rows, cols = _patch_coords(centers, (h, w), (height, width), mode)
     if rows.shape[0] != n:
         raise ValueError(f"centers holds {rows.shape[0]} positions but patches holds {n}; pass one centre per patch")
@@ -311,6 +312,7 @@ def grid_centers(shape, patch_size, grid_spacing, *, mode="wrap"):
     shape = as_size(shape, "shape")
     patch_size = patch_shape(patch_size)
     step = patch_shape(grid_spacing, "grid_spacing")
+    check_memory(16.0 * (shape[0] / step[0] + 2) * (shape[1] / step[1] + 2), shape, "shape", "the grid's centres")
     axes = []
     for length, s, d in zip(shape, patch_size, step):
         if d > s:
@@ -352,6 +354,7 @@ def gaussian_falloff(patch_size, sigma=None):
     (1.0, True)
     """
     h, w = patch_shape(patch_size)
+    check_memory(24.0 * h * w, (h, w), "patch_size", "the mask")
     if sigma is None:
         sigma = max(h, w) / 4.0
     if not sigma > 0:
@@ -377,6 +380,7 @@ def causal_mask(patch_size):
            [0, 0, 0]])
     """
     h, w = patch_shape(patch_size)
+    check_memory(1.0 * h * w, (h, w), "patch_size", "the mask")
     mask = np.zeros((h, w), dtype=bool)
     mask[: h // 2] = True
     mask[h // 2, : w // 2] = True

@@ -87,7 +87,7 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.ndimage import correlate1d
 
-from ._validate import as_float_array
+from ._validate import as_float_array, check_memory
 
 __all__ = [
     "BINOMIAL_KERNEL",
@@ -527,6 +527,9 @@ class SteerablePyramid:
             )
         if orientations < 1:
             raise ValueError(f"orientations must be an integer >= 1, got {orientations}")
+        # the masks of every band (about 4/3 of the image per orientation, as for the bands)
+        check_memory(float(shape[0]) * shape[1] * 8 * (2 * orientations + 4), shape, "shape", "the pyramid's masks",
+                     also={"orientations": orientations})
         self.shape = shape
         self.scales = int(scales)
         self.orientations = int(orientations)
