@@ -15,6 +15,12 @@ neighbourhood is closest to this one?*, and asks it here:
     random subsets).
 :func:`sq_distances`
     Weighted squared distances of given pairs (a query and its match).
+:func:`patchmatch`
+    For every patch of an image, the k nearest patches of an exemplar
+    (PatchMatch): fields on grids, warm-started, with masks and wrap.
+:func:`nearest_field`
+    The same question of any backend: ``method="exact"``, ``"kdtree"``,
+    ``"tsvq"`` or ``"patchmatch"``.
 
 Distances are ``sum_d w_d (q_d - v_d)^2``, implemented by scaling both sides
 by ``sqrt(w)`` once, so every backend works on plain Euclidean vectors.
@@ -40,6 +46,7 @@ from . import _exact, _kdtree, _tsvq  # noqa: F401  (each registers its backend)
 from ._common import sq_distances
 from ._exact import SequentialExact, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
+from ._patchmatch import FIELD_METHODS, nearest_field, patchmatch
 from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
 from ._registry import methods as _methods
 
@@ -48,5 +55,6 @@ METHODS = _methods()
 
 __all__ = [
     "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "sq_distances",
+    "patchmatch", "nearest_field", "FIELD_METHODS",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]
