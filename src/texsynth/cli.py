@@ -202,8 +202,10 @@ def _add_method_parser(sub, name, method):
         elif isinstance(default, bool):
             parser.add_argument(*flags, dest=pname, action=argparse.BooleanOptionalAction, default=default,
                                 help=f"{desc} (default: {default})")
-        else:  # a string default is a word of a closed vocabulary: no literal parsing ("none" stays "none")
-            parser.add_argument(*flags, dest=pname, type=str if isinstance(default, str) else _parse_value,
+        else:  # a string default is a word of a closed vocabulary: no literal parsing ("none" stays "none"),
+            # except "auto", which stands for a value chosen for the input (a number, a tuple or None)
+            word = isinstance(default, str) and default != "auto"
+            parser.add_argument(*flags, dest=pname, type=str if word else _parse_value,
                                 default=default, help=f"{desc} (default: {default!r})")
     for old, convert in getattr(func, "renamed_converters", {}).items():
         # a renamed option whose values changed form (periodic_smooth=True -> periodic_exemplar=...): the

@@ -10,6 +10,7 @@
 :mod:`texsynth.core.em`            the EM loop of patch-energy synthesis and its IRLS weights
 :mod:`texsynth.core.flows`         flow fields and warping along them
 :mod:`texsynth.core.tps`           thin-plate splines and TPS-RPM point matching
+:mod:`texsynth.core.scale`         the exemplar's feature scale, which scale-aware defaults read
 =============================  ==========================================================
 
 The core imports no algorithm family; the families import the core (see
@@ -18,4 +19,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale"])

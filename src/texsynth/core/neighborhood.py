@@ -40,6 +40,7 @@ __all__ = [
     "all_patches",
     "extract",
     "accumulate",
+    "PatchSum",
     "grid_centers",
     "gaussian_falloff",
     "causal_mask",
@@ -209,7 +210,8 @@ def accumulate(patches, centers, shape, *, patch_weights=None, pixel_weights=Non
     where ``a_p`` are the per-patch weights (e.g. IRLS weights) and ``b`` the
     per-pixel weights (e.g. a Gaussian fall-off). This is the closed-form
     minimiser of the texture energy over the output (Kwatra et al. 2005, the
-    E-step of Algorithm 1). Vectorized with ``numpy.bincount``.
+    E-step of Algorithm 1). One :class:`PatchSum` with all the patches added
+    at once; add them in parts with :class:`PatchSum` to bound the memory.
 
     Parameters
     ----------
@@ -246,42 +248,197 @@ def accumulate(patches, centers, shape, *, patch_weights=None, pixel_weights=Non
     >>> bool(np.allclose(out, img)), float(weight.min())
     (True, 9.0)
     """
+    patches = _as_patches(patches)
+    acc = PatchSum(shape, patches.shape[-1], mode=mode)
+    acc.add(patches, centers, patch_weights=patch_weights, pixel_weights=pixel_weights)
+    return acc.average(patches.dtype)
+
+
+def _as_patches(patches):
     patches = np.asarray(patches)
     if patches.ndim != 4:
         raise ValueError(f"patches must have shape (N, h, w, C), got {patches.shape}")
     if not np.issubdtype(patches.dtype, np.floating):  # an average of integers is not an integer
         patches = patches.astype(np.float64)
-    _check_mode(mode)
-    n, h, w, c = patches.shape
-    height, width = as_size(shape, "shape")
-    check_memory(float(height) * width * (c + 1) * 8 * 2, (height, width), "shape", "the accumulated image")
-    rows, cols = _patch_coords(centers, (h, w), (height, width), mode)
-    if rows.shape[0] != n:
-        raise ValueError(f"centers holds {rows.shape[0]} positions but patches holds {n}; pass one centre per patch")
-    weight = np.ones((n, h, w), dtype=patches.dtype)
-    if pixel_weights is not None:
-        pw = np.asarray(pixel_weights, dtype=patches.dtype)
-        if pw.shape not in {(h, w), (n, h, w)}:
-            raise ValueError(f"pixel_weights must have shape ({h}, {w}) or ({n}, {h}, {w}), got {pw.shape}")
-        weight = weight * pw
-    if patch_weights is not None:
-        aw = np.asarray(patch_weights, dtype=patches.dtype)
-        if aw.shape != (n,):
-            raise ValueError(f"patch_weights must have shape ({n},), got {aw.shape}")
-        weight = weight * aw[:, None, None]
-    if weight.size and not (np.isfinite(weight).all() and weight.min() >= 0):
-        raise ValueError("patch_weights and pixel_weights must be finite and non-negative; "
-                         "replace NaN or negative weights (e.g. np.nan_to_num, np.clip)")
-    flat = (rows[:, :, None] * width + cols[:, None, :]).ravel()
-    total = np.bincount(flat, weights=weight.ravel(), minlength=height * width)
-    weighted = (patches * weight[..., None]).reshape(-1, c)
-    sums = np.stack([np.bincount(flat, weights=weighted[:, k], minlength=height * width) for k in range(c)], -1)
-    covered = total > 0
-    sums[covered] /= total[covered, None]
-    return sums.reshape(height, width, c).astype(patches.dtype, copy=False), total.reshape(height, width)
+    return patches
 
 
-@renamed_parameters(size="patch_size", spacing="grid_spacing")
+class PatchSum:
+    """Weighted sums of patches added into an image, part by part; :meth:`average` divides.
+
+    The running sums ``sum_p a_p b(x - p) z_p(x)`` and ``sum_p a_p b(x - p)``
+    of :func:`accumulate`, kept in float64, so a caller can add the patches
+    of a large grid a few rows at a time (the memory then grows with the
+    output, not with the number of patches times their size).
+
+    Patches whose centres form a rectilinear grid (every combination of some
+    rows and some columns, in row-major order, as :func:`grid_centers` and
+    its row-major slices give) are added without index arrays: the grid's
+    rows and columns are split into phases whose patches do not overlap, and
+    each phase's patches are laid side by side and added as one block. Any
+    other centres, and ``"reflect"`` mode (where a patch may fold onto
+    itself), are added with ``numpy.bincount``.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        Spatial shape ``(H, W)`` of the image.
+    channels : int
+        Channels ``C`` of the patches.
+    mode : {"wrap", "reflect", "valid"}
+        As :func:`accumulate`.
+
+    Examples
+    --------
+    >>> img = np.random.default_rng(0).random((8, 9, 3))
+    >>> centers = grid_centers((8, 9), 4, 2, mode="valid")
+    >>> acc = PatchSum((8, 9), 3, mode="valid")
+    >>> for part in np.array_split(np.arange(len(centers)), 3):
+    ...     acc.add(extract(img, centers[part], 4, mode="valid"), centers[part])
+    >>> bool(np.allclose(acc.average()[0], img))
+    True
+    """
+
+    def __init__(self, shape, channels, *, mode="wrap"):
+        _check_mode(mode)
+        self.shape = height, width = as_size(shape, "shape")
+        self.mode = mode
+        check_memory(float(height) * width * (channels + 1) * 8 * 2, (height, width), "shape", "the accumulated image")
+        self.sums = np.zeros((height, width, channels))
+        self.total = np.zeros((height, width))
+
+    def add(self, patches, centers, *, patch_weights=None, pixel_weights=None):
+        """Add ``patches`` ``(N, h, w, C)`` centred at ``centers``, weighted as in :func:`accumulate`."""
+        patches = _as_patches(patches)
+        n, h, w, c = patches.shape
+        if c != self.sums.shape[-1]:
+            raise ValueError(f"patches have {c} channels but this sum holds {self.sums.shape[-1]}")
+        rows, cols = _patch_coords(centers, (h, w), self.shape, self.mode)
+        if rows.shape[0] != n:
+            raise ValueError(f"centers holds {rows.shape[0]} positions but patches holds {n}; pass one centre per patch")
+        pw = np.ones((1, h, w))
+        if pixel_weights is not None:
+            pw = np.asarray(pixel_weights, dtype=np.float64)
+            if pw.shape not in {(h, w), (n, h, w)}:
+                raise ValueError(f"pixel_weights must have shape ({h}, {w}) or ({n}, {h}, {w}), got {pw.shape}")
+            pw = pw.reshape((-1, h, w))
+        aw = np.ones(n)
+        if patch_weights is not None:
+            aw = np.asarray(patch_weights, dtype=np.float64)
+            if aw.shape != (n,):
+                raise ValueError(f"patch_weights must have shape ({n},), got {aw.shape}")
+        for name, wt in (("pixel_weights", pw), ("patch_weights", aw)):
+            if wt.size and not (np.isfinite(wt).all() and wt.min() >= 0):
+                raise ValueError(f"{name} must be finite and non-negative; "
+                                 "replace NaN or negative weights (e.g. np.nan_to_num, np.clip)")
+        if n == 0:
+            return
+        grid = self._grid(np.asarray(centers), (h, w)) if self.mode != "reflect" else None
+        if grid is None:
+            self._scatter(patches, rows, cols, aw, pw)
+        else:
+            self._blocks(patches, grid, aw, pw)
+
+    def average(self, dtype=np.float64):
+        """The weighted average ``(H, W, C)`` (0 where nothing was added) and the total weight ``(H, W)``."""
+        covered = self.total > 0
+        out = np.zeros_like(self.sums)
+        out[covered] = self.sums[covered] / self.total[covered, None]
+        return out.astype(dtype, copy=False), self.total
+
+    def _scatter(self, patches, rows, cols, aw, pw):
+        n, h, w, c = patches.shape
+        height, width = self.shape
+        weight = aw[:, None, None] * pw
+        flat = (rows[:, :, None] * width + cols[:, None, :]).ravel()
+        weight = np.broadcast_to(weight, (n, h, w)).ravel()
+        self.total += np.bincount(flat, weights=weight, minlength=height * width).reshape(height, width)
+        weighted = (patches.reshape(-1, c) * weight[:, None])
+        for k in range(c):
+            self.sums[..., k] += np.bincount(flat, weights=weighted[:, k], minlength=height * width).reshape(height,
+                                                                                                              width)
+
+    def _grid(self, centers, size):
+        """The grid's rows and columns and their non-overlapping phases, or None if ``centers`` is no grid."""
+        r = np.unique(centers[:, 0])
+        c = np.unique(centers[:, 1])
+        if r.shape[0] * c.shape[0] != centers.shape[0]:
+            return None
+        if not (np.array_equal(centers[:, 0], np.repeat(r, c.shape[0]))
+                and np.array_equal(centers[:, 1], np.tile(c, r.shape[0]))):
+            return None
+        phases = [_phases(r, size[0], self.shape[0], self.mode), _phases(c, size[1], self.shape[1], self.mode)]
+        if phases[0] is None or phases[1] is None:
+            return None
+        return r, c, phases
+
+    def _blocks(self, patches, grid, aw, pw):
+        n, h, w, ch = patches.shape
+        r, c, (rphases, cphases) = grid
+        nr, nc = r.shape[0], c.shape[0]
+        z = patches.reshape(nr, nc, h, w, ch)
+        a = aw.reshape(nr, nc)
+        b = pw.reshape((nr, nc, h, w) if pw.shape[0] == n else (1, 1, h, w))
+        for ri in rphases:
+            rows = _index((r[ri, None] - h // 2 + np.arange(h)).ravel(), self.shape[0], self.mode, "patches")
+            for ci in cphases:
+                cols = _index((c[ci, None] - w // 2 + np.arange(w)).ravel(), self.shape[1], self.mode, "patches")
+                sel = np.ix_(ri, ci)
+                wt = a[sel][:, :, None, None] * (b[sel] if b.shape[0] > 1 else b)
+                wt = wt.transpose(0, 2, 1, 3).reshape(rows.shape[0], cols.shape[0])
+                block = z[sel].transpose(0, 2, 1, 3, 4).reshape(rows.shape[0], cols.shape[0], ch)
+                block *= wt[..., None]
+                for at, part in _spans(rows, cols, self.shape):
+                    self.total[at] += wt[part]
+                    self.sums[at] += block[part]
+
+
+def _spans(rows, cols, shape):
+    """Pairs (where in the image, which part of the block) that add a block at ``rows x cols``.
+
+    Runs of consecutive indices (also across a wrapped edge) become slices, at
+    most two per axis; any other axis keeps its index array.
+    """
+    per_axis = []
+    for idx, extent in zip((rows, cols), shape):
+        n = idx.shape[0]
+        start = int(idx[0])
+        if n <= extent and np.array_equal((idx - start) % extent, np.arange(n)):
+            head = min(n, extent - start)
+            pieces = [(slice(start, start + head), slice(0, head))]
+            if head < n:
+                pieces.append((slice(0, n - head), slice(head, n)))
+        else:
+            pieces = [(idx, slice(None))]
+        per_axis.append(pieces)
+    for (r_at, r_part) in per_axis[0]:
+        for (c_at, c_part) in per_axis[1]:
+            if isinstance(r_at, slice) and isinstance(c_at, slice):
+                yield (r_at, c_at), (r_part, c_part)
+            else:  # index arrays on both axes
+                yield np.ix_(np.arange(shape[0])[r_at], np.arange(shape[1])[c_at]), (r_part, c_part)
+
+
+def _phases(coords, length, extent, mode):
+    """Split sorted grid coordinates into groups whose patches (``length`` long) do not overlap.
+
+    Greedy: each coordinate joins the first group whose last patch ends before
+    it starts (and, wrapping, whose first patch starts after it ends). None if
+    a patch overlaps itself (longer than a wrapped axis).
+    """
+    if mode == "wrap" and length > extent:
+        return None
+    groups = []
+    for i, x in enumerate(coords.tolist()):
+        for g in groups:
+            if x - coords[g[-1]] >= length and (mode != "wrap" or coords[g[0]] + extent - x >= length):
+                g.append(i)
+                break
+        else:
+            groups.append([i])
+    return [np.asarray(g) for g in groups]
+
+
 def grid_centers(shape, patch_size, grid_spacing, *, mode="wrap"):
     """Centres of a regular grid of patches that covers every pixel.
 

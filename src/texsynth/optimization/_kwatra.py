@@ -14,7 +14,9 @@ E-step
     gradient term is on).
 M-step
     ``z_p <- nearest exemplar neighbourhood of x_p`` for every ``p``
-    (:class:`texsynth.core.search.PatchIndex`, built once per level and size).
+    (:class:`texsynth.core.search.PatchIndex`, built once per level and size,
+    or PatchMatch between the output and the exemplar, warm-started from the
+    current ``z_p``: :func:`texsynth.core.search.patchmatch`).
 
 until the set ``{z_p}`` stops changing. Section 3.1 makes it robust: the
 squared norm becomes ``||x_p - z_p||^r`` (``r = 0.8``), minimised by
@@ -86,8 +88,9 @@ from ..core.em import expectation_maximization
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core import search
 from ..core.search import PatchIndex, nearest_candidates, sq_distances
-from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
+from ..core.neighborhood import PatchSum, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
+from ..core.scale import feature_scale
 
 __all__ = ["optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo"]
 
@@ -107,6 +110,28 @@ _COPY_PENALTY = 3.0
 # Largest weight of an energy term: far beyond any meaningful balance (the paper's mu is 10, a
 # constraint of 100 is nearly hard), and below what overflows the float32 search features.
 _MAX_WEIGHT = 1e6
+#: Presets of :func:`optimize_texture`: what its ``"auto"`` options mean.
+PRESETS = ("default", "paper")
+# preset "default": the stop test of the energy (an addition to the paper's test of unchanged z_p)
+_DEFAULT_TOLERANCE = 5e-3
+# preset "default": the completeness term is on when the output has less than this many times the
+# exemplar's area (at 1.5x the texture energy alone missed parts of every tuning photo; at 4x it
+# missed none, and the term's votes blurred large flat areas of cobblestones)
+_COMPLETE_BELOW = 4.0
+# preset "default": copy_limit (largest copies at 4x measured 0.66-0.77 of the exemplar without it)
+_DEFAULT_COPY_LIMIT = 0.25
+# preset "default": largest neighbourhood for exemplars whose feature scale is above _LARGE_FEATURES
+# pixels (half of it otherwise), and the smaller side of the coarsest exemplar level
+_LARGE_SIZE = 64
+_LARGE_FEATURES = 32.0
+_COARSEST_SIDE = 32
+# PatchMatch M-step: iterations of propagation and random search in a stage's first M-step (from the
+# previous stage's field carried over, or from random neighbourhoods) and in each later one (from the
+# current z_p)
+_FIELD_ITERATIONS_FIRST = 4
+_FIELD_ITERATIONS = 1
+# E-step: neighbourhood values added into the output at a time (32 MB of float64)
+_E_STEP_VALUES = 2**22
 # Conjugate gradients of the gradient-energy E-step: relative residual and cap.
 _CG_RTOL = 1e-10
 _CG_MAXITER = 500
@@ -279,12 +304,14 @@ class _Options:
     tolerance: float
     tileable: bool = False
     falloff: bool = True
-    method: str = "auto"  # the search backend (texsynth.core.search)
+    method: str = "auto"  # the M-step's backend (texsynth.core.search.FIELD_METHODS)
     occurrence: float = 0.0  # occurrence_weight
     copy_limit: float | None = None
     completeness: float = 0.0  # completeness_weight
     coords: np.ndarray | None = field(default=None, repr=False)  # a frame: last frame's correspondence, warped
     assembly: float | None = None  # a frame: frame_falloff
+    paper: bool = False  # preset "paper": the index M-step, as the paper searches a tree over the exemplar
+    coarse_copy_limit: bool = False  # the copy limit at every level but the finest
 
     @property
     def frame(self):
@@ -298,6 +325,18 @@ class _Options:
     def grid(self, size):
         """Spacing in pixels of the centres of ``size``-wide neighbourhoods."""
         return max(1, int(round(size * self.spacing)))
+
+    def field(self, constraint, ex, queries):
+        """True if the M-step is PatchMatch (``method="patchmatch"``, or ``"auto"`` where it applies and
+        the stage is large: :func:`texsynth.core.search.resolve_field`)."""
+        applies = self.mu == 0 and constraint is None and not self.frame and not self.paper
+        values = float(len(ex)) * queries * ex.weights.shape[0]
+        return search.resolve_field(self.method, applies=applies, values=values) == "patchmatch"
+
+    @property
+    def index_method(self):
+        """The index backend of the other M-steps (``"auto"`` lets the search profile decide)."""
+        return "auto" if self.method == "patchmatch" else self.method
 
 
 # --------------------------------------------------------------------------- features
@@ -333,36 +372,51 @@ def _feature_weights(g, channels, mu):
 
 
 class _Exemplar:
-    """The searchable neighbourhoods of one exemplar level for one size (built once)."""
+    """The searchable neighbourhoods of one exemplar level for one size.
+
+    The index over their feature vectors is built on first use: the
+    PatchMatch M-step never needs it (it compares patches of the images).
+    """
 
     def __init__(self, image, valid, size, opts, rng, frame=False):
         mu = opts.mu
         self.image, self.size, self.mu = image, size, mu
+        self.valid = valid
         self.view = all_patches(image, size)  # (Ny, Nx, w, w, C), a view
         ok = all_patches(valid[..., None].astype(np.float64), size).min(axis=(2, 3, 4)) > 0.5
         self.corner = np.argwhere(ok)  # top-left corners of patches free of masked pixels
-        self.build_seconds = 0.0
+        self._index = self._feats = None
+        self._build = (opts.index_method, "frame" if frame else "stage" if mu == 0 else "default", rng, frame)
         if len(self.corner) == 0:
             return
         self.g = gaussian_falloff(size) if opts.falloff else np.ones((size, size))
         self.weights = _feature_weights(self.g, image.shape[-1], mu)
         self.eps2 = _EPS_RMS**2 * float(self.weights.sum())
-        t0 = time.perf_counter()
-        # the index searches float32 copies (half the memory, twice the BLAS speed);
-        # energies and the M-step's final choice use exact float64 distances
-        feats = np.empty((len(self.corner), self.weights.shape[0]), dtype=np.float32)
-        step = max(1, 2**24 // max(1, self.weights.shape[0] * 8))
-        for a in range(0, len(self.corner), step):
-            feats[a : a + step] = _features(self.patches(np.arange(a, min(a + step, len(self.corner)))), mu)
-        # the search layer's measured settings: "frame" (coherent candidates do most of the work),
-        # "stage", or the defaults for the gradient energy's longer vectors
-        profile = "frame" if frame else "stage" if mu == 0 else "default"
-        self.index = PatchIndex(feats, weights=self.weights, method=opts.method, profile=profile, rng=rng)
-        if frame:  # animation frames rank coherent candidates on these features (_m_step_frame)
-            self.feats = feats
         self.grid = np.full(self.view.shape[:2], -1, dtype=np.int64)  # corner -> neighbourhood index
         self.grid[self.corner[:, 0], self.corner[:, 1]] = np.arange(len(self.corner))
-        self.build_seconds = time.perf_counter() - t0
+
+    @property
+    def index(self):
+        """The :class:`~texsynth.core.search.PatchIndex` over every neighbourhood's features."""
+        if self._index is None:
+            method, profile, rng, frame = self._build
+            # the index searches float32 copies (half the memory, twice the BLAS speed);
+            # energies and the M-step's final choice use exact float64 distances
+            feats = np.empty((len(self.corner), self.weights.shape[0]), dtype=np.float32)
+            step = max(1, 2**24 // max(1, self.weights.shape[0] * 8))
+            for a in range(0, len(self.corner), step):
+                feats[a : a + step] = _features(self.patches(np.arange(a, min(a + step, len(self.corner)))), self.mu)
+            # the search layer's measured settings: "frame" (coherent candidates do most of the work),
+            # "stage", or the defaults for the gradient energy's longer vectors
+            self._index = PatchIndex(feats, weights=self.weights, method=method, profile=profile, rng=rng)
+            if frame:  # animation frames rank coherent candidates on these features (_m_step_frame)
+                self._feats = feats
+        return self._index
+
+    @property
+    def feats(self):
+        """The float32 feature vectors of an animation's index (kept to rank coherent candidates)."""
+        return self._feats if self.index is not None else None
 
     def __len__(self):
         return len(self.corner)
@@ -500,10 +554,39 @@ def _solve_gradient_system(data_w, rhs_data, wx, gx, wy, gy, mu, wrap, x0, stats
     return x
 
 
-def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None):
-    """x <- argmin_x sum_p ω_p ρ_p(x) + λ E_c(x): eq. 1 (and eq. 2) minimised over x."""
-    z = ex.patches(zidx)
-    mean, wd = accumulate(z, centers, shape, patch_weights=omega, pixel_weights=ex.g if g is None else g, mode=mode)
+def _grid_parts(centers, budget):
+    """Slices of ``centers`` (a row-major grid) holding whole grid rows, about ``budget`` centres each."""
+    ncols = int(np.count_nonzero(centers[:, 0] == centers[0, 0]))
+    step = ncols * max(1, budget // ncols)
+    return [slice(a, a + step) for a in range(0, len(centers), step)]
+
+
+def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, votes=None):
+    """x <- argmin_x sum_p ω_p ρ_p(x) + λ E_c(x): eq. 1 (and eq. 2) minimised over x.
+
+    The ``z_p`` of the grid ``centers`` are added a few grid rows at a time
+    (memory grows with the output, not with the overlap); ``votes``
+    ``(indices, centres, weights)`` are more neighbourhoods averaged in (the
+    completeness term's ``q_j`` at ``p(j)``).
+    """
+    g = ex.g if g is None else g
+    w, channels = ex.size, ex.image.shape[-1]
+    wrap = mode == "wrap"
+    h_, w_ = shape
+    gxw, gyw = _difference_weights(g)
+    shift = w // 2 - (w - 1) // 2  # centre of a (w-1)-wide difference patch, anchored at its left pixel
+    values = PatchSum(shape, channels, mode=mode)
+    if mu > 0:  # gradient energy: accumulate the patches' differences like the patches themselves
+        dx = PatchSum((h_, w_ if wrap else w_ - 1), channels, mode=mode)
+        dy = PatchSum((h_ if wrap else h_ - 1, w_), channels, mode=mode)
+    parts = [(zidx[p], centers[p], omega[p]) for p in _grid_parts(centers, _E_STEP_VALUES // (w * w * channels))]
+    for zi, at, om in parts + ([] if votes is None else [votes]):
+        z = ex.patches(zi)
+        values.add(z, at, patch_weights=om, pixel_weights=g)
+        if mu > 0:
+            dx.add(z[:, :, 1:] - z[:, :, :-1], at - [0, shift], patch_weights=om, pixel_weights=gxw)
+            dy.add(z[:, 1:] - z[:, :-1], at - [shift, 0], patch_weights=om, pixel_weights=gyw)
+    mean, wd = values.average()
     data_w = wd.copy()
     rhs = wd[..., None] * mean
     if constraint is not None:  # eq. 2: the weighted average with the targets (Section 4)
@@ -511,19 +594,10 @@ def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None):
         data_w += lam * m
         rhs += (lam * m)[..., None] * t
     if mu == 0:
-        return (rhs / data_w[..., None]).astype(mean.dtype, copy=False)
-    # gradient energy: accumulate the patches' differences like the patches themselves
-    w = ex.size
-    wrap = mode == "wrap"
-    gxw, gyw = _difference_weights(ex.g)
-    shift = w // 2 - (w - 1) // 2  # centre of a (w-1)-wide difference patch, anchored at its left pixel
-    h_, w_ = shape
-    gx, wx = accumulate(z[:, :, 1:] - z[:, :, :-1], centers - [0, shift], (h_, w_ if wrap else w_ - 1),
-                        patch_weights=omega, pixel_weights=gxw, mode=mode)
-    gy, wy = accumulate(z[:, 1:] - z[:, :-1], centers - [shift, 0], (h_ if wrap else h_ - 1, w_),
-                        patch_weights=omega, pixel_weights=gyw, mode=mode)
+        return (rhs / data_w[..., None]).astype(ex.image.dtype, copy=False)
+    (gx, wx), (gy, wy) = dx.average(), dy.average()
     x = _solve_gradient_system(data_w, rhs, wx, gx, wy, gy, mu, wrap, x0.astype(np.float64))
-    return x.astype(mean.dtype, copy=False)
+    return x.astype(ex.image.dtype, copy=False)
 
 
 # --------------------------------------------------------------------------- M-step
@@ -535,7 +609,7 @@ class _SearchMemo:
     """
 
     def __init__(self, n, dim):
-        self.q = np.zeros((n, dim), dtype=np.float32)
+        self.q = None if dim is None else np.zeros((n, dim), dtype=np.float32)
         self.rho = np.full(n, np.inf)
         self.searched = 0  # number of index queries (for StageInfo.searches)
 
@@ -597,18 +671,20 @@ class _Occurrence:
         self.own = self.factor * self.self_weight  # a z_p's own share of its occurrence
         self.offsets = None
         if self.copy_limit is not None:
-            key = self.offset_key(ex, zidx, np.arange(len(zidx)))
+            key = self.offset_key(ex, zidx, self.centers)
             self.offsets, counts = np.unique(key, return_counts=True)
             self.excess = self.copy_factor * np.maximum(counts / self.copy_limit - 1.0, 0.0)
 
-    def offset_key(self, ex, cand, rows):
-        off = ex.corner[cand] - (self.centers[rows] - ex.size // 2) + self.span
+    def offset_key(self, ex, cand, at):
+        """One integer per (exemplar neighbourhood ``cand``, output centre ``at``) pair: its offset."""
+        off = ex.corner[cand] - (at - ex.size // 2) + self.span
         return off[:, 0] * (4 * self.span) + off[:, 1]
 
-    def copy_penalty(self, ex, cand, rows):
+    def copy_penalty(self, ex, cand, at):
+        """The copy limit's penalty of taking neighbourhoods ``cand`` at output centres ``at``."""
         if self.offsets is None:
             return 0.0
-        key = self.offset_key(ex, cand, rows)
+        key = self.offset_key(ex, cand, at)
         k = np.clip(np.searchsorted(self.offsets, key), 0, len(self.offsets) - 1)
         return np.where(self.offsets[k] == key, self.excess[k], 0.0)
 
@@ -617,34 +693,74 @@ class _Completeness:
     """The completeness term of the bidirectional similarity (Simakov et al. 2008) for one stage.
 
     Every exemplar neighbourhood ``q_j`` whose corner lies on a grid of the
-    stage's spacing is matched to its nearest output neighbourhood ``x_p(j)``
-    among the grid centres ``X†``; the term is
-    ``scale * sum_j (||x_p(j) - q_j||^2 + ε²)^(r/2)`` with
+    stage's spacing is matched to its nearest output neighbourhood ``x_p(j)``;
+    the term is ``scale * sum_j (||x_p(j) - q_j||^2 + ε²)^(r/2)`` with
     ``scale = weight * |X†| / |J|``, so that ``weight = 1`` gives the two
     directions equal weight per neighbourhood, as in Simakov et al.'s
     ``d = d_complete / N_S + d_cohere / N_T`` multiplied by ``N_T``.
     In the E-step ``q_j`` is one more neighbourhood averaged at the centre
     ``p(j)`` (their update rule: every pixel the weighted mean of the colours
     the coherence and the completeness votes give it).
+
+    With the PatchMatch M-step, ``p(j)`` is any output neighbourhood (found
+    by PatchMatch from the exemplar to the output, warm-started from the last
+    ``p(j)``); with an index M-step it is one of the grid centres ``X†``.
     """
 
     def __init__(self, ex, centers, weight, spacing):
         on_grid = (ex.corner[:, 0] % spacing == 0) & (ex.corner[:, 1] % spacing == 0)
         self.jidx = np.flatnonzero(on_grid)
-        self.feats = _features(ex.patches(self.jidx), ex.mu).astype(np.float64, copy=False)
         self.scale = weight * len(centers) / max(1, len(self.jidx))
 
-    def search(self, ex, q, current, rng):
-        """``p(j)`` of every ``q_j`` (never farther than the ``current`` one) and ``ρ_j``."""
-        index = PatchIndex(q.astype(np.float32), weights=ex.weights, method="auto", rng=rng)
-        found = index.query(self.feats.astype(np.float32), k=1)[0][:, 0]
-        rho = sq_distances(q[found], self.feats, ex.weights)
+    def search(self, ex, x, centers, mode, current, method, rng):
+        """``p(j)`` (output centres) of every ``q_j`` among ``centers``, never farther than ``current``, and ``ρ_j``."""
+        feats = _features(ex.patches(self.jidx), ex.mu).astype(np.float64, copy=False)
+        q = _features(extract(x, centers, ex.size, mode=mode), ex.mu)
+        index = PatchIndex(q.astype(np.float32), weights=ex.weights, method=method, rng=rng)
+        found = centers[index.query(feats.astype(np.float32), k=1)[0][:, 0]]
+        rho = _rho_at(ex, x, found, mode, self.jidx)
         if current is not None:
-            keep = sq_distances(q[current], self.feats, ex.weights)
+            keep = _rho_at(ex, x, current, mode, self.jidx)
             better = rho < keep
-            found = np.where(better, found, current)
+            found = np.where(better[:, None], found, current)
             rho = np.where(better, rho, keep)
         return found, rho
+
+    def search_field(self, ex, x, mode, current, iterations, rng):
+        """The same by PatchMatch over every output neighbourhood (wrapping around a tileable output)."""
+        w = ex.size
+        pad = w - 1 if mode == "wrap" else 0
+        image = np.pad(x, ((0, pad), (0, pad), (0, 0)), mode="wrap") if pad else x
+        start = None if current is None else _unwrap(current, x.shape[:2], w, pad)[:, None]
+        field, d2 = search.patchmatch(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
+                                      iterations=iterations, pixel_weights=ex.g, rng=rng)
+        found = field[:, 0]
+        if pad:
+            found = np.mod(found, x.shape[:2])
+        return found, d2[:, 0].astype(np.float64)
+
+
+def _unwrap(at, shape, w, pad):
+    """Centres ``at`` of a tileable output as centres in its wrap-padded copy (the patch inside it)."""
+    lo = w // 2
+    hi = np.asarray(shape) + pad - w + w // 2
+    out = at.copy()
+    for axis in range(2):
+        low = out[:, axis] < lo
+        out[low, axis] += shape[axis]
+        out[:, axis] = np.minimum(out[:, axis], hi[axis])
+    return out
+
+
+def _rho_at(ex, x, at, mode, zidx):
+    """``ρ`` between the output neighbourhoods centred at ``at`` and the exemplar's ``zidx``, in parts."""
+    out = np.empty(len(at))
+    step = max(1, _E_STEP_VALUES // ex.weights.shape[0])
+    for a in range(0, len(at), step):
+        p = slice(a, a + step)
+        q = _features(extract(x, at[p], ex.size, mode=mode), ex.mu)
+        out[p] = sq_distances(q, _features(ex.patches(zidx[p]), ex.mu), ex.weights)
+    return out
 
 
 def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, occurrence=None):
@@ -692,11 +808,11 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
         rho = sq_distances(q, _features(ex.patches(zidx), ex.mu), ex.weights)
         score = rho.copy()
         if pen is not None:  # the current z_p's own share of its occurrence does not count
-            score += pen[zidx] - occurrence.own + occurrence.copy_penalty(ex, zidx, np.arange(n))
+            score += pen[zidx] - occurrence.own + occurrence.copy_penalty(ex, zidx, centers)
 
     def rank(rows, cand):
         r = sq_distances(q[rows], _features(ex.patches(cand), ex.mu), ex.weights)
-        s = r if pen is None else r + pen[cand] + occurrence.copy_penalty(ex, cand, rows)
+        s = r if pen is None else r + pen[cand] + occurrence.copy_penalty(ex, cand, centers[rows])
         better = s < score[rows]
         rows = rows[better]
         new[rows], rho[rows], score[rows] = cand[better], r[better], s[better]
@@ -719,6 +835,42 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
         memo.rho[stale] = rho[stale]
         memo.searched += int(stale.sum())
     return new, rho
+
+
+def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None):
+    """M-step by PatchMatch (Barnes et al. 2009): every ``z_p`` from a field warm-started at ``start``.
+
+    ``start`` holds an exemplar centre per neighbourhood (the current
+    ``z_p``, or the previous stage's carried over). PatchMatch replaces a
+    ``z_p`` only by a strictly nearer one (the same weighted distance ``ρ_p``
+    with the fall-off), so the step never raises the energy. With an
+    ``occurrence`` penalty or copy limit, candidates are ranked by ``ρ_p``
+    plus the penalty instead, as in :func:`_m_step`. Returns the new indices
+    and their ``ρ_p``.
+    """
+    w = ex.size
+    penalty = None
+    if occurrence is not None:
+        def penalty(q, c):
+            idx = ex.grid[c[:, 0] - w // 2, c[:, 1] - w // 2]
+            return occurrence.penalty[idx] + occurrence.copy_penalty(ex, idx, centers[q])
+    mask = None if ex.valid.all() else ex.valid
+    field, d2 = search.patchmatch(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
+                                  exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng)
+    corner = field[:, 0] - w // 2
+    new = ex.grid[corner[:, 0], corner[:, 1]]
+    rho = d2[:, 0].astype(np.float64) if penalty is None else _rho_at(ex, x, centers, mode, new)
+    return new, rho
+
+
+def _carried_field(record, level, centers):
+    """The last stage's ``z_p`` carried to ``centers`` at ``level``: each centre's exemplar position as
+    the nearest old centre's source plus the offset to it (Section 3.2's up-sampling, for the field)."""
+    prev = record["stages"][-1]
+    dense = _source_map(record["centers"], record["sources"], prev.shape)
+    f = 2 ** (prev.level - level)
+    pos = np.minimum(centers // f, np.asarray(prev.shape) - 1)
+    return np.rint(dense[pos[:, 0], pos[:, 1]] * f + (centers - pos * f)).astype(np.int64)
 
 
 def _m_step_constrained(ex, x, centers, mode, zidx, constraint, q, mp, sel, new, rho):
@@ -840,26 +992,40 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
     centers = grid_centers(shape, w, spacing, mode=mode)
     stage = StageInfo(level=level, size=w, shape=tuple(shape), spacing=spacing, neighborhoods=len(centers),
                       exemplar_neighborhoods=len(ex), first=len(record["energy"]))
-    build, ex.build_seconds = ex.build_seconds, 0.0  # an index reused later costs nothing more
-    nn = build
+    nn = 0.0
     r, mu, eps2 = opts.r, opts.mu, ex.eps2
     values = float(ex.weights.sum())
 
     coords = opts.coords  # animation frame: the previous frame's correspondence, warped
     prior = None if coords is None else ex.lookup(coords[centers[:, 0], centers[:, 1]] - w // 2, 0)
 
-    memo = _SearchMemo(len(centers), ex.weights.shape[0])
+    use_field = opts.field(constraint, ex, len(centers))
+    memo = _SearchMemo(n=len(centers), dim=None if use_field else ex.weights.shape[0])
     weight, limit = opts.occurrence, opts.copy_limit
     occurrence = None
+    if opts.coarse_copy_limit and level == 0 and record["levels"] > 1:
+        limit = None  # the finest level refines the arrangement the coarser levels chose
     if (weight > 0 or limit is not None) and coords is None:
         occurrence = _Occurrence(ex, centers, weight, limit)
     completeness = None
     if opts.completeness > 0 and coords is None:
         completeness = _Completeness(ex, centers, opts.completeness, spacing)
     n = len(centers)
+    carried = None
+    if use_field and x is not None:  # the last stage's field, or random neighbourhoods after a given image
+        carried = rng.integers(len(ex), size=n)
+        if record["stages"]:
+            carried = ex.lookup(_carried_field(record, level, centers) - w // 2, carried)
 
     def m_step(x, zidx):
         stage.m_steps += 1
+        if use_field:
+            start = zidx if zidx is not None else carried
+            if occurrence is not None:
+                occurrence.update(ex, start)
+            memo.searched += n
+            its = _FIELD_ITERATIONS_FIRST if stage.m_steps == 1 else _FIELD_ITERATIONS
+            return _m_step_field(ex, x, centers, mode, ex.centers(start), its, rng, occurrence)
         if coords is None:
             occ = None
             if occurrence is not None and zidx is not None:
@@ -886,15 +1052,15 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         nonlocal current
         zidx, pj = state
         omega = np.ones(n) if omega is None else omega
-        at = centers
+        votes = None
         if pj is not None:  # the completeness votes: q_j averaged at its centre p(j)
-            zidx, at = np.concatenate([zidx, completeness.jidx]), np.concatenate([centers, centers[pj]])
-            omega = np.concatenate([omega[:n], completeness.scale * omega[n:]])
+            vote_w = completeness.scale * omega[n:]
             if occurrence is not None and occurrence.offsets is not None:
                 # no vote for an offset already copied beyond the copy limit
-                omega[n:] *= occurrence.copy_penalty(ex, completeness.jidx, pj) == 0
+                vote_w = vote_w * (occurrence.copy_penalty(ex, completeness.jidx, pj) == 0)
+            votes = (completeness.jidx, pj, vote_w)
         g = g0 if it == 0 and g0 is not None else ga  # bootstrap assembly, frame assembly or ex.g
-        current = _e_step(ex, zidx, at, shape, omega, mode, mu, constraint, current, g=g)
+        current = _e_step(ex, zidx, centers, shape, omega[:n], mode, mu, constraint, current, g=g, votes=votes)
         return current
 
     def search(x, state):
@@ -905,8 +1071,10 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         new, rho = m_step(x, zidx)
         changed = not np.array_equal(new, zidx)
         if completeness is not None:
-            q = _features(extract(x, centers, w, mode=mode), mu).astype(np.float64, copy=False)
-            new_pj, rho_j = completeness.search(ex, q, pj, rng)
+            if use_field:
+                new_pj, rho_j = completeness.search_field(ex, x, mode, pj, _FIELD_ITERATIONS_FIRST, rng)
+            else:
+                new_pj, rho_j = completeness.search(ex, x, centers, mode, pj, opts.index_method, rng)
             changed = changed or not np.array_equal(new_pj, pj)
             pj, rho = new_pj, np.concatenate([rho, rho_j])
         nn += time.perf_counter() - t1
@@ -938,7 +1106,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         x, state, rho, e_step, search, log, max_iterations=max_it, tolerance=tolerance, r=r, eps2=eps2,
         on_iteration=report,
     )
-    stage.seconds = time.perf_counter() - t0 + build
+    stage.seconds = time.perf_counter() - t0
     stage.nn_seconds = nn
     stage.searches = memo.searched
     record["stages"].append(stage)
@@ -1006,9 +1174,11 @@ class _Problem:
 
 
 def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
-                   falloff=True, method="auto", occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0):
+                   falloff=True, method="auto", occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0,
+                   paper=False, coarse_copy_limit=False):
     """The scalar options of :func:`optimize_texture`, checked, as an :class:`_Options`."""
     return _Options(
+        paper=paper, coarse_copy_limit=coarse_copy_limit,
         r=check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True),
         mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True, maximum=_MAX_WEIGHT),
         spacing=check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True),
@@ -1016,12 +1186,69 @@ def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tole
         tolerance=check_positive_float(tolerance, "tolerance", allow_zero=True),
         tileable=check_bool(tileable, "tileable"),
         falloff=check_bool(falloff, "falloff"),
-        method=search.check_method(method),
+        method=search.check_field_method(method),
         occurrence=check_positive_float(occurrence_weight, "occurrence_weight", allow_zero=True, maximum=_MAX_WEIGHT),
         copy_limit=None if copy_limit is None else check_in_range(copy_limit, "copy_limit", 0.0, 1.0, low_open=True),
         completeness=check_positive_float(completeness_weight, "completeness_weight", allow_zero=True,
                                           maximum=_MAX_WEIGHT),
     )
+
+
+def _is_auto(value):
+    return isinstance(value, str) and value == "auto"
+
+
+def _check_preset(preset):
+    if not isinstance(preset, str) or preset not in PRESETS:
+        raise ValueError(f"preset must be one of {', '.join(map(repr, PRESETS))}, got {preset!r}")
+    return preset
+
+
+def _scale_schedule(ex, shape):
+    """Neighbourhood sizes and levels of preset ``"default"``, from the exemplar and the output.
+
+    The largest neighbourhood is 64 pixels for an exemplar whose feature
+    scale (:func:`texsynth.core.scale.feature_scale`) is above 32 pixels and
+    32 otherwise, at most a quarter of the exemplar's smaller side; each
+    level uses it, half of it and a quarter of it (none below 4 pixels, none
+    above the output's smaller side). Levels: as many as keep the coarsest
+    exemplar at least 32 pixels on its smaller side.
+    """
+    side = min(ex.shape[:2])
+    largest = _LARGE_SIZE if feature_scale(ex) > _LARGE_FEATURES else _LARGE_SIZE // 2
+    largest = max(4, min(largest, 2 ** int(np.log2(max(side // 4, 1)))))
+    sizes = tuple(w for w in (largest, largest // 2, largest // 4) if 4 <= w <= min(shape)) or (min(largest, *shape),)
+    levels = max(1, int(np.log2(side / _COARSEST_SIDE)) + 1)
+    return sizes, levels
+
+
+def _preset(preset, problem, *, tolerance, completeness_weight, copy_limit):
+    """The values of the ``"auto"`` options under ``preset`` (see :func:`optimize_texture`, Notes)."""
+    if preset == "paper":
+        auto = dict(tolerance=0.0, completeness_weight=0.0, copy_limit=None)
+    else:
+        ratio = problem.shape[0] * problem.shape[1] / (problem.ex.shape[0] * problem.ex.shape[1])
+        auto = dict(tolerance=_DEFAULT_TOLERANCE, completeness_weight=1.0 if ratio < _COMPLETE_BELOW else 0.0,
+                    copy_limit=_DEFAULT_COPY_LIMIT)
+    given = dict(tolerance=tolerance, completeness_weight=completeness_weight, copy_limit=copy_limit)
+    out = {k: auto[k] if isinstance(v, str) and v == "auto" else v for k, v in given.items()}
+    # without the completeness votes the finest level only refines: no limit there (elements stay whole)
+    out["coarse_copy_limit"] = preset == "default" and copy_limit == "auto" and out["completeness_weight"] == 0
+    out["paper"] = preset == "paper"
+    return out
+
+
+def _with_margin(problem, margin):
+    """The problem on a canvas ``margin`` pixels larger (the output is its top-left part); constraints and
+    the initial image extended by their edge values, the margin unconstrained."""
+    pad = ((0, margin), (0, margin))
+    constraint = problem.constraint
+    if constraint is not None:
+        m, t, lam = constraint
+        constraint = (np.pad(m, pad), np.pad(t, pad + ((0, 0),), mode="edge"), lam)
+    x_init = None if problem.x_init is None else np.pad(problem.x_init, pad + ((0, 0),), mode="edge")
+    shape = (problem.shape[0] + margin, problem.shape[1] + margin)
+    return dataclasses.replace(problem, shape=shape, constraint=constraint, x_init=x_init)
 
 
 def _check_memory(shape, channels, opts, frames=1):
@@ -1035,11 +1262,16 @@ def _check_memory(shape, channels, opts, frames=1):
 
 
 def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.0, mask=None, target=None,
-             exemplar_mask=None, init=None, sizes_name="neighborhood_sizes"):
-    """The arrays of :func:`optimize_texture`, checked, as a :class:`_Problem`."""
+             exemplar_mask=None, init=None, sizes_name="neighborhood_sizes", preset="paper"):
+    """The arrays of :func:`optimize_texture`, checked, as a :class:`_Problem` (``"auto"`` sizes and
+    levels resolved by ``preset``)."""
     ex = as_image(exemplar, "exemplar")
     ex, grey = with_channels(ex)
     shape = as_size(size)
+    if _is_auto(neighborhood_sizes) or _is_auto(levels):
+        auto_sizes, auto_levels = _scale_schedule(ex, shape) if preset == "default" else ((32, 16, 8), 3)
+        neighborhood_sizes = auto_sizes if _is_auto(neighborhood_sizes) else neighborhood_sizes
+        levels = auto_levels if _is_auto(levels) else levels
     sizes = _check_sizes(neighborhood_sizes, sizes_name)
     levels = check_positive_int(levels, "levels")
     lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True, maximum=_MAX_WEIGHT)
@@ -1101,11 +1333,11 @@ def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
 
 # --------------------------------------------------------------------------- public API
 @renamed_parameters(grid_spacing="relative_grid_spacing")
-def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3, relative_grid_spacing=0.25,
-                     irls_exponent=0.8, max_iterations=5, tolerance=5e-3, gradient_weight=0.0, mask=None, target=None,
-                     constraint_weight=1.0, exemplar_mask=None, tileable=False, init=None, falloff=True,
-                     occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0, method="auto", rng=None,
-                     progress=False, return_info=False):
+def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="auto", levels="auto",
+                     relative_grid_spacing=0.25, irls_exponent=0.8, max_iterations=5, tolerance="auto",
+                     gradient_weight=0.0, mask=None, target=None, constraint_weight=1.0, exemplar_mask=None,
+                     tileable=False, init=None, falloff=True, occurrence_weight=0.0, copy_limit="auto",
+                     completeness_weight="auto", method="auto", rng=None, progress=False, return_info=False):
     """Synthesise a texture by texture optimization (Kwatra et al. 2005).
 
     Minimises the texture energy (eq. 1) of the output over its
@@ -1123,13 +1355,23 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         dtype (see :func:`texsynth.core._validate.as_image`).
     size : int or (int, int)
         Output size ``(H, W)``, independent of the exemplar's size.
-    neighborhood_sizes : sequence of int
-        Neighbourhood widths ``w``, used largest first at every level. Default
-        ``(32, 16, 8)`` as in the paper; at each level only the sizes that fit
-        the sub-sampled exemplar are used (see Notes).
-    levels : int
-        Resolution levels (default 3, the paper's). 1 synthesises at full
-        resolution only.
+    preset : {"default", "paper"}
+        What the ``"auto"`` options mean (see Notes). ``"default"``: the
+        result a user would pick at production sizes (scale-aware sizes and
+        levels, the completeness term where the output is small, a copy
+        limit, the PatchMatch M-step on large stages, no exemplar edges
+        along the output's edges). ``"paper"``: Kwatra et al.'s settings
+        (sizes 32, 16, 8 over 3 levels, eq. 1 alone, the index M-step, the
+        paper's stopping test, neighbourhoods inside the output).
+    neighborhood_sizes : sequence of int or "auto"
+        Neighbourhood widths ``w``, used largest first at every level; at
+        each level only the sizes that fit the sub-sampled exemplar are used
+        (see Notes). ``"auto"``: preset ``"default"`` chooses them from the
+        exemplar's feature scale (Notes), ``"paper"`` takes ``(32, 16, 8)``.
+    levels : int or "auto"
+        Resolution levels; 1 synthesises at full resolution only. ``"auto"``:
+        as many as keep the coarsest exemplar 32 pixels or more (preset
+        ``"default"``), 3 (``"paper"``).
     relative_grid_spacing : float
         Spacing of the neighbourhood centres ``X†`` as a fraction of ``w``
         (default 1/4: "centers that are w/4 pixels apart").
@@ -1140,12 +1382,13 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         EM iterations per (level, size) stage at most; a stage also stops when
         ``{z_p}`` no longer changes. Default 5 ("usually 3-5 iterations per
         resolution/scale level were found to be enough", Section 5).
-    tolerance : float
+    tolerance : float or "auto"
         A stage also stops when one iteration lowers the energy by less than
-        this fraction (default 5e-3; an addition to the paper's test, which
-        rarely fires with thousands of neighbourhoods). 0 keeps only the
-        paper's criterion. Not used with ``occurrence_weight > 0`` or
+        this fraction (an addition to the paper's test, which rarely fires
+        with thousands of neighbourhoods). 0 keeps only the paper's
+        criterion. Not used with ``occurrence_weight > 0`` or
         ``copy_limit``, whose penalties raise the energy on purpose.
+        ``"auto"``: 5e-3 (preset ``"default"``), 0 (``"paper"``).
     gradient_weight : float
         ``μ`` of the gradient energy ``μ sum_p ||D x_p - D z_p||^2``
         (Section 3). Default 0 (off): the paper's Algorithm 1, its robust
@@ -1191,14 +1434,17 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         guaranteed to fall within a stage (the M-step minimises another
         criterion), and a stage ends only by the paper's test or
         ``max_iterations``.
-    copy_limit : float in (0, 1], optional
+    copy_limit : float in (0, 1], None or "auto"
         Limit the size of verbatim copies: a penalty grows on every exemplar
         offset (exemplar position minus output position of ``z_p``) shared by
         more neighbourhood centres than a copied region covering
-        ``copy_limit`` of the exemplar's area has (see Notes). Default None
-        (off, the paper's M-step). Paired with ``completeness_weight`` it also
-        withholds the completeness votes of over-limit offsets.
-    completeness_weight : float
+        ``copy_limit`` of the exemplar's area has (see Notes). None: off (the
+        paper's M-step). Paired with ``completeness_weight`` it also
+        withholds the completeness votes of over-limit offsets. ``"auto"``:
+        0.25 (preset ``"default"``; at every level but the finest when the
+        completeness term is off, so the finest level refines the coarser
+        levels' arrangement without cutting elements), None (``"paper"``).
+    completeness_weight : float or "auto"
         ``λ_b >= 0``: adds the completeness half of the bidirectional
         similarity of Simakov et al. 2008 [3]_ to the energy: every exemplar
         neighbourhood ``q_j`` on the ``w/4`` grid must appear somewhere in
@@ -1212,15 +1458,24 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
         copy_limit=0.2`` brings all of the exemplar without large copies, at
         about twice the time (docs/methods/optimization.md measures it).
         Without ``copy_limit`` the energy never rises within a stage, as for
-        eq. 1.
-    method : {"auto", "exact", "kdtree", "tsvq"}
+        eq. 1. ``"auto"``: 1 when the output has less than 4 times the
+        exemplar's area, else 0 (preset ``"default"``: larger outputs show
+        all of the exemplar without it), 0 (``"paper"``).
+    method : {"auto", "patchmatch", "exact", "kdtree", "tsvq"}
         Nearest-neighbour backend of the M-step (:mod:`texsynth.core.search`),
-        chosen per (level, size) stage. ``"auto"`` (default) searches exactly
-        when the exemplar level holds few neighbourhoods (the coarse levels)
-        and uses the PCA kd-tree above (profile ``"stage"``: 16 candidates of
-        a (1 + 2)-approximate search, re-ranked exactly). The M-step never
-        accepts a worse ``z_p``, so an approximate backend cannot raise the
-        energy within a stage.
+        chosen per (level, size) stage. ``"patchmatch"``: PatchMatch (Barnes
+        et al. 2009) between the output and the exemplar, warm-started from
+        the current ``z_p`` (and a stage's first M-step from the previous
+        stage's field), memory proportional to the output; for the colour
+        energy without constraints (the gradient energy and Algorithm 2 take
+        the index). ``"auto"`` (default): PatchMatch on stages where an exact
+        search would compare more than
+        :data:`~texsynth.core.search.FIELD_MIN_VALUES` values (preset
+        ``"default"``), otherwise an index: exact when the exemplar level
+        holds few neighbourhoods, the PCA kd-tree above (profile ``"stage"``:
+        16 candidates of a (1 + 2)-approximate search, re-ranked exactly).
+        The M-step never accepts a worse ``z_p``, so an approximate backend
+        cannot raise the energy within a stage.
     rng : None, int or numpy.random.Generator
         Seeds the random initial neighbourhoods (and approximate indexes).
     progress : bool or callable
@@ -1288,6 +1543,23 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     occurrence penalty does not limit them either (a region copied once uses
     its exemplar pixels less than an even spread of a larger output does).
 
+    Presets. ``preset="default"`` chooses the schedule from the exemplar
+    (:func:`texsynth.core.scale.feature_scale`: the wavelength below which
+    85 % of its energy lies): the largest neighbourhood is 64 pixels when
+    that scale is above 32 pixels, else 32, and at most a quarter of the
+    exemplar's smaller side; every level uses it, half and a quarter of it
+    (none below 4 pixels); levels go down until the exemplar is 32 pixels
+    (a 256-pixel exemplar: 4 levels). A non-tileable output is the top-left
+    part of a tileable canvas larger by half the largest neighbourhood, so
+    no neighbourhood ends at an edge of the output (on the paper's grid the
+    neighbourhoods along an edge match the exemplar's own edges, whose rows
+    then pile up along the output's edges). ``preset="paper"`` is the paper:
+    ``(32, 16, 8)`` over 3 levels, eq. 1 alone, the nearest-neighbour index
+    (the paper searches a tree over the exemplar's neighbourhoods, here the
+    PCA kd-tree, or exact search on small levels), the stopping test of
+    unchanged ``z_p`` alone and neighbourhoods inside the output. Any
+    option given explicitly wins over the preset.
+
     Neighbourhood sizes per level: at full resolution every size not larger
     than the exemplar is used; at a level sub-sampled ``2^l`` times only
     sizes up to half the sub-sampled exemplar's smaller side, so the coarse
@@ -1318,16 +1590,28 @@ def optimize_texture(exemplar, size, *, neighborhood_sizes=(32, 16, 8), levels=3
     True
     """
     t_start = time.perf_counter()
+    preset = _check_preset(preset)
     problem = _prepare(exemplar, size, neighborhood_sizes, levels, constraint_weight=constraint_weight, mask=mask,
-                       target=target, exemplar_mask=exemplar_mask, init=init)
+                       target=target, exemplar_mask=exemplar_mask, init=init, preset=preset)
+    auto = _preset(preset, problem, tolerance=tolerance, completeness_weight=completeness_weight,
+                   copy_limit=copy_limit)
+    margin = 0 if tileable or preset == "paper" else problem.sizes[0] // 2
     opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,
-                          max_iterations=max_iterations,
-                          tolerance=tolerance, gradient_weight=gradient_weight, tileable=tileable, falloff=falloff,
-                          method=method, occurrence_weight=occurrence_weight, copy_limit=copy_limit,
-                          completeness_weight=completeness_weight)
+                          max_iterations=max_iterations, gradient_weight=gradient_weight,
+                          tileable=tileable or margin > 0, falloff=falloff, method=method,
+                          occurrence_weight=occurrence_weight, **auto)
+    shape = problem.shape
+    if margin:  # a tileable canvas a little larger, cropped: no neighbourhood ends at the output's edges
+        problem = _with_margin(problem, margin)
     _check_memory(problem.shape, problem.ex.shape[-1], opts)
     rng = as_rng(rng)
     x, info = _synthesize(problem, opts, rng, progress=progress, desc="optimize_texture")
+    if margin:
+        x = x[: shape[0], : shape[1]]
+        w = info.stages[-1].size  # the neighbourhoods that lie inside the output
+        corner = info.centers - w // 2
+        inside = np.all((corner >= 0) & (corner + w <= np.asarray(shape)), axis=1)
+        info.centers, info.sources = info.centers[inside], info.sources[inside]
     info.seconds = time.perf_counter() - t_start
     out = restore_channels(np.clip(x, 0.0, 1.0), problem.grey)
     return (out, info) if return_info else out
@@ -1342,7 +1626,8 @@ def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc):
     plan = _schedule(problem.sizes, [e.shape[:2] for e in ex_pyr], out_shapes)
     if not any(plan):
         raise ValueError(f"no neighborhood size in {problem.sizes} fits the exemplar {ex.shape[:2]} and the output {shape}")
-    record = dict(energy=[], mse=[], stage=[], stages=[], centers=None, sources=None)
+    record = dict(energy=[], mse=[], stage=[], stages=[], centers=None, sources=None,
+                  levels=sum(1 for p in plan if p))
     bar = Progress(progress, sum(len(p) for p in plan) * opts.max_iterations, desc)
     x, x_level = None, None
     try:

@@ -46,7 +46,7 @@ from . import _exact, _kdtree, _tsvq  # noqa: F401  (each registers its backend)
 from ._common import sq_distances
 from ._exact import SequentialExact, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
-from ._patchmatch import FIELD_METHODS, nearest_field, patchmatch
+from ._patchmatch import FIELD_METHODS, FIELD_MIN_VALUES, check_field_method, nearest_field, patchmatch, resolve_field
 from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
 from ._registry import methods as _methods
 
@@ -55,6 +55,6 @@ METHODS = _methods()
 
 __all__ = [
     "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "sq_distances",
-    "patchmatch", "nearest_field", "FIELD_METHODS",
+    "patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]

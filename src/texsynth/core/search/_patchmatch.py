@@ -29,8 +29,9 @@ from .._validate import (
     with_channels,
 )
 from ..neighborhood import MODES, patch_shape
+from ._registry import _forced
 
-__all__ = ["patchmatch", "nearest_field", "FIELD_METHODS"]
+__all__ = ["patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field"]
 
 #: Ratio between the radii of successive random-search windows (Barnes et al. 2009, Sec. 3.2: alpha = 1/2).
 ALPHA = 0.5
@@ -53,7 +54,10 @@ class _Problem:
     ``patch_size // 2``.
     """
 
-    def __init__(self, image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode):
+    def __init__(self, image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty=None):
+        if penalty is not None and not callable(penalty):
+            raise TypeError(f"penalty must be a callable penalty(queries, centres) -> costs, got {penalty!r}")
+        self.penalty = penalty
         if not isinstance(mode, str) or mode not in MODES:
             raise ValueError(f"mode must be one of {', '.join(map(repr, MODES))}, got {mode!r}")
         self.mode = mode
@@ -145,6 +149,19 @@ class _Problem:
             out[b] = np.einsum("ij,ij->i", diff, diff)
         return out
 
+    def cost(self, q, ids):
+        """What ranks exemplar patches ``ids`` for queries ``q``: the distance, plus the penalty if any."""
+        d = self.distances(q, ids)
+        if self.penalty is not None:
+            r, c = np.divmod(ids, self.enx)
+            centres = np.stack([r + self.patch[0] // 2, c + self.patch[1] // 2], axis=1)
+            extra = np.asarray(self.penalty(q, centres), dtype=self.dtype)
+            if extra.shape != d.shape or not np.all(np.isfinite(extra)):
+                raise ValueError(f"penalty must return one finite cost per candidate (shape {d.shape}), "
+                                 f"got shape {extra.shape}")
+            d += extra
+        return d
+
     def to_ids(self, r, c):
         """Flat exemplar ids of top-left corners ``(r, c)``, clamped into the exemplar."""
         np.clip(r, 0, self.eny - 1, out=r)
@@ -181,7 +198,7 @@ class _Problem:
                 sub[again] = self.random_ids(int(again.sum()), rng)
                 ids[rows] = sub
         q = np.repeat(np.arange(n), k)
-        d = self.distances(q, ids.ravel()).reshape(n, k)
+        d = self.cost(q, ids.ravel()).reshape(n, k)
         order = np.argsort(d, axis=1, kind="stable")
         return _Field(np.take_along_axis(ids, order, axis=1), np.take_along_axis(d, order, axis=1))
 
@@ -220,7 +237,7 @@ class _Problem:
         rows, cols = np.nonzero(ok)
         if rows.shape[0] == 0:
             return
-        d = self.distances(q[rows], cand[rows, cols])
+        d = self.cost(q[rows], cand[rows, cols])
         worst = field.d2[q, -1]
         better = d < worst[rows]
         if not better.any():
@@ -539,7 +556,7 @@ def _check_pixel_weights(weights, patch):
 
 # --------------------------------------------------------------------------- public
 def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, init=None, exemplar_mask=None,
-               pixel_weights=None, mode="valid", rng=None):
+               pixel_weights=None, mode="valid", penalty=None, rng=None):
     """Approximate nearest-neighbour field: for every patch of ``image``, the nearest patches of ``exemplar``.
 
     PatchMatch (Barnes et al. 2009 [1]_; k nearest neighbours as in Barnes et
@@ -608,6 +625,14 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
         How ``image``'s patches meet its border: inside only, wrapped around
         (tileable outputs: patches and propagation cross the border), or
         mirrored.
+    penalty : callable, optional
+        ``penalty(queries, centres)``: a finite cost added to the distance of
+        each candidate when candidates are ranked, for the queries numbered
+        ``queries`` ``(n,)`` and the exemplar patches centred at ``centres``
+        ``(n, 2)`` (e.g. the occurrence and copy penalties of texture
+        optimization, Kaspar et al. 2015). It is called on every batch of
+        candidates, so keep it vectorised; it must not change during the
+        search.
     rng : None, int or numpy.random.Generator
         Seeds the initialisation and the random search. Same seed, same field,
         bit for bit.
@@ -619,7 +644,8 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
         query, nearest first.
     sq_distances : numpy.ndarray, shape (N, k)
         Their exact weighted squared distances, ascending (float32 if both
-        images are float32, float64 otherwise).
+        images are float32, float64 otherwise); with a ``penalty``, the
+        distances plus the penalty, which is what they are ranked by.
 
     Raises
     ------
@@ -710,7 +736,7 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
     >>> bool(np.all(field[0, 0] == [7, 12])), float(d2.max())
     (True, 0.0)
     """
-    problem = _Problem(image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode)
+    problem = _Problem(image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty)
     iterations = check_positive_int(iterations, "iterations", 0)
     rng = as_rng(rng)
     field = problem.start(init, rng)
@@ -719,8 +745,51 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
     return problem.result(field)
 
 
+#: :func:`resolve_field`: problems up to this much work (exemplar patches times queries times the
+#: patch dimension, what an exact search computes: about 0.1 s of BLAS on two cores) take an index in
+#: ``"auto"`` (texture optimization of 64 -> 96 px photographs: completeness 0.25-0.71 of a
+#: random-block mosaic's with the index, 0.18-1.83 with PatchMatch; docs/methods/optimization.md).
+FIELD_MIN_VALUES = 2**31
+
 #: Values of ``method`` for :func:`nearest_field`.
 FIELD_METHODS = ("auto", "exact", "kdtree", "tsvq", "patchmatch")
+
+
+def check_field_method(method, name="method"):
+    """``method`` itself if it is one of :data:`FIELD_METHODS`, else a ValueError listing them."""
+    if not isinstance(method, str) or method not in FIELD_METHODS:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, FIELD_METHODS))}, got {method!r}")
+    return method
+
+
+def resolve_field(method, *, applies=True, values=None):
+    """What ``method`` means for the field of an EM loop's M-step: ``"patchmatch"`` or an index backend.
+
+    ``"auto"`` is ``"patchmatch"`` where PatchMatch ``applies`` (the
+    algorithm's distance is a weighted sum of squared pixel differences, and
+    the loop warm-starts it from its previous field, which
+    ``benchmarks/bench_patchmatch.py`` shows matching five cold iterations
+    after one) and the problem is larger than :data:`FIELD_MIN_VALUES`
+    ``values`` (exemplar patches times queries times the patch dimension):
+    below that an exact or kd-tree index answers quickly, and better. :func:`~texsynth.core.search.use` switching every search to
+    one backend also keeps ``"auto"``, for the index's profile to decide.
+
+    Examples
+    --------
+    >>> from texsynth.core import search
+    >>> resolve_field("auto"), resolve_field("auto", applies=False), resolve_field("exact")
+    ('patchmatch', 'auto', 'exact')
+    >>> resolve_field("auto", values=1000)
+    'auto'
+    >>> with search.use("kdtree"):
+    ...     resolve_field("auto")
+    'auto'
+    """
+    check_field_method(method)
+    large = values is None or values > FIELD_MIN_VALUES
+    if method == "auto" and applies and large and _forced.get() is None:
+        return "patchmatch"
+    return method
 
 
 def nearest_field(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, init=None, exemplar_mask=None,
@@ -765,8 +834,7 @@ def nearest_field(image, exemplar, patch_size, *, centers=None, k=1, iterations=
     >>> bool(np.array_equal(f1, f2)), f1[0, 0].tolist()
     (True, [5, 6])
     """
-    if not isinstance(method, str) or method not in FIELD_METHODS:
-        raise ValueError(f"method must be one of {', '.join(map(repr, FIELD_METHODS))}, got {method!r}")
+    check_field_method(method)
     if method == "patchmatch":
         return patchmatch(image, exemplar, patch_size, centers=centers, k=k, iterations=iterations, init=init,
                           exemplar_mask=exemplar_mask, pixel_weights=pixel_weights, mode=mode, rng=rng)
