@@ -121,6 +121,7 @@ def _small_runs():
     clip = np.stack([metal[:48, t:t + 48] for t in range(4)])
     return {
         "synthesize_pixels": lambda: texsynth.synthesize_pixels(bread[:24, :24], 16, levels=2, return_info=True, rng=0),
+        "efros_leung": lambda: texsynth.efros_leung(bread[:24, :24], 12, neighborhood_size=5, return_info=True, rng=0),
         "optimize_texture": lambda: texsynth.optimize_texture(bread, 40, neighborhood_sizes=(8,), levels=2,
                                                               max_iterations=2, return_info=True, rng=0),
         "animate_texture": lambda: texsynth.animate_texture(bread, flows.rotation(24, 0.05), n_frames=2,

@@ -4,7 +4,7 @@ The algorithms are functions at the top level (``texsynth.optimize_texture``,
 ``texsynth.patchwork``, ...), each implemented in its family:
 
 =============================  ====================================================
-:mod:`texsynth.pixel`          pixel-based: Wei-Levoy, Wei's mixtures and solids
+:mod:`texsynth.pixel`          pixel-based: Wei-Levoy, Wei's mixtures and solids, Efros-Leung
 :mod:`texsynth.patch`          patch-based: Harrison's patchwork
 :mod:`texsynth.optimization`   optimization-based: Kwatra, Ruiters
 :mod:`texsynth.statistical`    statistical: Heeger-Bergen, Portilla-Simoncelli
@@ -27,7 +27,7 @@ __getattr__, __dir__, __all__ = attach(
     submodules=["pixel", "patch", "optimization", "statistical", "procedural", "core",
                 "metrics", "testing", "io", "data"],
     names={
-        **dict.fromkeys(["synthesize_pixels", "mix_textures", "synthesize_solid"], ".pixel"),
+        **dict.fromkeys(["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung"], ".pixel"),
         **dict.fromkeys(["patchwork", "patchwork_video", "patchwork_transfer"], ".patch"),
         **dict.fromkeys(["optimize_texture", "animate_texture", "interpolate_textures", "ridge_feature_map",
                          "edge_feature_map", "linear_blend"], ".optimization"),

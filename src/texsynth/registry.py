@@ -196,6 +196,7 @@ def _patchwork_video(exemplar, seed):
 # --------------------------------------------------------------------------- the methods
 _WEI_LEVOY = "Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009"
 _WEI = "Wei, \"Texture synthesis from multiple sources\", SIGGRAPH 2003 sketch, doi:10.1145/965400.965507"
+_EFROS_LEUNG = "Efros & Leung, ICCV 1999, doi:10.1109/ICCV.1999.790383"
 _KWATRA = "Kwatra et al., SIGGRAPH 2005, doi:10.1145/1073204.1073263"
 _RUITERS = "Ruiters, Schnabel & Klein, Computer Graphics Forum 2010, doi:10.1111/j.1467-8659.2010.01739.x"
 _HARRISON = "Harrison, \"Patchwork texture synthesis\", Monash University technical report, 2002"
@@ -259,6 +260,13 @@ METHODS: dict[str, Method] = {
                 "multisource", inputs="images", output="volume",
                 demos=[("solid_bread", "Wei solid texture from one 2-D view: three faces of a 32^3 cube (x, y and "
                         "z slices)", "bread", _solid)]),
+    "efros-leung": _m("pixel:efros_leung",
+                      "Efros-Leung 1999: non-parametric sampling, grown pixel by pixel from a seed; "
+                      "--target/--mask for hole filling", _EFROS_LEUNG, "efros_leung", files=("target",),
+                      maps=("mask", "exemplar_mask"),
+                      demos=[("efros_leung_text", "Efros-Leung on text, 15x15 window (64x64 -> 96x96): words, "
+                              "some copied whole from the exemplar", "text",
+                              _call("pixel:efros_leung", (96, 96), crop=64, neighborhood_size=15))]),
     "optimize": _m("optimization:optimize_texture",
                    "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling", _KWATRA,
                    "optimization", files=("target", "init"), maps=("mask", "exemplar_mask"),

@@ -1231,9 +1231,11 @@ def _preset(preset, problem, *, tolerance, completeness_weight, copy_limit):
         auto = dict(tolerance=_DEFAULT_TOLERANCE, completeness_weight=1.0 if ratio < _COMPLETE_BELOW else 0.0,
                     copy_limit=_DEFAULT_COPY_LIMIT)
     given = dict(tolerance=tolerance, completeness_weight=completeness_weight, copy_limit=copy_limit)
-    out = {k: auto[k] if isinstance(v, str) and v == "auto" else v for k, v in given.items()}
+    out = {k: auto[k] if _is_auto(v) else v for k, v in given.items()}
+    out["completeness_weight"] = check_positive_float(out["completeness_weight"], "completeness_weight",
+                                                      allow_zero=True, maximum=_MAX_WEIGHT)
     # without the completeness votes the finest level only refines: no limit there (elements stay whole)
-    out["coarse_copy_limit"] = preset == "default" and copy_limit == "auto" and out["completeness_weight"] == 0
+    out["coarse_copy_limit"] = preset == "default" and _is_auto(copy_limit) and out["completeness_weight"] == 0
     out["paper"] = preset == "paper"
     return out
 

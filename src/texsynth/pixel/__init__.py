@@ -4,8 +4,12 @@
   order-independent.
 - :func:`mix_textures`: Wei 2002, a mixture of several sources (eq. 1).
 - :func:`synthesize_solid`: Wei 2002, a solid texture from 2-D views.
+- :func:`efros_leung`: Efros & Leung 1999, non-parametric sampling grown
+  pixel by pixel from a seed; hole filling.
 """
 
+from ._efros_leung import EfrosLeungInfo, efros_leung
 from ._wei_levoy import ORDERS, SHAPES, PixelSynthesisInfo, mix_textures, synthesize_pixels, synthesize_solid
 
-__all__ = ["synthesize_pixels", "mix_textures", "synthesize_solid", "PixelSynthesisInfo", "ORDERS", "SHAPES"]
+__all__ = ["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung", "PixelSynthesisInfo",
+           "EfrosLeungInfo", "ORDERS", "SHAPES"]

@@ -15,6 +15,13 @@ neighbourhood is closest to this one?*, and asks it here:
     random subsets).
 :func:`sq_distances`
     Weighted squared distances of given pairs (a query and its match).
+:class:`MaskedIndex`
+    Queries known only in part (a window with unknown pixels): masked
+    distances by BLAS, blocks known whole compared on their own (exactly,
+    or in PCA with ``method="pca"``); ``near_best`` picks among the vectors
+    within ``(1 + error_tolerance)`` of the nearest (Efros-Leung).
+:func:`masked_sq_distances`
+    The same masked distances, one-shot.
 :func:`patchmatch`
     For every patch of an image, the k nearest patches of an exemplar
     (PatchMatch): fields on grids, warm-started, with masks and wrap.
@@ -46,6 +53,7 @@ from . import _exact, _kdtree, _tsvq  # noqa: F401  (each registers its backend)
 from ._common import sq_distances
 from ._exact import SequentialExact, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
+from ._masked import MASKED_METHODS, MaskedIndex, masked_sq_distances
 from ._patchmatch import FIELD_METHODS, FIELD_MIN_VALUES, check_field_method, nearest_field, patchmatch, resolve_field
 from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
 from ._registry import methods as _methods
@@ -55,6 +63,7 @@ METHODS = _methods()
 
 __all__ = [
     "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "sq_distances",
+    "MaskedIndex", "masked_sq_distances", "MASKED_METHODS",
     "patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]
