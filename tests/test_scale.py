@@ -1,7 +1,6 @@
 """The feature scale that the scale-aware defaults read (texsynth.core.scale)."""
 
 import numpy as np
-import pytest
 
 from texsynth.core.scale import feature_scale, octave_energy
 
