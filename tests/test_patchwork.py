@@ -1,6 +1,8 @@
 """Harrison patchwork (texsynth.patchwork): eqs. 1-7 on real textures."""
 
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -663,3 +665,22 @@ def test_progress_callback_counts_frames(texture):
     seen = []
     patchwork_video(clip, 24, 3, grid_spacing=8, rng=0, progress=lambda s, t, i: seen.append((s, t)))
     assert seen[-1][0] == seen[-1][1] and len(seen) == seen[-1][1] >= 3
+
+
+def test_default_grid_keeps_every_cell_inside_a_small_exemplar():
+    # issue 16: a 128-px photo at the paper's grid of 64 px has cells whose "in or near" region
+    # (about 4 spacings across at f = 6) is longer than the exemplar: their far parts copy the
+    # mirrored exemplar (mirror-symmetric motifs). "auto" takes the largest spacing that fits (31
+    # here), every source inside the input; an explicit 64 warns, naming the spacing that fits.
+    ex = data.load("brick")
+    ex = np.tile(ex, (2, 2, 1) if ex.ndim == 3 else (2, 2))[:128, :128]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out, info = patchwork(ex, 256, rng=0, return_info=True)
+    assert 24 <= info.spacing[0] == info.spacing[1] <= 34  # (no warning above: every cell fits)
+    with pytest.warns(UserWarning, match=rf"grid_spacing 64 makes cells reach beyond the exemplar.*<= {int(info.spacing[0])} "):
+        _, paper = patchwork(ex, 256, grid_spacing=64, rng=0, return_info=True)
+    assert not paper.exact_sources
+    # a large exemplar keeps the paper's 64
+    big = np.tile(ex, (4, 4, 1) if ex.ndim == 3 else (4, 4))
+    assert patchwork(big, 128, rng=0, return_info=True)[1].spacing == (64, 64)

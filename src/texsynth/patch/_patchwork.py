@@ -69,6 +69,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -164,15 +165,44 @@ def _check_sharpness(sharpness):
     return float(sharpness)
 
 
-def _check_grid(grid_spacing, input_shape, name="exemplar"):
+def _check_grid(grid_spacing, input_shape, sharpness, neighbors, name="exemplar"):
+    """``grid_spacing`` checked, or ``"auto"`` resolved: the largest spacing up to the paper's 64
+    pixels whose cells, "in or near" region included, fit inside the input (:func:`_fitting_grid`)."""
+    if isinstance(grid_spacing, str) and grid_spacing == "auto":
+        return _fitting_grid(input_shape, sharpness, neighbors)
     s = check_positive_int(grid_spacing, "grid_spacing")
     if s > min(input_shape):
         raise ValueError(
             f"grid_spacing {s} is larger than the {name} ({input_shape[0]}x{input_shape[1]}); "
-            f"pass grid_spacing <= {min(input_shape)} (better <= {max(1, min(input_shape) // 3)}, "
-            f"so a whole cell fits) or a larger {name}"
+            f"pass grid_spacing <= {_fitting_grid(input_shape, sharpness, neighbors)} (or 'auto': whole cells "
+            f"fit in the {name}) or a larger {name}"
         )
     return s
+
+
+def _reach(sharpness, neighbors):
+    """Extent of a cell's "in or near" region in grid spacings (measured on a probe grid of spacing 64)."""
+    probe = _Geometry((512, 512), (4096, 4096), 64, sharpness, neighbors, False, np.random.default_rng(0),
+                      choose_q=False)
+    near_y, near_x = probe.influence()
+    return max(float((near_y[1] - near_y[0] + 1).max()), float((near_x[1] - near_x[0] + 1).max())) / 64.0
+
+
+def _fitting_grid(input_shape, sharpness, neighbors):
+    """The largest grid spacing, up to the paper's 64, whose cells' "in or near" regions fit in the input
+    (so no ``q_i`` needs the mirrored input: Harrison chooses each ``q_i`` so the patch lies inside)."""
+    return int(np.clip(min(input_shape) // _reach(sharpness, neighbors), 4, 64))
+
+
+def _warn_if_cells_leave(geom, s, input_shape, sharpness, neighbors, name="exemplar"):
+    """Warn when cells reach beyond the input: their far parts are the mirrored input (symmetric motifs)."""
+    if geom.cut:
+        warnings.warn(
+            f"grid_spacing {s} makes cells reach beyond the {name} ({input_shape[0]}x{input_shape[1]}): their "
+            f"far parts copy the mirrored {name}, which shows as mirror-symmetric motifs; pass grid_spacing <= "
+            f"{_fitting_grid(input_shape, sharpness, neighbors)} (the default 'auto' does) or a larger input",
+            UserWarning, stacklevel=3,
+        )
 
 
 def _check_neighbors(neighbors):
@@ -305,6 +335,8 @@ class _Geometry:
         near_y, near_x = self.influence()
         self.bounds_y = _source_bounds(self.py, in_size[0], near_y)
         self.bounds_x = _source_bounds(self.px, in_size[1], near_x)
+        # cells whose "in or near" region is longer than the input: cut, their far parts mirrored
+        self.cut = bool(np.any(near_y[1] - near_y[0] + 1 > in_size[0]) or np.any(near_x[1] - near_x[0] + 1 > in_size[1]))
         if choose_q:  # Section 3: q_i at random
             self.set_sources(_draw(*self.bounds_y, gen) + 0.5, _draw(*self.bounds_x, gen) + 0.5)
 
@@ -621,7 +653,7 @@ def patchwork(
     exemplar,
     size,
     *,
-    grid_spacing=64,
+    grid_spacing="auto",
     sharpness=6,
     tileable=False,
     neighbors=4,
@@ -638,11 +670,17 @@ def patchwork(
         dtype (see :func:`texsynth.core._validate.as_image`).
     size : int or (int, int)
         Output size ``(height, width)``; any size.
-    grid_spacing : int
+    grid_spacing : int or "auto"
         Spacing of the jittered grid of points ``p_i``, about the size of a
-        patch (paper: 64 pixels, Figure 4). Must not exceed the exemplar;
-        at most a third of it is best, so whole cells fit in the input and
-        the ``q_i`` vary (see Notes).
+        patch (paper: 64 pixels, Figure 4). Must not exceed the exemplar.
+        ``"auto"`` (default): the paper's 64, or less where the exemplar is
+        too small for whole cells: the largest spacing whose cells, with the
+        region "in or near" them where they still weigh (about 4 spacings
+        across at ``sharpness=6``), fit inside the exemplar, so every
+        ``q_i`` keeps its patch inside the input as the paper requires (a
+        128-pixel exemplar: 31). A spacing whose cells reach beyond the
+        exemplar warns: their far parts copy the mirrored exemplar, which
+        shows as mirror-symmetric motifs.
     sharpness : float
         ``f`` in eq. 1, the sharpness of the patch borders (paper: 6; Figure 2
         shows 2, 6 and 20). Must be > 0.
@@ -747,10 +785,11 @@ def patchwork(
     ex, grey = with_channels(image)
     H, W = as_size(size)
     f = _check_sharpness(sharpness)
-    s = _check_grid(grid_spacing, ex.shape[:2])
     m = _check_neighbors(neighbors)
+    s = _check_grid(grid_spacing, ex.shape[:2], f, m)
     _check_memory((H, W), ex.shape[-1], s, cells=return_info)
     geom = _Geometry((H, W), ex.shape[:2], s, f, m, check_bool(tileable, "tileable"), as_rng(rng))
+    _warn_if_cells_leave(geom, s, ex.shape[:2], f, m)
 
     C = ex.shape[-1]
     src = ex.astype(np.float32)
@@ -895,7 +934,7 @@ def patchwork_video(
     size,
     n_frames,
     *,
-    grid_spacing=64,
+    grid_spacing="auto",
     sharpness=6,
     frame_spacing=None,
     tileable=False,
@@ -986,12 +1025,13 @@ def patchwork_video(
     H, W = as_size(size)
     N = check_positive_int(n_frames, "n_frames")
     f = _check_sharpness(sharpness)
-    s = _check_grid(grid_spacing, vid.shape[1:3], "frames")
     m = _check_neighbors(neighbors)
+    s = _check_grid(grid_spacing, vid.shape[1:3], f, m, "frames")
     spacing = _frame_spacing(frame_spacing, vid.shape[0], N)
     gen = as_rng(rng)
     _check_memory((H, W), vid.shape[-1], s, frames=N, cells=return_info)
     geom = _Geometry((H, W), vid.shape[1:3], s, f, m, check_bool(tileable, "tileable"), gen)
+    _warn_if_cells_leave(geom, s, vid.shape[1:3], f, m, "frames")
     out, cells, seq = _synthesize_video(geom, vid, N, spacing, gen, None, progress, "patchwork_video")
     result, clipped = _finish(out, video.dtype, grey)
     if return_info:
@@ -1178,8 +1218,8 @@ def patchwork_transfer(
             f"pass images with the same number of channels{hint}"
         )
     f = _check_sharpness(sharpness)
-    s = _check_grid(grid_spacing, reference.shape[:2], "texture")
     m = _check_neighbors(neighbors)
+    s = _check_grid(grid_spacing, reference.shape[:2], f, m, "texture")
     K = check_positive_int(candidates, "candidates")
     # the candidates of a chunk of grid points are compared at once; every point keeps its K positions
     check_memory(8.0 * K * (pat.shape[0] / s + 2) * (pat.shape[1] / s + 2) * 3, K, "candidates",
