@@ -168,6 +168,15 @@ def _solid(exemplar, seed):
     return _side_by_side([volume[0], volume[:, 0], volume[:, :, 0]])
 
 
+def _quilt_transfer(exemplar, seed):
+    from skimage import data as skdata
+    from skimage.transform import resize
+
+    from .patch import quilt_transfer
+
+    return quilt_transfer(exemplar, resize(skdata.camera(), (192, 192), anti_aliasing=True), block=16, rng=seed)
+
+
 def _animate(exemplar, seed):
     from .core import flows
     from .optimization import animate_texture
@@ -197,6 +206,8 @@ def _patchwork_video(exemplar, seed):
 _WEI_LEVOY = "Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009"
 _WEI = "Wei, \"Texture synthesis from multiple sources\", SIGGRAPH 2003 sketch, doi:10.1145/965400.965507"
 _EFROS_LEUNG = "Efros & Leung, ICCV 1999, doi:10.1109/ICCV.1999.790383"
+_EFROS_FREEMAN = "Efros & Freeman, SIGGRAPH 2001, doi:10.1145/383259.383296"
+_LIANG = "Liang, Liu, Xu, Guo & Shum, ACM TOG 2001, doi:10.1145/501786.501787"
 _KWATRA = "Kwatra et al., SIGGRAPH 2005, doi:10.1145/1073204.1073263"
 _RUITERS = "Ruiters, Schnabel & Klein, Computer Graphics Forum 2010, doi:10.1111/j.1467-8659.2010.01739.x"
 _HARRISON = "Harrison, \"Patchwork texture synthesis\", Monash University technical report, 2002"
@@ -305,6 +316,21 @@ METHODS: dict[str, Method] = {
                              "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
                              "pattern is repeated to the texture's channels)", _HARRISON, "patchwork", inputs="pair",
                              size=None),
+    "quilt": _m("patch:quilt", "Efros-Freeman 2001: image quilting, blocks joined along minimum-error cuts (tileable)",
+                _EFROS_FREEMAN, "quilting",
+                demos=[("quilt_brick", "Image quilting (blocks of 19 px, overlap 3, tolerance 0.1)", "brick",
+                        _call("patch:quilt", (256, 256))),
+                       ("quilt_text", "Image quilting on text (blocks of 32 px): lines straight, most letters whole",
+                        "text", _call("patch:quilt", (256, 256), crop=128, block=32))]),
+    "quilt-transfer": _m("patch:quilt_transfer", "Efros-Freeman 2001: texture transfer onto a pattern image "
+                         "(TEXTURE PATTERN)", f"{_EFROS_FREEMAN}, Section 3", "quilting", inputs="pair", size=None,
+                         skip=("correspondence",),
+                         demos=[("quilt_transfer_bread", "Quilting texture transfer: the camera in bread "
+                                 "(3 passes, blocks 16/11/7)", "bread", _quilt_transfer)]),
+    "patch-sampling": _m("patch:patch_sampling", "Liang et al. 2001: patch-based sampling, boundary zones feathered "
+                         "(tileable)", _LIANG, "patch_sampling",
+                         demos=[("patch_sampling_bread", "Patch-based sampling (patches of 25 px, zones of 4 px, "
+                                 "eps 0.2)", "bread", _call("patch:patch_sampling", (256, 256)))]),
     "heeger-bergen": _m("statistical:heeger_bergen",
                         "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)", _HB,
                         "heeger_bergen",

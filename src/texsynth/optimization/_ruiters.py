@@ -575,7 +575,8 @@ def _check_inputs(a, b, *, features, distance_weight, k, keep_fraction, feature_
             RuntimeWarning,
             stacklevel=3,
         )
-    dw = check_positive_float(distance_weight, "distance_weight", allow_zero=True)
+    # (a weight of 1e6 already makes the distance channel all that counts; far beyond, float32 overflows)
+    dw = check_positive_float(distance_weight, "distance_weight", allow_zero=True, maximum=1e6)
     c = a.shape[-1]
     return _Inputs(
         a=a, b=b, grey=grey_a and grey_b, fa=fa, fb=fb, colour_only=colour_only,
@@ -867,7 +868,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         Synthesis iterations per stage (10 in the paper).
     distance_weight : float
         Channel weight ``W_C`` of the distance channel (colour channels 1) in
-        the correspondence search and the synthesis.
+        the correspondence search and the synthesis, at most 1e6.
     k : int
         Corresponding neighbourhoods per neighbourhood (1 in the paper).
     keep_fraction : float

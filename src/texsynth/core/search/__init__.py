@@ -22,6 +22,10 @@ neighbourhood is closest to this one?*, and asks it here:
     within ``(1 + error_tolerance)`` of the nearest (Efros-Leung).
 :func:`masked_sq_distances`
     The same masked distances, one-shot.
+:class:`WindowSearch`
+    Masked squared distances of a template to every window of an image, by
+    FFT (quilting, patch-based sampling); :func:`within_tolerance` and
+    :func:`within_radius` turn them into candidate sets.
 :func:`patchmatch`
     For every patch of an image, the k nearest patches of an exemplar
     (PatchMatch): fields on grids, warm-started, with masks and wrap.
@@ -54,6 +58,7 @@ from ._common import sq_distances
 from ._exact import SequentialExact, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
 from ._masked import MASKED_METHODS, MaskedIndex, masked_sq_distances
+from ._template import WindowSearch, within_radius, within_tolerance
 from ._patchmatch import FIELD_METHODS, FIELD_MIN_VALUES, check_field_method, nearest_field, patchmatch, resolve_field
 from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
 from ._registry import methods as _methods
@@ -63,7 +68,7 @@ METHODS = _methods()
 
 __all__ = [
     "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "sq_distances",
-    "MaskedIndex", "masked_sq_distances", "MASKED_METHODS",
+    "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "within_tolerance", "within_radius",
     "patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]

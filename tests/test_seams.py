@@ -1,0 +1,281 @@
+"""texsynth.core.seams: minimum-error boundary cuts (DP) and grid min-cuts with seam nodes, against brute force."""
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from texsynth.core.seams import (
+    backtrack,
+    cumulative_cost,
+    graph_cut,
+    matching_cost,
+    minimum_error_boundary,
+    seam_mask,
+)
+
+# --------------------------------------------------------------------------- brute force references
+
+
+def all_seams(h, w):
+    """Every 8-connected top-to-bottom path: a start column and a step of -1, 0 or +1 per row."""
+    for start in range(w):
+        for steps in itertools.product((-1, 0, 1), repeat=h - 1):
+            seam = np.cumsum((start,) + steps)
+            if seam.min() >= 0 and seam.max() < w:
+                yield seam
+
+
+def seam_cost(cost, seam):
+    return float(cost[np.arange(len(seam)), seam].sum())
+
+
+def labelling_cost(old, new, labels, patches, side, mask):
+    """The cost of the seams one labelling makes (Kwatra 2003, Section 3): M(s, t, X, Y) for every pair of
+    neighbours taken from different images X, Y; an old seam left between two old pixels keeps its old cost."""
+    def value(image_of, r, c):
+        return image_of[r, c][None]
+
+    h, w = side.shape
+    total = 0.0
+    for (r, c), (r2, c2) in [(((r, c)), (r, c + 1)) for r in range(h) for c in range(w - 1)] + \
+                            [(((r, c)), (r + 1, c)) for r in range(h - 1) for c in range(w)]:
+        if not (mask[r, c] and mask[r2, c2]):
+            continue
+        def source(rr, cc):  # the image the pixel shows under this labelling
+            return new if side[rr, cc] else (old if labels is None else patches[labels[rr, cc]])
+        x, y = source(r, c), source(r2, c2)
+        if x is y:
+            continue
+        total += float(matching_cost(value(x, r, c), value(x, r2, c2), value(y, r, c), value(y, r2, c2))[0])
+    return total
+
+
+def brute_force_cut(old, new, mask, old_mask, new_mask, labels=None, patches=None):
+    """The cheapest labelling of the free pixels, by enumeration."""
+    free = np.argwhere(mask & ~old_mask & ~new_mask)
+    best = (np.inf, None)
+    for bits in itertools.product((False, True), repeat=len(free)):
+        side = new_mask.copy()
+        side[tuple(free.T)] = bits
+        cost = labelling_cost(old, new, labels, patches, side, mask)
+        if cost < best[0] - 1e-12:
+            best = (cost, side)
+    return best
+
+
+# --------------------------------------------------------------------------- minimum-error boundary cut
+
+
+@settings(max_examples=60, deadline=None)
+@given(arrays(np.float64, st.tuples(st.integers(1, 5), st.integers(1, 4)), elements=st.floats(0, 10)))
+def test_the_seam_is_the_cheapest_of_all_paths(cost):
+    h, w = cost.shape
+    best = min(seam_cost(cost, s) for s in all_seams(h, w))
+    seam = minimum_error_boundary(cost)
+    assert seam.shape == (h,)
+    assert np.all(np.abs(np.diff(seam)) <= 1) and seam.min() >= 0 and seam.max() < w  # 8-connected, inside
+    assert seam_cost(cost, seam) == pytest.approx(best, abs=1e-9)
+    # E_ij = e_ij + min of the three above: its last row holds every path's best ending there
+    E = cumulative_cost(cost)
+    for j in range(w):
+        ends = [seam_cost(cost, s) for s in all_seams(h, w) if s[-1] == j]
+        assert E[-1, j] == pytest.approx(min(ends), abs=1e-9)
+
+
+def test_the_seam_follows_a_valley_and_horizontal_seams_are_transposed():
+    rng = np.random.default_rng(0)
+    cost = rng.uniform(1, 2, (40, 9))
+    valley = np.clip(4 + np.cumsum(rng.integers(-1, 2, 40)), 0, 8)  # a random 8-connected path
+    cost[np.arange(40), valley] = 0.0
+    assert np.array_equal(minimum_error_boundary(cost), valley)
+    assert np.array_equal(minimum_error_boundary(cost.T, direction="horizontal"), valley)
+    assert np.array_equal(cumulative_cost(cost.T, direction="horizontal"), cumulative_cost(cost).T)
+    assert np.array_equal(backtrack(cumulative_cost(cost)), valley)
+
+
+def test_ties_go_straight_and_a_flat_cost_gives_a_straight_seam():
+    assert minimum_error_boundary(np.zeros((6, 5))).tolist() == [0] * 6
+    cost = np.ones((5, 5))
+    cost[:, 3] = 0
+    assert minimum_error_boundary(cost).tolist() == [3] * 5
+
+
+def test_the_same_path_as_scikit_image_mcp_restricted_to_downward_moves():
+    from skimage.graph import MCP
+
+    cost = np.random.default_rng(1).random((30, 12))
+    mcp = MCP(cost, offsets=[(1, -1), (1, 0), (1, 1)], fully_connected=True)
+    cumulative, _ = mcp.find_costs(starts=[(0, j) for j in range(12)])
+    assert np.allclose(cumulative, cumulative_cost(cost))
+    end = (29, int(np.argmin(cumulative[-1])))
+    assert [c for _, c in mcp.traceback(end)] == minimum_error_boundary(cost).tolist()
+
+
+def test_seam_mask_marks_the_pixels_before_the_seam():
+    seam = np.array([1, 2, 0])
+    mask = seam_mask(seam, (3, 4))
+    assert mask.astype(int).tolist() == [[1, 0, 0, 0], [1, 1, 0, 0], [0, 0, 0, 0]]
+    assert np.array_equal(seam_mask(seam, (4, 3), direction="horizontal"), mask.T)
+    assert seam_mask(seam + 1, (3, 4)).sum() == mask.sum() + 3  # the seam's own pixels
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda: minimum_error_boundary(np.zeros(5)), "2-D"),
+    (lambda: minimum_error_boundary(np.array([[np.nan]])), "NaN"),
+    (lambda: minimum_error_boundary(np.zeros((2, 2)), direction="up"), "direction must be"),
+    (lambda: cumulative_cost(np.array([["a"]])), "real numeric"),
+    (lambda: seam_mask([0, 1], (3, 4)), "seam must hold 3 integers"),
+    (lambda: seam_mask([0, 9, 1], (3, 4)), r"seam values must lie in 0..4"),
+])
+def test_bad_input_to_the_boundary_cut(call, words):
+    with pytest.raises((ValueError, TypeError), match=words):
+        call()
+
+
+# --------------------------------------------------------------------------- graph cut
+
+
+def _tiny_problem(rng, shape=(3, 4), channels=2):
+    old = rng.random(shape + (channels,))
+    new = rng.random(shape + (channels,))
+    old_mask = np.zeros(shape, bool)
+    new_mask = np.zeros(shape, bool)
+    old_mask[:, 0] = True
+    new_mask[:, -1] = True
+    return old, new, old_mask, new_mask
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_min_cut_is_the_cheapest_labelling(seed):
+    rng = np.random.default_rng(seed)
+    old, new, old_mask, new_mask = _tiny_problem(rng)
+    mask = np.ones(old.shape[:2], bool)
+    if seed % 2:  # an overlap that is not a rectangle
+        mask[0, 1] = False
+    best, _ = brute_force_cut(old, new, mask, old_mask, new_mask)
+    side, cost = graph_cut(old, new, mask=mask, old_mask=old_mask, new_mask=new_mask)
+    assert cost == pytest.approx(best, rel=1e-6)
+    assert labelling_cost(old, new, None, None, side, mask) == pytest.approx(cost, rel=1e-12)
+    assert not side[~mask].any() and side[new_mask].all() and not side[old_mask].any()
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_seam_nodes_charge_what_the_labelling_keeps_of_old_seams(seed):
+    """Two old patches meet along a vertical old seam; the brute force prices every labelling by the seams it
+    makes (old seams kept pay their old cost): the cut with seam nodes finds the cheapest."""
+    rng = np.random.default_rng(100 + seed)
+    shape = (3, 4)
+    patches = rng.random((2,) + shape + (1,))
+    labels = np.zeros(shape, int)
+    labels[:, 2:] = 1  # the old output: patch 0 left, patch 1 right, an old seam between columns 1 and 2
+    if seed % 2:
+        labels[0, 1] = 1  # a stepped old seam
+    old = patches[labels, np.arange(3)[:, None], np.arange(4)[None, :]]
+    new = rng.random(shape + (1,))
+    old_mask = np.zeros(shape, bool)
+    new_mask = np.zeros(shape, bool)
+    old_mask[0, 0] = True
+    new_mask[2, 3] = True
+    mask = np.ones(shape, bool)
+    best, _ = brute_force_cut(old, new, mask, old_mask, new_mask, labels, patches)
+    side, cost = graph_cut(old, new, old_mask=old_mask, new_mask=new_mask, labels=labels, patches=patches)
+    assert cost == pytest.approx(best, rel=1e-6)
+    assert labelling_cost(old, new, labels, patches, side, mask) == pytest.approx(cost, rel=1e-9)
+
+
+def test_a_seam_node_lets_a_new_patch_cover_an_expensive_old_seam():
+    """Constructed case: old patch 0 (all 0) left of an old seam, old patch 1 (all 1) right of it, the first and
+    last columns constrained to stay old. The old seam costs M = |0 - 1| + |0 - 1| = 2 per row. A flat new patch
+    of 0.5 can only replace it by two seams of M = 1 per row: a tie. A new patch that
+    continues patch 0 on the left of the old seam and patch 1 on its right replaces it by two seams of 0.5: the
+    cut takes it. Without seam nodes (no labels) the old seam is invisible and nothing is gained."""
+    shape = (4, 6)
+    left_patch = np.zeros(shape + (1,))
+    right_patch = np.ones(shape + (1,))
+    labels = np.zeros(shape, int)
+    labels[:, 3:] = 1
+    patches = np.stack([left_patch, right_patch])
+    old = patches[labels, np.arange(4)[:, None], np.arange(6)[None, :]]
+    new = np.full(shape + (1,), 0.5)  # halfway: cutting it in costs 0.5 + 0.5 per pair; the old seam costs 2
+    old_mask = np.zeros(shape, bool)
+    old_mask[:, 0] = True
+    old_mask[:, -1] = True  # both ends stay old
+    side, cost = graph_cut(old, new, old_mask=old_mask, labels=labels, patches=patches)
+    assert cost == pytest.approx(8.0)  # 4 rows x 2 either way; of tied cuts the one with the fewest old pixels:
+    assert side[:, 1:5].all() and not side[:, [0, 5]].any()
+    new[:, 2] = 0.0  # the new patch continues patch 0 on the left of the old seam ...
+    new[:, 3] = 1.0  # ... and patch 1 on its right
+    side, cost = graph_cut(old, new, old_mask=old_mask, labels=labels, patches=patches)
+    assert cost == pytest.approx(4.0)  # two seams of |0 - 0.5| + 0 and 0 + |0.5 - 1| per row
+    assert side[:, 2:4].any()
+    plain_side, plain_cost = graph_cut(old, new, old_mask=old_mask)  # no seam nodes: nothing to gain
+    assert plain_cost == 0.0 and not plain_side.any()
+
+
+def test_without_constraints_everything_takes_the_new_patch_at_no_cost():
+    rng = np.random.default_rng(3)
+    side, cost = graph_cut(rng.random((5, 5)), rng.random((5, 5)))
+    assert side.all() and cost == 0.0
+
+
+def test_integer_scaling_loses_at_most_the_documented_precision():
+    """Costs from 1e-6 to 2e3 in one graph. Scaled to integers summing to 2**30, a cost below S / 2**31 (S the
+    sum of all costs) rounds to 0, so the cut may pick a slightly dearer seam, but never by more than
+    n_arcs * S / 2**30; and cut_cost is the labelling's cost in float64."""
+    old = np.zeros((6, 8))
+    new = np.full((6, 8), 1e3)
+    new[:, 4] = old[:, 4] = 0.5
+    new[:, 3] = 1e-6  # the pairs (3, 4) cost |0 - 1e-6| + |0.5 - 0.5| = 1e-6
+    old_mask = np.zeros((6, 8), bool)
+    old_mask[:, 0] = True
+    new_mask = np.zeros((6, 8), bool)
+    new_mask[:, -1] = True
+    side, cost = graph_cut(old, new, old_mask=old_mask, new_mask=new_mask)
+    assert side[:, 4:].all() and not side[:, :4].any()  # the cheap column pair, although 1e-6 rounds to 0
+    assert cost == pytest.approx(6e-6, rel=1e-9)
+    # a random problem with a wide range of costs: within the bound of the exact optimum
+    rng = np.random.default_rng(7)
+    old, new, old_mask, new_mask = _tiny_problem(rng)
+    new *= 10.0 ** rng.integers(-6, 1, new.shape)
+    best, _ = brute_force_cut(old, new, np.ones((3, 4), bool), old_mask, new_mask)
+    _, cost = graph_cut(old, new, old_mask=old_mask, new_mask=new_mask)
+    everything = labelling_cost(old, new, None, None, np.indices((3, 4)).sum(0) % 2 == 1, np.ones((3, 4), bool))
+    assert best <= cost <= best + 2 * 17 * everything / 2**30  # 17 pairs, both directions
+
+
+def test_interactive_merging_keeps_what_the_user_marked():
+    """Two photographs-to-be with user strokes: the seam runs where they agree, the strokes are honoured."""
+    rng = np.random.default_rng(5)
+    a = rng.random((12, 12, 3))
+    b = rng.random((12, 12, 3))
+    b[:, 5:7] = a[:, 5:7]  # the images agree in a band
+    stroke_a = np.zeros((12, 12), bool)
+    stroke_a[2:10, 1] = True
+    stroke_b = np.zeros((12, 12), bool)
+    stroke_b[2:10, 10] = True
+    side, cost = graph_cut(a, b, old_mask=stroke_a, new_mask=stroke_b)
+    assert not side[stroke_a].any() and side[stroke_b].all()
+    assert cost == pytest.approx(labelling_cost(a, b, None, None, side, np.ones((12, 12), bool)))
+    assert side[:, 7:].all() and not side[:, :5].any()  # the seam lies inside the band where they agree
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"new": np.zeros((3, 5))}, "same shape"),
+    ({"old_mask": np.ones((3, 4), bool), "new_mask": np.ones((3, 4), bool)}, "both hold 12 pixels"),
+    ({"old_mask": np.ones((3, 4))}, "bool array of shape"),
+    ({"mask": np.eye(3, 4, dtype=bool), "old_mask": np.ones((3, 4), bool)}, "outside mask"),
+    ({"labels": np.zeros((3, 4), int)}, "labels and patches go together"),
+    ({"labels": np.full((3, 4), 2), "patches": np.zeros((2, 3, 4))}, r"labels must lie in 0..1"),
+    ({"labels": np.zeros((3, 4), int), "patches": np.ones((1, 3, 4))}, "old differs from patches"),
+    ({"edge_cost": lambda a_s, a_t, b_s, b_t: -np.ones(len(a_s))}, "negative"),
+    ({"old": np.full((3, 4), np.inf)}, "NaN or infinite"),
+])
+def test_bad_input_to_the_graph_cut(kwargs, words):
+    args = {"old": np.zeros((3, 4)), "new": np.ones((3, 4))}
+    args.update(kwargs)
+    with pytest.raises((ValueError, TypeError), match=words):
+        graph_cut(args.pop("old"), args.pop("new"), **args)
