@@ -1597,6 +1597,7 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
                        target=target, exemplar_mask=exemplar_mask, init=init, preset=preset)
     auto = _preset(preset, problem, tolerance=tolerance, completeness_weight=completeness_weight,
                    copy_limit=copy_limit)
+    tileable = check_bool(tileable, "tileable")
     margin = 0 if tileable or preset == "paper" else problem.sizes[0] // 2
     opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,
                           max_iterations=max_iterations, gradient_weight=gradient_weight,
