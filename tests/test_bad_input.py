@@ -93,7 +93,18 @@ CALLS = {
     "patchwork_transfer": (texsynth.patchwork_transfer, (EX, EX), dict(grid_spacing=8, candidates=4, rng=0)),
     "heeger_bergen": (texsynth.heeger_bergen, (GREY, 32), dict(scales=2, iterations=1, rng=0)),
     "portilla_simoncelli": (texsynth.portilla_simoncelli, (GREY, 32), dict(scales=2, iterations=1, rng=0)),
+    "efros_leung": (texsynth.efros_leung, (EX, 12), dict(neighborhood_size=5, rng=0)),
+    "quilt": (texsynth.quilt, (EX, 32), dict(block=12, rng=0)),
+    "quilt_transfer": (texsynth.quilt_transfer, (EX, EX), dict(block=12, iterations=1, rng=0)),
+    "patch_sampling": (texsynth.patch_sampling, (EX, 32), dict(block=12, rng=0)),
 }
+
+
+def test_every_method_of_the_registry_gets_junk():
+    from texsynth.registry import METHODS
+
+    functions = {m.target.split(":")[1] for m in METHODS.values() if not m.target.startswith("procedural:")}
+    assert functions <= set(CALLS), functions - set(CALLS)
 LONG_RUNNING = {"iterations", "max_iterations", "max_frame_iterations", "passes", "mean_shift_iterations", "levels",
                 "k", "alpha_steps", "statistics_bands", "max_set_size", "max_neighborhoods", "max_feature_points"}
 JUNK = st.sampled_from([None, float("nan"), float("inf"), -1, 0, -0.5, 10**12, 1e308, True, "x", [1, 2],

@@ -518,7 +518,8 @@ def gaussian_falloff(patch_size, sigma=None):
         raise ValueError(f"sigma must be > 0, got {sigma}")
     y = np.arange(h) - h // 2
     x = np.arange(w) - w // 2
-    return np.exp(-(y[:, None] ** 2 + x[None, :] ** 2) / (2.0 * sigma**2))
+    r2 = (y[:, None] ** 2 + x[None, :] ** 2) / 2.0
+    return np.exp(-(r2 / sigma) / sigma)  # (divided twice: sigma**2 overflows for sigma above 1e154)
 
 
 @renamed_parameters(size="patch_size")

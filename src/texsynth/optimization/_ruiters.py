@@ -902,7 +902,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     alpha_weight : float
         Weight of the alpha channel in the synthesis search: high values
         follow the distribution map exactly, low ones favour smooth
-        transitions.
+        transitions. At most 1e6.
     statistics_bands : int
         Alphas (equidistant) with their own statistical synthesis step for a
         distribution map, each run "only on the relevant parts of the image"
@@ -918,10 +918,11 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         Search radius of the relaxation step, in pixels.
     spring_weight : float
         Weight of the spring term keeping a centre's displacement near its
-        neighbours' (per squared pixel, against mean squared colour error).
+        neighbours' (per squared pixel, against mean squared colour error),
+        at most 1e6.
     mean_shift_bandwidth : float
         Colour bandwidth of the per-pixel mean shift (Gaussian kernel on
-        the colour distance, colours in [0, 1]). Default 0.03: with 0.1 the
+        the colour distance, colours in [0, 1]; at most 100). Default 0.03: with 0.1 the
         kernel spans the disagreement of the overlapping patches and the
         mode is their mean (Notes).
     mean_shift_iterations : int
@@ -1090,7 +1091,8 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     check_memory(float(out_shape[0]) * out_shape[1] * (p.a.shape[-1] + 2) * 200, tuple(out_shape))
     stages = _check_stages(stages)
     max_iterations = check_positive_int(max_iterations, "max_iterations")
-    alpha_weight = check_positive_float(alpha_weight, "alpha_weight", allow_zero=True)
+    # weights above 1e6 make their term all that counts, and far beyond they overflow float32
+    alpha_weight = check_positive_float(alpha_weight, "alpha_weight", allow_zero=True, maximum=1e6)
     bands = check_positive_int(statistics_bands, "statistics_bands", 2)
     relative_grid_spacing = check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True)
     candidate_stride = check_positive_int(candidate_stride, "candidate_stride")
@@ -1098,8 +1100,9 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     if relaxation_radius >= min(s for _, s in stages):
         raise ValueError(f"relaxation_radius={relaxation_radius} lets a neighbourhood move past its own size; pass "
                          f"less than the smallest stage's neighbourhood size {min(s for _, s in stages)}")
-    spring_weight = check_positive_float(spring_weight, "spring_weight", allow_zero=True)
-    bandwidth = check_positive_float(mean_shift_bandwidth, "mean_shift_bandwidth")
+    spring_weight = check_positive_float(spring_weight, "spring_weight", allow_zero=True, maximum=1e6)
+    # colours lie in [0, 1]: a bandwidth of 100 already averages every colour
+    bandwidth = check_positive_float(mean_shift_bandwidth, "mean_shift_bandwidth", maximum=100.0)
     ms_iterations = check_positive_int(mean_shift_iterations, "mean_shift_iterations", 0)
     if tolerance is not None:
         tolerance = check_in_range(tolerance, "tolerance", 0.0, 1.0)

@@ -172,7 +172,8 @@ def _check_tolerance(error_tolerance, name="error_tolerance", paper=ERROR_TOLERA
             f"{name} must be >= 0 (the paper's {paper} accepts blocks within {paper:.0%} of the best error; 0 "
             f"takes only the best), got {error_tolerance}"
         )
-    return check_positive_float(error_tolerance, name, allow_zero=True)
+    # (1e6 times the best error already admits every block; far beyond, the products overflow)
+    return check_positive_float(error_tolerance, name, allow_zero=True, maximum=1e6)
 
 
 # --------------------------------------------------------------------------
@@ -193,6 +194,8 @@ class _Grid:
     def __init__(self, size, block, overlap, tileable):
         self.block = block
         self.tileable = tileable
+        step = block - overlap
+        check_memory(16.0 * (size[0] / step + 2) * (size[1] / step + 2), tuple(size), "size", "the block grid")
         axes = [self._axis(n, block, overlap, tileable) for n in size]
         (self.rows, self.canvas_h), (self.cols, self.canvas_w) = axes
         self.canvas_shape = (self.canvas_h, self.canvas_w)

@@ -518,7 +518,7 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
     ex, grey = with_channels(as_image(exemplar, "exemplar"))
     size = as_size(size)
     w = _check_window(neighborhood_size, ex.shape[:2])
-    error_tolerance = check_positive_float(error_tolerance, "error_tolerance", allow_zero=True)
+    error_tolerance = check_positive_float(error_tolerance, "error_tolerance", allow_zero=True, maximum=1e6)
     max_error = _check_max_error(max_error)
     sigma = w / _SIGMA_DIVISOR if sigma is None else check_positive_float(sigma, "sigma")
     if not isinstance(method, str) or method not in MASKED_METHODS:

@@ -314,7 +314,7 @@ class MaskedIndex:
             non-finite ``error_tolerance`` or fractions outside [0, 1).
         """
         q, m = self._check_queries(queries, mask)
-        error_tolerance = check_positive_float(error_tolerance, "error_tolerance", allow_zero=True)
+        error_tolerance = check_positive_float(error_tolerance, "error_tolerance", allow_zero=True, maximum=1e6)
         u = np.asarray(fractions, dtype=np.float64)
         if u.shape != (q.shape[0],) or not np.all((u >= 0) & (u < 1)):
             raise ValueError(f"fractions must be {q.shape[0]} numbers in [0, 1) (one per query), got shape {u.shape}"
