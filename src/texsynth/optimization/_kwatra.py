@@ -329,7 +329,7 @@ class _Options:
     def field(self, constraint, ex, queries):
         """True if the M-step is PatchMatch (``method="patchmatch"``, or ``"auto"`` where it applies and
         the stage is large: :func:`texsynth.core.search.resolve_field`)."""
-        applies = self.mu == 0 and constraint is None and not self.frame and not self.paper
+        applies = self.mu == 0 and (constraint is None or self.frame) and not self.paper
         values = float(len(ex)) * queries * ex.weights.shape[0]
         return search.resolve_field(self.method, applies=applies, values=values) == "patchmatch"
 
@@ -402,21 +402,25 @@ class _Exemplar:
             method, profile, rng, frame = self._build
             # the index searches float32 copies (half the memory, twice the BLAS speed);
             # energies and the M-step's final choice use exact float64 distances
-            feats = np.empty((len(self.corner), self.weights.shape[0]), dtype=np.float32)
-            step = max(1, 2**24 // max(1, self.weights.shape[0] * 8))
-            for a in range(0, len(self.corner), step):
-                feats[a : a + step] = _features(self.patches(np.arange(a, min(a + step, len(self.corner)))), self.mu)
+            feats = self.feats if frame else self._features()
             # the search layer's measured settings: "frame" (coherent candidates do most of the work),
             # "stage", or the defaults for the gradient energy's longer vectors
             self._index = PatchIndex(feats, weights=self.weights, method=method, profile=profile, rng=rng)
-            if frame:  # animation frames rank coherent candidates on these features (_m_step_frame)
-                self._feats = feats
         return self._index
 
     @property
     def feats(self):
-        """The float32 feature vectors of an animation's index (kept to rank coherent candidates)."""
-        return self._feats if self.index is not None else None
+        """The float32 feature vectors of every neighbourhood (animation frames rank candidates on them)."""
+        if self._feats is None:
+            self._feats = self._features()
+        return self._feats
+
+    def _features(self):
+        feats = np.empty((len(self.corner), self.weights.shape[0]), dtype=np.float32)
+        step = max(1, 2**24 // max(1, self.weights.shape[0] * 8))
+        for a in range(0, len(self.corner), step):
+            feats[a : a + step] = _features(self.patches(np.arange(a, min(a + step, len(self.corner)))), self.mu)
+        return feats
 
     def __len__(self):
         return len(self.corner)
@@ -915,8 +919,10 @@ def _m_step_frame(ex, x, centers, mode, zidx, constraint, prior, search):
     The candidates for each ``z_p`` are the current ``z_p``, the previous
     frame's correspondence carried along the flow (``prior``), the ``z`` of
     the four grid neighbours shifted by the offset to them (coherence, as in
-    Ashikhmin 2001) and, if ``search``, the index's nearest neighbour of the
-    completed-square query. They are ranked by the exact criterion
+    Ashikhmin 2001) and, if ``search``, a searched one: ``search(x, b)``
+    returns it (PatchMatch's nearest of ``x_p``), or ``search=True`` takes the
+    index's nearest neighbour of the completed-square query. They are ranked
+    by the exact criterion
     ``ρ(x_p, v) + λ E_c = ||v - b_p||^2_{W_p} + const_p`` with
     ``W_p = g + λ m_p`` and ``b_p = (g x_p + λ m_p x^c_p) / W_p`` (values
     only; the differences keep ``x_p``'s), in float32; ties keep the current
@@ -939,7 +945,9 @@ def _m_step_frame(ex, x, centers, mode, zidx, constraint, prior, search):
     cols = [c for c in (zidx, prior) if c is not None]
     if cols:
         cols += _coherent_candidates(ex, centers, cols[0])
-    if search or not cols:
+    if callable(search):
+        cols.append(search(x, b))
+    elif search or not cols:
         cols.append(ex.index.query(b, k=1)[0][:, 0])
     cands = np.stack(cols, axis=1)
     choice, _ = nearest_candidates(b, cands, vectors=ex.feats, weights=wq)  # first minimum: ties keep z_p
@@ -1017,9 +1025,17 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         if record["stages"]:
             carried = ex.lookup(_carried_field(record, level, centers) - w // 2, carried)
 
+    def frame_field(x, b):
+        """A frame's searched candidates: PatchMatch's nearest of every ``x_p``, one iteration from the
+        prior (the last frame's correspondence carried along the flow, already close)."""
+        if prior is None:
+            return _m_step_field(ex, x, centers, mode, ex.centers(rng.integers(len(ex), size=n)),
+                                 _FIELD_ITERATIONS_FIRST, rng)[0]
+        return _m_step_field(ex, x, centers, mode, ex.centers(prior), _FIELD_ITERATIONS, rng)[0]
+
     def m_step(x, zidx):
         stage.m_steps += 1
-        if use_field:
+        if use_field and coords is None:
             start = zidx if zidx is not None else carried
             if occurrence is not None:
                 occurrence.update(ex, start)
@@ -1032,9 +1048,11 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
                 occurrence.update(ex, zidx)
                 occ = occurrence
             return _m_step(ex, x, centers, mode, zidx, constraint, memo, _RESEARCH_TOLERANCE, occ)
-        # the index is searched once per stage; later iterations rank coherent candidates
+        # searched once per stage (PatchMatch from the prior, or the index); later iterations rank
+        # coherent candidates
         memo.searched += len(centers) if zidx is None else 0
-        return _m_step_frame(ex, x, centers, mode, zidx, constraint, prior, search=zidx is None)
+        return _m_step_frame(ex, x, centers, mode, zidx, constraint, prior,
+                             search=(frame_field if use_field else True) if zidx is None else False)
 
     # animation frames: the E-step may assemble the z_p with a narrower fall-off (frame_falloff)
     ga = None if opts.assembly is None else gaussian_falloff(w, sigma=max(spacing, 1) * opts.assembly)
