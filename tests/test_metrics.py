@@ -221,3 +221,17 @@ def test_bad_input_is_refused_naming_the_parameter(case, data):
     call, name, strategy = _METRIC_CASES[case]
     with pytest.raises((TypeError, ValueError), match=name):  # the message names the parameter
         call(data.draw(strategy, label=name))
+
+
+def test_long_wavelength_spectrum_tells_a_repeated_small_tile_from_a_fresh_crop(texture):
+    # large-scale structure: a 32-px tile of the exemplar repeated over 128 px has the exemplar's
+    # short wavelengths (its own pixels) but none of its long ones (only the period's harmonics);
+    # a fresh crop of the same texture keeps both. Above 16 px the tile is far; below it, close.
+    big = texture("skimage/gravel.png", 256)
+    ex, fresh = big[:128, :128], big[128:, 128:]
+    tiled = np.tile(ex[:32, :32], (4, 4))
+    long_tiled = metrics.spectrum_distance(tiled, ex, min_wavelength=16)
+    assert metrics.spectrum_distance(fresh, ex, min_wavelength=16) < 0.5 * long_tiled
+    assert metrics.spectrum_distance(tiled, ex, max_wavelength=8) < long_tiled
+    with pytest.raises(ValueError, match="min_wavelength"):
+        metrics.spectrum_distance(ex, ex, min_wavelength=500)

@@ -284,12 +284,15 @@ def _radial_log_spectrum(image, bins):
     return np.log10(sums / np.maximum(counts, 1) + 1e-12), counts > 0
 
 
-def spectrum_distance(output, exemplar, *, bins=24):
+def spectrum_distance(output, exemplar, *, bins=24, max_wavelength=None, min_wavelength=None):
     """Mean absolute difference of radially averaged log10 power spectra.
 
     Frequencies are binned in cycles per pixel (from 1/min-size to 0.5), so
     images of different sizes compare. 1.0 means the spectra differ by a
-    factor of 10 on average.
+    factor of 10 on average. ``min_wavelength`` keeps only the long
+    wavelengths, the large-scale structure (the arrangement of bricks, the
+    spacing of stones) that a synthesis loses when it repeats a small part
+    of the exemplar or breaks its elements.
 
     Parameters
     ----------
@@ -299,6 +302,10 @@ def spectrum_distance(output, exemplar, *, bins=24):
         more for a meaningful spectrum.
     bins : int
         Number of logarithmically spaced frequency bands, >= 2.
+    max_wavelength, min_wavelength : float, optional
+        Pixels: compare only the bands whose wavelengths lie between them
+        (default: from the smaller side of the smaller image down to 2
+        pixels). E.g. ``min_wavelength=32`` for the structure above 32 px.
 
     Returns
     -------
@@ -327,7 +334,15 @@ def spectrum_distance(output, exemplar, *, bins=24):
                 f"above 0), but {name} is {image.shape[0]}x{image.shape[1]}; pass a larger {name}"
             )
     low = 1.0 / min(out.shape[0], out.shape[1], ex.shape[0], ex.shape[1])
-    edges = np.geomspace(low, 0.5 * np.sqrt(2), bins + 1)
+    high = 0.5 * np.sqrt(2)
+    if max_wavelength is not None:
+        low = max(low, 1.0 / check_positive_float(max_wavelength, "max_wavelength"))
+    if min_wavelength is not None:
+        high = min(high, 1.0 / check_positive_float(min_wavelength, "min_wavelength"))
+    if not high > low:
+        raise ValueError(f"min_wavelength ({min_wavelength}) must be below max_wavelength and the images' size "
+                         f"({1.0 / low:g} px); pass a smaller min_wavelength")
+    edges = np.geomspace(low, high, bins + 1)
     so, ko = _radial_log_spectrum(out, edges)
     se, ke = _radial_log_spectrum(ex, edges)
     both = ko & ke
