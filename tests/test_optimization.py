@@ -51,8 +51,8 @@ def test_energy_never_rises_within_a_stage(bread, options):
     # E-step minimises an IRLS majoriser that touches E at the current x and the
     # M-step keeps z_p unless a strictly closer one is found, so E(x, z) cannot
     # rise within a (level, size) stage; allow float noise (1e-9 relative). The copy
-    # limit (on by default) ranks by another criterion, so it is off here.
-    options = dict(dict(completeness_weight=0.0), **options)
+    # limit and the histogram matching (on by default) change the step, so they are off here.
+    options = dict(dict(completeness_weight=0.0, histogram_matching=False), **options)
     _, info = optimize_texture(bread, 48, **dict(FAST, tolerance=0.0, max_iterations=5), rng=3, copy_limit=None,
                                return_info=True, **options)
     assert [(s.level, s.size) for s in info.stages] == [(1, 8), (0, 16), (0, 8)]
@@ -147,18 +147,18 @@ def _quality_run(name, options=()):
 
 @pytest.mark.parametrize("name", list(QUALITY))
 def test_defaults_meet_every_quality_bound(name):
-    # the defaults (completeness term below 4x the exemplar's area, copy limit 0.25):
-    # measured (rng=0) completeness 0.25-0.71 of the mosaic's, largest copy 0.24-0.32 of
-    # the exemplar, energy 0.053-0.115 of noise's and 0.30-0.49 of the mosaic's (whose
-    # 16-px blocks are verbatim copies, energy 0 inside: forbidding large copies costs
-    # energy, the paper's preset below measures 0.15-0.28). A broken E- or M-step lands
-    # near the noise level; a collapse onto one flat patch near the mosaic's energy and
-    # above its completeness; a copy limit that does nothing copies 0.4-0.7 (paper).
+    # the defaults (completeness term below 4x the exemplar's area, copy limit 0.25, histogram
+    # matching): measured (rng=0) completeness 0.21-0.51 of the mosaic's, largest copy
+    # 0.16-0.29 of the exemplar, energy 0.089-0.143 of noise's and 0.37-0.60 of the mosaic's
+    # (whose 16-px blocks are verbatim copies, energy 0 inside: forbidding large copies costs
+    # energy; the paper's preset below measures 0.15-0.28). A broken E- or M-step lands near
+    # the noise level; a collapse onto one flat patch near the mosaic's energy and far above
+    # its completeness; a copy limit that does nothing copies 0.4-0.7 (paper).
     ex, out, noise, mosaic = _quality_run(name)
     e_out = metrics.texture_energy(out, ex)
     assert e_out < 0.2 * metrics.texture_energy(noise, ex)
-    assert e_out < 0.6 * metrics.texture_energy(mosaic, ex)
-    assert metrics.completeness(out, ex) < 0.85 * metrics.completeness(mosaic, ex)
+    assert e_out < 0.75 * metrics.texture_energy(mosaic, ex)
+    assert metrics.completeness(out, ex) < 0.75 * metrics.completeness(mosaic, ex)
     assert metrics.verbatim_copy(out, ex) < 1 / 3
 
 

@@ -11,6 +11,7 @@
 :mod:`texsynth.core.flows`         flow fields and warping along them
 :mod:`texsynth.core.tps`           thin-plate splines and TPS-RPM point matching
 :mod:`texsynth.core.scale`         the exemplar's feature scale, which scale-aware defaults read
+:mod:`texsynth.core.histogram`     histogram matching by exact quantile assignment
 :mod:`texsynth.core.seams`         optimal seams: minimum-error boundary cuts (dynamic programming)
                                    and grid min-cuts with seam nodes
 =============================  ==========================================================
@@ -21,4 +22,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram"])

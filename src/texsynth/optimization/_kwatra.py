@@ -86,6 +86,7 @@ from ..core._validate import (as_float_array, as_image, as_rng, as_size, check_b
                               check_positive_float, check_positive_int, restore_channels, with_channels)
 from ..core.em import expectation_maximization
 from ..core.flows import flow_sequence, warp, warp_coordinates
+from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
 from ..core.search import PatchIndex, nearest_candidates, sq_distances
 from ..core.neighborhood import PatchSum, all_patches, extract, gaussian_falloff, grid_centers
@@ -310,6 +311,7 @@ class _Options:
     completeness: float = 0.0  # completeness_weight
     coords: np.ndarray | None = field(default=None, repr=False)  # a frame: last frame's correspondence, warped
     assembly: float | None = None  # a frame: frame_falloff
+    histogram: bool = False  # histogram_matching: the output's colour histograms matched after every E-step
     paper: bool = False  # preset "paper": the index M-step, as the paper searches a tree over the exemplar
     coarse_copy_limit: bool = False  # the copy limit at every level but the finest
 
@@ -1066,6 +1068,12 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         g0 = gaussian_falloff(w, sigma=max(spacing, 1) / 4.0)
     current = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
 
+    colours = None
+    if opts.histogram and constraint is None and coords is None:
+        allowed = ex.image[ex.valid > 0.5]  # (pixels, C): the exemplar pixels that may be copied
+        colours = [quantile_targets(np.sort(allowed[:, c]), shape[0] * shape[1]).astype(ex.image.dtype)
+                   for c in range(allowed.shape[1])]
+
     def e_step(state, omega, it):
         nonlocal current
         zidx, pj = state
@@ -1079,6 +1087,8 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
             votes = (completeness.jidx, pj, vote_w)
         g = g0 if it == 0 and g0 is not None else ga  # bootstrap assembly, frame assembly or ex.g
         current = _e_step(ex, zidx, centers, shape, omega[:n], mode, mu, constraint, current, g=g, votes=votes)
+        if colours is not None:  # the exemplar's colour histograms, against the E-step's wash-out
+            current = np.stack([match_to_targets(current[..., c], t, False)[0] for c, t in enumerate(colours)], -1)
         return current
 
     def search(x, state):
@@ -1193,10 +1203,11 @@ class _Problem:
 
 def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
                    falloff=True, method="auto", occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0,
-                   paper=False, coarse_copy_limit=False):
+                   histogram_matching=False, paper=False, coarse_copy_limit=False):
     """The scalar options of :func:`optimize_texture`, checked, as an :class:`_Options`."""
     return _Options(
-        paper=paper, coarse_copy_limit=coarse_copy_limit,
+        histogram=check_bool(histogram_matching, "histogram_matching"), paper=paper,
+        coarse_copy_limit=coarse_copy_limit,
         r=check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True),
         mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True, maximum=_MAX_WEIGHT),
         spacing=check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True),
@@ -1240,15 +1251,16 @@ def _scale_schedule(ex, shape):
     return sizes, levels
 
 
-def _preset(preset, problem, *, tolerance, completeness_weight, copy_limit):
+def _preset(preset, problem, *, tolerance, completeness_weight, copy_limit, histogram_matching):
     """The values of the ``"auto"`` options under ``preset`` (see :func:`optimize_texture`, Notes)."""
     if preset == "paper":
-        auto = dict(tolerance=0.0, completeness_weight=0.0, copy_limit=None)
+        auto = dict(tolerance=0.0, completeness_weight=0.0, copy_limit=None, histogram_matching=False)
     else:
         ratio = problem.shape[0] * problem.shape[1] / (problem.ex.shape[0] * problem.ex.shape[1])
         auto = dict(tolerance=_DEFAULT_TOLERANCE, completeness_weight=1.0 if ratio < _COMPLETE_BELOW else 0.0,
-                    copy_limit=_DEFAULT_COPY_LIMIT)
-    given = dict(tolerance=tolerance, completeness_weight=completeness_weight, copy_limit=copy_limit)
+                    copy_limit=_DEFAULT_COPY_LIMIT, histogram_matching=True)
+    given = dict(tolerance=tolerance, completeness_weight=completeness_weight, copy_limit=copy_limit,
+                 histogram_matching=histogram_matching)
     out = {k: auto[k] if _is_auto(v) else v for k, v in given.items()}
     out["completeness_weight"] = check_positive_float(out["completeness_weight"], "completeness_weight",
                                                       allow_zero=True, maximum=_MAX_WEIGHT)
@@ -1361,7 +1373,8 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
                      relative_grid_spacing=0.25, irls_exponent=0.8, max_iterations=5, tolerance="auto",
                      gradient_weight=0.0, mask=None, target=None, constraint_weight=1.0, exemplar_mask=None,
                      tileable=False, init=None, falloff=True, occurrence_weight=0.0, copy_limit="auto",
-                     completeness_weight="auto", method="auto", rng=None, progress=False, return_info=False):
+                     completeness_weight="auto", histogram_matching="auto", method="auto", rng=None, progress=False,
+                     return_info=False):
     """Synthesise a texture by texture optimization (Kwatra et al. 2005).
 
     Minimises the texture energy (eq. 1) of the output over its
@@ -1485,6 +1498,18 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         eq. 1. ``"auto"``: 1 when the output has less than 4 times the
         exemplar's area, else 0 (preset ``"default"``: larger outputs show
         all of the exemplar without it), 0 (``"paper"``).
+    histogram_matching : bool or "auto"
+        After every E-step, give each colour channel of the output the
+        exemplar's histogram (exact quantile assignment,
+        :mod:`texsynth.core.histogram`): a simple form of the histogram
+        matching Kopf et al. 2007 [4]_ build into texture optimization (they
+        re-weight the neighbourhoods' votes; here the output is remapped,
+        which we could not compare with theirs). The E-step averages overlapping
+        neighbourhoods, the average matches the exemplar's flattest ones
+        best, and at large enlargements the output can wash out into one
+        flat region; restoring the histogram breaks that loop. Not applied
+        with constraints (``target``). The energy may then rise within a
+        stage. ``"auto"``: True (preset ``"default"``), False (``"paper"``).
     method : {"auto", "patchmatch", "exact", "kdtree", "tsvq"}
         Nearest-neighbour backend of the M-step (:mod:`texsynth.core.search`),
         chosen per (level, size) stage. ``"patchmatch"``: PatchMatch (Barnes
@@ -1601,6 +1626,10 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     .. [3] D. Simakov, Y. Caspi, E. Shechtman and M. Irani, "Summarizing visual
        data using bidirectional similarity", CVPR 2008.
        :doi:`10.1109/CVPR.2008.4587842`
+    .. [4] J. Kopf, C.-W. Fu, D. Cohen-Or, O. Deussen, D. Lischinski and
+       T.-T. Wong, "Solid texture synthesis from 2D exemplars", ACM
+       Transactions on Graphics (SIGGRAPH 2007) 26(3).
+       :doi:`10.1145/1276377.1276380`
 
     Examples
     --------
@@ -1618,7 +1647,7 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     problem = _prepare(exemplar, size, neighborhood_sizes, levels, constraint_weight=constraint_weight, mask=mask,
                        target=target, exemplar_mask=exemplar_mask, init=init, preset=preset)
     auto = _preset(preset, problem, tolerance=tolerance, completeness_weight=completeness_weight,
-                   copy_limit=copy_limit)
+                   copy_limit=copy_limit, histogram_matching=histogram_matching)
     tileable = check_bool(tileable, "tileable")
     margin = 0 if tileable or preset == "paper" else problem.sizes[0] // 2
     opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,

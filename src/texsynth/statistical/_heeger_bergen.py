@@ -48,75 +48,12 @@ import numpy as np
 from ..core._progress import Progress
 from ..core._validate import (as_image, as_rng, as_size, check_memory, check_positive_int, max_threads,
                               restore_channels, with_channels)
+from ..core.histogram import match_histogram, match_to_targets, quantile_targets
 from ..core.pyramid import SteerablePyramid, max_scales, periodic_smooth_decomposition
 
 __all__ = ["heeger_bergen", "HeegerBergenInfo", "match_histogram"]
 
 PERIODIC_EXEMPLAR = ("periodic+smooth", "mirror", "none")
-
-
-# --------------------------------------------------------------------------- histogram matching
-def _quantile_targets(reference_sorted, n):
-    """The reference's quantile function at the n mid-rank quantiles (i + 1/2) / n.
-
-    Equal sizes give the sorted reference itself (matching is then an exact
-    permutation); otherwise the sorted values are interpolated linearly.
-    """
-    m = reference_sorted.size
-    if n == m:
-        return reference_sorted
-    positions = (np.arange(n) + 0.5) * (m / n) - 0.5
-    return np.interp(positions, np.arange(m), reference_sorted)
-
-
-def _match_to_targets(values, targets, measure=True):
-    """Give the k-th smallest entry of ``values`` the value ``targets[k]``; return (matched, distance).
-
-    ``distance`` is the 1-Wasserstein distance between the empirical distributions before matching
-    (mean |sorted(values) - targets|), or NaN if ``measure`` is False.
-    """
-    flat = values.ravel()
-    order = np.argsort(flat)
-    distance = float(np.mean(np.abs(flat[order] - targets))) if measure else np.nan
-    out = np.empty_like(flat)
-    out[order] = targets
-    return out.reshape(values.shape), distance
-
-
-# Hand-written rather than scikit-image's match_histograms: the exact quantile assignment of
-# Briand et al. (the output's histogram is the reference's: 1-Wasserstein distance 0, against
-# 1.5e-3 for match_histograms' interpolated mapping; benchmarks/bench_packages.py), as fast.
-def match_histogram(source, reference):
-    """Quantile matching: ``source``'s values replaced so their histogram is ``reference``'s.
-
-    Parameters
-    ----------
-    source : array_like
-        Values to remap (any shape); the ranks of its entries are kept.
-    reference : array_like
-        Values whose distribution is imposed (any shape and size).
-
-    Returns
-    -------
-    numpy.ndarray
-        Same shape as ``source``, float64. If both have the same number of
-        entries the result is a permutation of ``reference``'s values;
-        otherwise the entry of rank ``k`` (of ``n``) receives the reference's
-        quantile at ``(k + 1/2) / n``, interpolated linearly between sorted
-        reference values.
-
-    Examples
-    --------
-    >>> match_histogram([3.0, 1.0, 2.0], [10.0, 30.0, 20.0])
-    array([30., 10., 20.])
-    >>> match_histogram([0.2, 0.9, 0.5, 0.1], [0.0, 1.0])
-    array([0.25, 1.  , 0.75, 0.  ])
-    """
-    src = np.asarray(source, dtype=np.float64)
-    ref = np.sort(np.asarray(reference, dtype=np.float64).ravel())
-    if src.size == 0 or ref.size == 0:
-        raise ValueError("source and reference must not be empty")
-    return _match_to_targets(src, _quantile_targets(ref, src.size))[0]
 
 
 # --------------------------------------------------------------------------- info and progress
@@ -329,17 +266,17 @@ def heeger_bergen(exemplar, size=None, *, scales=4, orientations=4, iterations=5
         t0 = time.perf_counter()
         distances = np.zeros((iterations + 1, len(names)))
         # Analysis: the exemplar's sorted values resampled to the output's sizes, once.
-        pixel_targets = _quantile_targets(np.sort(components[c].ravel()), n_out)
+        pixel_targets = quantile_targets(np.sort(components[c].ravel()), n_out)
         ex_bands = pyr_ex.decompose(_analysis_image(components[c], periodic_exemplar)).arrays()
-        band_targets = [_quantile_targets(np.sort(b.ravel()), n) for b, n in zip(ex_bands, out_sizes)]
+        band_targets = [quantile_targets(np.sort(b.ravel()), n) for b, n in zip(ex_bands, out_sizes)]
         band_scale = np.array([max(float(b.std()), 1e-12) for b in ex_bands])
 
-        out, _ = _match_to_targets(noise[c], pixel_targets, False)  # J <- match(noise, I)
+        out, _ = match_to_targets(noise[c], pixel_targets, False)  # J <- match(noise, I)
         for it in range(iterations + 1):
             if it == iterations and not measure:
                 break
             coeffs = pyr_out.decompose(out)  # pyramid(J)
-            matched = [_match_to_targets(a, t, measure) for a, t in zip(coeffs.arrays(), band_targets)]
+            matched = [match_to_targets(a, t, measure) for a, t in zip(coeffs.arrays(), band_targets)]
             distance = np.array([d for _, d in matched]) / band_scale  # histograms of J before matching
             distances[it] = distance
             if it > 0:
@@ -350,7 +287,7 @@ def heeger_bergen(exemplar, size=None, *, scales=4, orientations=4, iterations=5
             bands = [m for m, _ in matched]
             coeffs.highpass, coeffs.lowpass = bands[0], bands[-1]
             coeffs.bands = [bands[1 + s * orientations : 1 + (s + 1) * orientations] for s in range(scales)]
-            out, _ = _match_to_targets(pyr_out.reconstruct(coeffs), pixel_targets, False)  # J <- match(J, I)
+            out, _ = match_to_targets(pyr_out.reconstruct(coeffs), pixel_targets, False)  # J <- match(J, I)
         return out, distances, time.perf_counter() - t0
 
     with Progress(progress, channels * iterations, "Heeger-Bergen") as bar:
