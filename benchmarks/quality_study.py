@@ -60,8 +60,8 @@ SIZE = 1024
 
 
 def scores(out, exemplar, side, seed=0):
-    """The metrics of the synthesised part of ``out`` (all but the corner the engine keeps)."""
-    part = out[side:, side:]
+    """The metrics of a 512² synthesised part of ``out`` (beside the corner the engine keeps)."""
+    part = out[side : side + 512, side : side + 512]
     mosaic = metrics.mosaic_baseline(exemplar, part.shape[:2], rng=seed)
     noise = metrics.noise_baseline(exemplar, part.shape[:2], rng=seed)
     long = dict(min_wavelength=side / 8)

@@ -38,7 +38,7 @@ def match_to_targets(values, targets, measure=True):
     """Give the k-th smallest entry of ``values`` the value ``targets[k]``; return (matched, distance).
 
     ``distance`` is the 1-Wasserstein distance between the empirical distributions before matching
-    (mean |sorted(values) - targets|), or NaN if ``measure`` is False.
+    (the mean of ``abs(sort(values) - targets)``), or NaN if ``measure`` is False.
 
     Examples
     --------
