@@ -261,7 +261,10 @@ METHODS: dict[str, Method] = {
                  "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)", _WEI_LEVOY,
                  "multisource",
                  demos=[("pixels_bread", "Wei-Levoy pixel synthesis (scanline, 3 levels, causal 5x5 neighbourhoods)",
-                         "bread", _call("pixel:synthesize_pixels", (160, 160), crop=64))]),
+                         "bread", _call("pixel:synthesize_pixels", (160, 160), crop=64)),
+                        ("pixels_kcoherent_brick", "Wei-Levoy with k-coherent candidates (Ashikhmin's search, k=1): "
+                         "bricks copied in pieces", "brick", _call("pixel:synthesize_pixels", (192, 192),
+                                                                    candidates="k-coherent"))]),
     "mix": _m("pixel:mix_textures", "Wei 2002: mixture of two or more textures (--weights equal | ramp | w1.png,w2.png)",
               _WEI, "multisource", inputs="images", mixing="weights",
               demos=[("mix_brick_bread", "Wei texture mixture, ramp weights: brick (left) turning into bread (right)",

@@ -56,7 +56,7 @@ from ..core._validate import (as_image, as_rng, as_size, check_memory, check_pos
                               restore_channels, with_channels)
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import PatchIndex, SequentialExact
+from ..core.search import KCoherence, PatchIndex, SequentialExact, nearest_candidates, neighbor_sources
 
 __all__ = [
     "synthesize_pixels",
@@ -65,12 +65,16 @@ __all__ = [
     "PixelSynthesisInfo",
     "ORDERS",
     "SHAPES",
+    "CANDIDATES",
 ]
 
 #: Visiting orders: Wei & Levoy 2000 (scanline) and 2002 (order-independent).
 ORDERS = ("scanline", "independent")
 #: Neighbourhood footprints inside the ``(h, w)`` box: the whole box, or the inscribed disc (ellipse).
 SHAPES = ("square", "disc")
+#: Which exemplar neighbourhoods a pixel is compared with: all of them (Wei & Levoy 2000), or the
+#: k-coherent candidates of its neighbours' sources (Ashikhmin 2001, Tong et al. 2002).
+CANDIDATES = ("all", "k-coherent")
 
 try:  # installed with scikit-learn; tiny per-pixel BLAS calls run faster on one thread
     from threadpoolctl import threadpool_limits as _threadpool_limits
@@ -108,11 +112,19 @@ class PixelSynthesisInfo:
     level_shapes : list of tuple
         Output shape of each level, coarsest first.
     order, method : str
-        Visiting order and search backend actually used.
+        Visiting order and search backend actually used (with
+        ``candidates="k-coherent"``: the backend that found the k-coherence
+        sets).
+    candidates : str
+        ``"all"`` or ``"k-coherent"``.
     seconds : float
         Total wall time.
     stage_seconds : dict
         Wall time per level, ``{"level 2": ..., "level 1": ..., "level 0": ...}``.
+    coordinates : numpy.ndarray or None
+        ``candidates="k-coherent"``: ``(H, W, 2)``, the exemplar pixel
+        ``(row, col)`` each output pixel was copied from (Ashikhmin's source
+        map ``s(p)``); None otherwise.
     """
 
     energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -121,8 +133,10 @@ class PixelSynthesisInfo:
     level_shapes: list = field(default_factory=list)
     order: str = "scanline"
     method: str = "exact"
+    candidates: str = "all"
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
+    coordinates: np.ndarray | None = None
 
     @property
     def search(self):
@@ -409,6 +423,8 @@ class _Run:
     iterations: int  # most alternation steps of eq. 1 per pixel
     passes: int  # order-independent passes per level
     seed: int  # of the index builds (their own streams: the synthesis does not depend on them)
+    candidates: str = "all"  # "all" exemplar neighbourhoods, or "k-coherent"
+    k: int = 1  # size of the k-coherence sets
 
     def index(self, vectors, *key):
         """A search index over ``vectors``, seeded by ``key`` (level, source, which index)."""
@@ -441,7 +457,8 @@ def _check_memory(sources, shape, channels, dtype, order):
     check_memory(need, tuple(shape))
 
 
-def _synthesize(sources, shape, channels, dtype, *, levels, order, method, iterations, passes, rng, progress, desc):
+def _synthesize(sources, shape, channels, dtype, *, levels, order, method, iterations, passes, rng, progress, desc,
+                candidates="all", k=1):
     """Multi-resolution synthesis minimising eq. 1 at every pixel, coarse to fine."""
     _check_memory(sources, shape, channels, dtype, order)
     start = time.perf_counter()
@@ -456,19 +473,28 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
     # scanline: one step per row; independent: `passes` per level, and one parent-only pass per finer level
     total = sum(out_pyr[lv].shape[0] for lv in range(levels)) if order == "scanline" else levels * passes + levels - 1
     profile = "scanline" if order == "scanline" else "solid" if sources[0].axis is not None else "pixels"
-    used = search.resolve(method, max(len(t) for t in tables[0]), None, profile=profile,
-                          queries=int(np.prod(out_pyr[0].shape[:-1])))
-    info = PixelSynthesisInfo(order=order, method=used)
+    if candidates == "k-coherent":  # the search finds the k-coherence sets: every exemplar position once
+        profile = "default"
+        n = max(len(t) for t in tables[0])
+        used = search.resolve(method, n, _set_dim(sources[0], channels, levels), profile=profile, queries=n)
+    else:
+        used = search.resolve(method, max(len(t) for t in tables[0]), None, profile=profile,
+                              queries=int(np.prod(out_pyr[0].shape[:-1])))
+    info = PixelSynthesisInfo(order=order, method=used, candidates=candidates)
     # Index builds (PCA subsample, k-means) draw from their own streams, so the
     # synthesis stream does not depend on the search backend or on `iterations`.
-    run = _Run(levels, order, used, profile, iterations, passes, int(rng.integers(2**62)))
+    run = _Run(levels, order, used, profile, iterations, passes, int(rng.integers(2**62)), candidates, k)
     energies, steps = [], []
+    cells = None  # k-coherent: the grid cell each output pixel of the last level came from
     with Progress(progress, total, desc) as bar:
         for level in range(levels - 1, -1, -1):
             t_level = time.perf_counter()
             lv = _Level(level, out_pyr[level], out_pyr[level + 1] if level + 1 < levels else None, sources,
                         tables[level], weights[level])
-            if order == "scanline":
+            if candidates == "k-coherent":
+                parent_cells = None if cells is None else tables[level + 1][0][cells]
+                energy, iters, cells = _coherent_level(lv, run, bar, parent_cells)
+            elif order == "scanline":
                 with _one_blas_thread():
                     energy, iters = _scanline_level(lv, run, bar)
             else:
@@ -481,6 +507,8 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
             info.level_shapes.append(lv.out.shape[:-1])
             info.stage_seconds[f"level {level}"] = time.perf_counter() - t_level
     info.energy, info.iterations = np.asarray(energies), np.asarray(steps)
+    if cells is not None:
+        info.coordinates = tables[0][0][cells]
     info.stage = np.arange(levels)
     info.seconds = time.perf_counter() - start
     return out_pyr[0], info
@@ -650,6 +678,97 @@ def _average(terms, chosen):
     for (_, a, _), q, (_, nd) in zip(terms, picks, chosen):
         energy += a * (float(((p - q) ** 2).sum()) + float(nd))
     return p, energy
+
+
+# --------------------------------------------------------------------------- #
+# k-coherent candidates (Ashikhmin 2001, Tong et al. 2002)
+# --------------------------------------------------------------------------- #
+def _set_dim(source, channels, levels):
+    """Dimension of the vectors that decide the k-coherence sets: the whole footprint and the parent's."""
+    n = int(_footprint(source.size, source.shape).sum())
+    if levels > 1:
+        n += int(_footprint(source.parent_size, source.shape).sum())
+    return n * channels
+
+
+def _offsets(mask):
+    """(row, col) offsets from the centre of the pixels of a neighbourhood mask."""
+    h, w = mask.shape
+    return np.argwhere(mask) - [h // 2, w // 2]
+
+
+def _wavefronts(height, width, step):
+    """Pixels (flat indices) grouped by wavefront ``j + step * i`` of the scanline order, and the groups' bounds.
+
+    With ``step = w // 2 + 1`` every causal neighbour of pixel ``(i, j)`` (rows
+    above within ``w // 2`` columns, pixels to its left) lies on an earlier
+    wavefront and every other pixel of its ``(h, w)`` box on a later one.
+    """
+    t = (np.arange(width)[None, :] + step * np.arange(height)[:, None]).ravel()
+    order = np.argsort(t, kind="stable")
+    return order, np.searchsorted(t[order], np.arange(t.max() + 2))
+
+
+def _predicted_cells(parent_cells, cen, shape):
+    """Grid cells that the parent level's sources predict: child ``2 s + (p mod 2)`` of the parent's ``s``."""
+    height, width = shape
+    rows, cols = np.arange(height), np.arange(width)
+    pixel = 2 * parent_cells[rows[:, None] // 2, cols[None, :] // 2]
+    pixel[..., 0] += (rows % 2)[:, None]
+    pixel[..., 1] += (cols % 2)[None, :]
+    origin, last = cen[0], cen[-1]
+    grid = np.clip(pixel, origin, last) - origin
+    return grid[..., 0] * (last[1] - origin[1] + 1) + grid[..., 1]
+
+
+def _coherent_level(lv, run, bar, parent_cells):
+    """One level in scanline order with k-coherent candidates; returns (E, steps per pixel, cells).
+
+    Each pixel is compared only with the k-coherence sets of the positions
+    its neighbours' sources suggest (``s(p + d) - d``): the causal
+    neighbours, as synthesised at this level, and, below the coarsest level,
+    every other pixel of the neighbourhood and ``p`` itself as the parent
+    level predicts them. The distance is Wei & Levoy's: the causal
+    neighbourhood at this level joined to the parent's full one. Pixels on
+    one wavefront of the scanline order have no causal neighbour in common
+    with each other, so they are chosen together.
+    """
+    src, cen = lv.sources[0], lv.centers[0]
+    height, width, _ = lv.out.shape
+    above, left, full = _masks(src.size, src.shape)
+    causal = above | left
+    grid = tuple(int(v) for v in cen[-1] - cen[0] + 1)
+    vectors = _exemplar_vectors(src, lv.level, run.levels, cen, causal)
+    pixels = src.pyramid[lv.level][cen[:, 0], cen[:, 1]]
+    similar = full.copy()
+    similar[src.size[0] // 2, src.size[1] // 2] = True  # x's own pixel counts in "similar to x"
+    sets = KCoherence(_exemplar_vectors(src, lv.level, run.levels, cen, similar) if run.k > 1 else None, grid,
+                      run.k, method=run.method, profile=run.profile, rng=np.random.default_rng([run.seed, lv.level, 3]))
+    draw = np.random.default_rng([run.seed, lv.level])
+    if parent_cells is None:  # Ashikhmin: every pixel starts from a random exemplar position
+        cells = draw.integers(0, len(cen), size=(height, width))
+        offsets = _offsets(causal)
+    else:
+        cells = _predicted_cells(parent_cells, cen, (height, width))
+        offsets = np.concatenate([_offsets(causal), _offsets(similar & ~causal)])
+    flat_out, flat_cells = lv.out.reshape(-1, lv.out.shape[-1]), cells.reshape(-1)
+    flat_out[:] = pixels[flat_cells]
+    order, bounds = _wavefronts(height, width, src.size[1] // 2 + 1)
+    step = src.size[1] // 2 + 1
+    energy = 0.0
+    for t in range(len(bounds) - 1):
+        pix = order[bounds[t] : bounds[t + 1]]
+        centers = np.stack(np.divmod(pix, width), 1)
+        cands = sets.candidates(neighbor_sources(cells, centers, offsets), offsets, rng=draw)
+        q = _vectors(lv.out, lv.parent, centers, src.size, src.parent_size, causal, "wrap", src.parent_mask)
+        choice, d2 = nearest_candidates(q, cands, vectors=vectors)
+        best = cands[np.arange(len(pix)), choice]
+        flat_cells[pix] = best
+        flat_out[pix] = pixels[best]
+        energy += float(d2.sum())
+        if t >= width - 1 and (t - width + 1) % step == 0:  # row (t - width + 1) / step is complete
+            bar.advance({"level": lv.level, "row": (t - width + 1) // step})
+    return energy / (height * width), 1.0, cells
 
 
 @dataclass
@@ -909,6 +1028,8 @@ def synthesize_pixels(
     parent_size=None,
     levels=3,
     order="scanline",
+    candidates="all",
+    k=1,
     method="auto",
     passes=2,
     rng=None,
@@ -940,8 +1061,34 @@ def synthesize_pixels(
         ``"scanline"``: Wei & Levoy 2000, causal neighbourhoods, sequential.
         ``"independent"``: Wei & Levoy 2002 [2]_, non-causal neighbourhoods,
         every pixel of a level updated at once per pass.
+    candidates : {"all", "k-coherent"}
+        Which exemplar neighbourhoods a pixel is compared with.
+        ``"all"`` (default, Wei & Levoy): every one, so the best match is
+        global. ``"k-coherent"``: only the *coherent* candidates, Ashikhmin's
+        rule [3]_ with Tong et al.'s k-coherence sets [4]_ (see
+        :class:`~texsynth.core.search.KCoherence`): for every already
+        synthesised neighbour ``p + d`` of ``p``, the exemplar position that
+        continues its copy, ``s(p + d) - d``, and that position's ``k - 1``
+        most similar ones; below the coarsest level also the positions the
+        parent level's copies predict for the neighbourhood's other pixels.
+        The distance is the same as with ``"all"``. Copies then run on in
+        pieces, which keeps elements (bricks, tiles) in one piece where the
+        global best match breaks them up, and costs a few distances per
+        pixel instead of one per exemplar position: the choice for
+        structured textures and large outputs. Scanline order only; the
+        coarsest level starts from random exemplar positions (Ashikhmin),
+        and a continued copy that leaves the exemplar restarts at a random
+        position (his rule).
+    k : int
+        ``candidates="k-coherent"`` only: size of the k-coherence sets.
+        1 (default) is Ashikhmin's search: the continuations alone. Larger
+        ``k`` adds similar positions (Tong et al. use small ``k``; their
+        values could not be checked here), so pieces end where they fit
+        rather than only where the copy runs out, at about ``k`` times the
+        cost.
     method : {"auto", "exact", "kdtree", "tsvq"}
-        Nearest-neighbour search backend (:mod:`texsynth.core.search`). In
+        Nearest-neighbour search backend (:mod:`texsynth.core.search`). With
+        ``candidates="k-coherent"`` it finds the k-coherence sets. In
         scanline order ``"auto"`` is exact search done one scanline at a
         time (the fastest here); ``"kdtree"``/``"tsvq"`` query per pixel.
         In independent order ``"auto"`` is exact for small problems and
@@ -985,6 +1132,11 @@ def synthesize_pixels(
        :doi:`10.1145/344779.345009`
     .. [2] L.-Y. Wei and M. Levoy, "Order-independent texture synthesis",
        Stanford University Technical Report TR-2002-01, 2002.
+    .. [3] M. Ashikhmin, "Synthesizing natural textures", ACM Symposium on
+       Interactive 3D Graphics 2001, pp. 217-226. :doi:`10.1145/364338.364405`
+    .. [4] X. Tong, J. Zhang, L. Liu, X. Wang, B. Guo and H.-Y. Shum,
+       "Synthesis of bidirectional texture functions on arbitrary surfaces",
+       SIGGRAPH 2002, pp. 665-672. :doi:`10.1145/566654.566634`
 
     Examples
     --------
@@ -999,6 +1151,11 @@ def synthesize_pixels(
     size = as_size(size)
     levels = _check_levels(levels)
     _check_order_method(order, method, passes)
+    _choice(candidates, CANDIDATES, "candidates")
+    k = check_positive_int(k, "k")
+    if candidates == "k-coherent" and order != "scanline":
+        raise ValueError("candidates='k-coherent' is implemented in order='scanline' only; pass order='scanline' "
+                         "or candidates='all'")
     rng = as_rng(rng)
     sources, channels, dtype, grey = _prepare(
         [exemplar], ["exemplar"], [neighborhood_size], [parent_size], [None], levels, "neighborhood_size",
@@ -1007,7 +1164,7 @@ def synthesize_pixels(
     sources[0].weights = 1.0
     out, info = _synthesize(
         sources, size, channels, dtype, levels=levels, order=order, method=method, iterations=1,
-        passes=passes, rng=rng, progress=progress, desc="Wei-Levoy",
+        passes=passes, rng=rng, progress=progress, desc="Wei-Levoy", candidates=candidates, k=k,
     )
     out = restore_channels(out, grey)
     return (out, info) if return_info else out

@@ -32,6 +32,10 @@ neighbourhood is closest to this one?*, and asks it here:
 :func:`nearest_field`
     The same question of any backend: ``method="exact"``, ``"kdtree"``,
     ``"tsvq"`` or ``"patchmatch"``.
+:class:`KCoherence`
+    k-coherent candidates (Ashikhmin 2001, Tong et al. 2002): where the
+    neighbours' copies continue, and what resembles those positions;
+    :func:`neighbor_sources` reads the neighbours' sources from a field.
 
 Distances are ``sum_d w_d (q_d - v_d)^2``, implemented by scaling both sides
 by ``sqrt(w)`` once, so every backend works on plain Euclidean vectors.
@@ -59,6 +63,7 @@ from ._exact import SequentialExact, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
 from ._masked import MASKED_METHODS, MaskedIndex, masked_sq_distances
 from ._template import WindowSearch, within_radius, within_tolerance
+from ._coherent import COHERENT_MODES, KCoherence, neighbor_sources
 from ._patchmatch import FIELD_METHODS, FIELD_MIN_VALUES, check_field_method, nearest_field, patchmatch, resolve_field
 from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
 from ._registry import methods as _methods
@@ -69,6 +74,6 @@ METHODS = _methods()
 __all__ = [
     "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "sq_distances",
     "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "within_tolerance", "within_radius",
-    "patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
+    "KCoherence", "neighbor_sources", "COHERENT_MODES", "patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]
