@@ -18,6 +18,9 @@ HUGE = {
     "interpolate_textures": "texsynth.interpolate_textures(ex, ex, 0.5, size=(100000, 100000), rng=0)",
     "patchwork": "texsynth.patchwork(ex, (100000, 100000), grid_spacing=16, rng=0)",
     "patchwork default grid": "texsynth.patchwork(ex, (100000, 100000), rng=0)",
+    "graphcut_texture": "texsynth.graphcut_texture(ex, (100000, 100000), rng=0)",
+    "carve_seams": "texsynth.carve_seams(ex, (100000, 100000))",
+    "wang_texture": "texsynth.wang_texture(ex, (100000, 100000), tile=16, rng=0)",
     "patchwork_video": "texsynth.patchwork_video(np.stack([ex] * 3), (30000, 30000), 40, grid_spacing=16, rng=0)",
     "voronoi_weights": "texsynth.patch.voronoi_weights((100000, 100000), grid_spacing=16, rng=0)",
     "heeger_bergen": "texsynth.heeger_bergen(ex, (100000, 100000), rng=0)",
@@ -97,6 +100,13 @@ CALLS = {
     "quilt": (texsynth.quilt, (EX, 32), dict(block=12, rng=0)),
     "quilt_transfer": (texsynth.quilt_transfer, (EX, EX), dict(block=12, iterations=1, rng=0)),
     "patch_sampling": (texsynth.patch_sampling, (EX, 32), dict(block=12, rng=0)),
+    "graphcut_texture": (texsynth.graphcut_texture, (EX, 32), dict(block=12, refine=1, rng=0)),
+    "carve_seams": (texsynth.carve_seams, (EX, (20, 18)), dict()),
+    "wang_texture": (texsynth.wang_texture, (EX, 40), dict(tile=12, rng=0)),
+    "wang_tiles": (texsynth.wang_tiles, (EX, 12), dict(rng=0)),
+    "wang_tiling": (texsynth.wang_tiling, (texsynth.wang_tiles(EX, 12, rng=0), 40), dict(rng=0)),
+    "graphcut_merge": (texsynth.graphcut_merge, (EX, EX[::-1]), dict(from_a=np.eye(24, dtype=bool),
+                                                                    from_b=np.eye(24, dtype=bool)[::-1])),
 }
 
 

@@ -10,7 +10,9 @@ from hypothesis.extra.numpy import arrays
 
 from texsynth.core.seams import (
     backtrack,
+    GRADIENT_EPSILON,
     cumulative_cost,
+    gradient_matching_cost,
     graph_cut,
     matching_cost,
     minimum_error_boundary,
@@ -102,6 +104,31 @@ def test_ties_go_straight_and_a_flat_cost_gives_a_straight_seam():
     cost = np.ones((5, 5))
     cost[:, 3] = 0
     assert minimum_error_boundary(cost).tolist() == [3] * 5
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10**6), st.integers(1, 5), st.integers(1, 4), st.booleans())
+def test_step_costs_the_seam_is_the_cheapest_of_all_paths(seed, h, w, horizontal):
+    # seam carving's forward energy: a pixel cost plus the cost of the step into the pixel from the row above
+    rng = np.random.default_rng(seed)
+    cost, left, right = rng.random((h, w)), rng.random((h, w)), rng.random((h, w))
+
+    def path_cost(seam):
+        total = cost[0, seam[0]]
+        for i in range(1, h):
+            step = seam[i] - seam[i - 1]  # +1: from the upper left
+            total += cost[i, seam[i]] + (left[i, seam[i]] if step == 1 else right[i, seam[i]] if step == -1 else 0)
+        return total
+
+    best = min(path_cost(s) for s in all_seams(h, w))
+    if horizontal:  # the same problem, transposed
+        seam = minimum_error_boundary(cost.T, direction="horizontal", step_costs=(left.T, None, right.T))
+    else:
+        seam = minimum_error_boundary(cost, step_costs=(left, None, right))
+    assert np.all(np.abs(np.diff(seam)) <= 1) and seam.min() >= 0 and seam.max() < w
+    assert path_cost(seam) == pytest.approx(best, abs=1e-9)
+    zero = np.zeros((h, w))
+    assert np.array_equal(cumulative_cost(cost, step_costs=(zero, zero, zero)), cumulative_cost(cost))
 
 
 def test_the_same_path_as_scikit_image_mcp_restricted_to_downward_moves():
@@ -261,6 +288,27 @@ def test_interactive_merging_keeps_what_the_user_marked():
     assert not side[stroke_a].any() and side[stroke_b].all()
     assert cost == pytest.approx(labelling_cost(a, b, None, None, side, np.ones((12, 12), bool)))
     assert side[:, 7:].all() and not side[:, :5].any()  # the seam lies inside the band where they agree
+
+
+def test_the_gradient_normalised_cost_divides_m_by_the_gradients_along_the_arc():
+    """M' = M / (||G_A(s)|| + ||G_A(t)|| + ||G_B(s)|| + ||G_B(t)|| + eps), each gradient the difference along the
+    arc; so of two seams with the same M, the one along an edge of the images is the cheaper."""
+    rng = np.random.default_rng(2)
+    a_s, a_t, b_s, b_t = (rng.random((50, 3)) for _ in range(4))
+    gradients = 2 * (np.linalg.norm(a_t - a_s, axis=1) + np.linalg.norm(b_t - b_s, axis=1))
+    assert np.allclose(gradient_matching_cost(a_s, a_t, b_s, b_t),
+                       matching_cost(a_s, a_t, b_s, b_t) / (gradients + GRADIENT_EPSILON))
+    # old and new differ by 0.2 everywhere; columns 0-2 are flat, column 3 onwards is a step up: an edge
+    old = np.zeros((4, 7))
+    old[:, 4:] = 0.8
+    new = old + 0.2
+    left, right = np.zeros((4, 7), bool), np.zeros((4, 7), bool)
+    left[:, 0], right[:, -1] = True, True
+    plain, _ = graph_cut(old, new, old_mask=left, new_mask=right)
+    side, cost = graph_cut(old, new, old_mask=left, new_mask=right, edge_cost=gradient_matching_cost)
+    assert np.array_equal(side, np.broadcast_to(np.arange(7) >= 4, (4, 7)))  # the seam runs along the edge
+    assert cost == pytest.approx(4 * 0.4 / (2 * 1.6 + GRADIENT_EPSILON))
+    assert plain[:, 1:].all()  # M alone costs 0.4 a row everywhere: of the tied cuts, the fewest old pixels
 
 
 @pytest.mark.parametrize("kwargs, words", [

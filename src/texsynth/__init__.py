@@ -5,7 +5,7 @@ The algorithms are functions at the top level (``texsynth.optimize_texture``,
 
 =============================  ====================================================
 :mod:`texsynth.pixel`          pixel-based: Wei-Levoy, Wei's mixtures and solids, Efros-Leung
-:mod:`texsynth.patch`          patch-based: Harrison's patchwork, image quilting, patch-based sampling
+:mod:`texsynth.patch`          patch-based: Harrison's patchwork, image quilting, patch-based sampling, graph cuts, seam carving, Wang tiles
 :mod:`texsynth.optimization`   optimization-based: Kwatra, Ruiters
 :mod:`texsynth.statistical`    statistical: Heeger-Bergen, Portilla-Simoncelli
 :mod:`texsynth.procedural`     procedural: Perlin noise, marble, reaction-diffusion
@@ -29,7 +29,8 @@ __getattr__, __dir__, __all__ = attach(
     names={
         **dict.fromkeys(["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung"], ".pixel"),
         **dict.fromkeys(["patchwork", "patchwork_video", "patchwork_transfer", "quilt", "quilt_transfer",
-                        "patch_sampling"], ".patch"),
+                        "patch_sampling", "graphcut_texture", "graphcut_merge", "carve_seams", "wang_texture",
+                        "wang_tiles", "wang_tiling"], ".patch"),
         **dict.fromkeys(["optimize_texture", "animate_texture", "interpolate_textures", "ridge_feature_map",
                          "edge_feature_map", "linear_blend"], ".optimization"),
         **dict.fromkeys(["heeger_bergen", "portilla_simoncelli", "ps_statistics", "ps_step",

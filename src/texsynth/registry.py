@@ -192,6 +192,15 @@ def _interpolate(exemplar, seed):
     return interpolate_textures(exemplar[:64, :64], other, 0.5, size=(64, 64), stages=((2, 17), (1, 17)), rng=seed)
 
 
+def _seam_carve(exemplar, seed):
+    from skimage import data as skdata
+
+    from .patch import carve_seams
+
+    photo = skdata.astronaut()[::4, ::4] / 255.0  # a photograph, not a texture: the sample is not used
+    return _side_by_side([photo, carve_seams(photo, (128, 96)), carve_seams(photo, (128, 160))])
+
+
 def _patchwork_video(exemplar, seed):
     import numpy as np
 
@@ -207,7 +216,10 @@ _WEI_LEVOY = "Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009"
 _WEI = "Wei, \"Texture synthesis from multiple sources\", SIGGRAPH 2003 sketch, doi:10.1145/965400.965507"
 _EFROS_LEUNG = "Efros & Leung, ICCV 1999, doi:10.1109/ICCV.1999.790383"
 _EFROS_FREEMAN = "Efros & Freeman, SIGGRAPH 2001, doi:10.1145/383259.383296"
+_KWATRA_2003 = "Kwatra, Schödl, Essa, Turk & Bobick, SIGGRAPH 2003, doi:10.1145/882262.882264"
 _LIANG = "Liang, Liu, Xu, Guo & Shum, ACM TOG 2001, doi:10.1145/501786.501787"
+_AVIDAN_SHAMIR = "Avidan & Shamir, SIGGRAPH 2007, doi:10.1145/1275808.1276390"
+_COHEN = "Cohen, Shade, Hiller & Deussen, SIGGRAPH 2003, doi:10.1145/882262.882265"
 _KWATRA = "Kwatra et al., SIGGRAPH 2005, doi:10.1145/1073204.1073263"
 _RUITERS = "Ruiters, Schnabel & Klein, Computer Graphics Forum 2010, doi:10.1111/j.1467-8659.2010.01739.x"
 _HARRISON = "Harrison, \"Patchwork texture synthesis\", Monash University technical report, 2002"
@@ -330,6 +342,22 @@ METHODS: dict[str, Method] = {
                          skip=("correspondence",),
                          demos=[("quilt_transfer_bread", "Quilting texture transfer: the camera in bread "
                                  "(3 passes, blocks 16/11/7)", "bread", _quilt_transfer)]),
+    "graphcut": _m("patch:graphcut_texture", "Kwatra et al. 2003: graph-cut textures, patches matched and joined "
+                   "along min-cuts, seams refined (tileable)", _KWATRA_2003, "graphcut",
+                   demos=[("graphcut_brick", "Graph-cut textures (blocks of 48 px, entire patch matching, 2 "
+                           "refinement passes)", "brick", _call("patch:graphcut_texture", (192, 192), crop=96))]),
+    "graphcut-merge": _m("patch:graphcut_merge", "Kwatra et al. 2003: interactive merging of two images along a "
+                         "min-cut (A B --from-a MASK_A --from-b MASK_B)", _KWATRA_2003,
+                         "graphcut", inputs="pair", size=None, maps=("from_a", "from_b")),
+    "seam-carve": _m("patch:carve_seams", "Avidan-Shamir 2007: seam carving, content-aware resizing (--size WxH) "
+                     "and object removal (--remove-mask MASK, --protect-mask MASK)", _AVIDAN_SHAMIR, "seam_carving",
+                     maps=("remove_mask", "protect_mask"),
+                     demos=[("seam_carve_astronaut", "Seam carving a photograph (128 px): the input, 32 columns "
+                             "removed, 32 columns inserted", None, _seam_carve)]),
+    "wang-tiles": _m("patch:wang_texture", "Cohen et al. 2003: Wang tiles quilted from diamonds, tiled at random "
+                     "to any --size (--tile, --colors)", _COHEN, "wang_tiles",
+                     demos=[("wang_tiles_bread", "Wang tiles: 8 tiles of 40 px (2 colours per direction) tiled at "
+                             "random", "bread", _call("patch:wang_texture", (240, 240), tile=40))]),
     "patch-sampling": _m("patch:patch_sampling", "Liang et al. 2001: patch-based sampling, boundary zones feathered "
                          "(tileable)", _LIANG, "patch_sampling",
                          demos=[("patch_sampling_bread", "Patch-based sampling (patches of 25 px, zones of 4 px, "

@@ -30,6 +30,7 @@ __all__ = [
     "as_float_array",
     "with_channels",
     "restore_channels",
+    "as_binary_map",
     "as_rng",
     "as_size",
     "check_positive_int",
@@ -180,6 +181,30 @@ def with_channels(image, spatial_dims=2):
 def restore_channels(image, was_grey):
     """Undo :func:`with_channels`: drop the channel axis of a grey result."""
     return image[..., 0] if was_grey else image
+
+
+def as_binary_map(array, shape, name, meaning="where a pixel is known"):
+    """A binary ``(H, W)`` map (a mask, a user's stroke) as bool: bool, or numbers that are all 0 or 1.
+
+    ``meaning`` says what True stands for, in the error message.
+
+    >>> as_binary_map([[0.0, 1.0]], (1, 2), "mask").tolist()
+    [[False, True]]
+    >>> as_binary_map([[0, 0.5]], (1, 2), "mask")
+    Traceback (most recent call last):
+    ...
+    ValueError: mask must be binary (True/1 where a pixel is known, False/0 elsewhere); threshold it first, e.g. mask > 0.5
+    """
+    arr = np.asarray(array)
+    if arr.ndim == 3 and arr.shape[-1] == 1:
+        arr = arr[..., 0]
+    if arr.shape != tuple(shape):
+        raise ValueError(f"{name} must have shape {tuple(shape)} (one value per pixel), got shape {np.shape(array)}")
+    values = as_float_array(arr, name)
+    if not np.all((values == 0) | (values == 1)):
+        raise ValueError(f"{name} must be binary (True/1 {meaning}, False/0 elsewhere); "
+                         f"threshold it first, e.g. {name} > 0.5")
+    return values.astype(bool)
 
 
 def as_rng(rng, name="rng"):

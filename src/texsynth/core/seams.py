@@ -26,7 +26,8 @@ Graph cut (Kwatra, Schödl, Essa, Turk & Bobick 2003, Section 3)
 :func:`graph_cut` labels every pixel of a 2-D overlap ``A`` (old) or ``B``
 (new) by a minimum cut of the 4-connected grid graph whose arc between
 neighbours ``s`` and ``t`` costs the matching quality cost
-``M(s, t, A, B) = ||A(s) - B(s)|| + ||A(t) - B(t)||`` (:func:`matching_cost`),
+``M(s, t, A, B) = ||A(s) - B(s)|| + ||A(t) - B(t)||`` (:func:`matching_cost`;
+the paper's gradient-normalised ``M'`` is :func:`gradient_matching_cost`),
 with pixels that must stay old tied to the source terminal ``A`` and pixels
 that must come from the new patch tied to the sink terminal ``B`` by infinite
 arcs. Where two neighbours of the old output came from different old patches
@@ -64,6 +65,8 @@ __all__ = [
     "DIRECTIONS",
     "backtrack",
     "cumulative_cost",
+    "GRADIENT_EPSILON",
+    "gradient_matching_cost",
     "graph_cut",
     "matching_cost",
     "minimum_error_boundary",
@@ -110,7 +113,7 @@ def _as_cost_array(cost, name="cost"):
 # --------------------------------------------------------------------------- minimum-error boundary cut
 
 
-def cumulative_cost(cost, *, direction="vertical"):
+def cumulative_cost(cost, *, direction="vertical", step_costs=None):
     """The cumulative minimum error ``E`` of the minimum-error boundary cut.
 
     Parameters
@@ -121,6 +124,14 @@ def cumulative_cost(cost, *, direction="vertical"):
     direction : {"vertical", "horizontal"}
         ``"vertical"``: seams run from the top row to the bottom row;
         ``"horizontal"``: from the left column to the right column.
+    step_costs : (array_like or None, array_like or None, array_like or None), optional
+        Costs of the three steps into a pixel, each of shape ``(h, w)``
+        (None: 0): from the pixel above-left, above, and above-right
+        (``(i-1, j-1)``, ``(i-1, j)``, ``(i-1, j+1)``) for vertical seams;
+        from ``(i-1, j-1)``, ``(i, j-1)``, ``(i+1, j-1)`` for horizontal
+        ones. The first row's (column's) values are not used. Seam carving's
+        forward energy (Rubinstein, Shamir & Avidan 2008) is a pixel cost
+        plus such step costs.
 
     Returns
     -------
@@ -136,6 +147,10 @@ def cumulative_cost(cost, *, direction="vertical"):
     .. math:: E_{i,j} = e_{i,j} + \\min(E_{i-1,j-1},\\, E_{i-1,j},\\, E_{i-1,j+1}),
               \\qquad E_{0,j} = e_{0,j}.
 
+    With ``step_costs = (C_L, C_U, C_R)`` each term of the minimum carries
+    its step's cost: ``min(E_{i-1,j-1} + C_L(i,j), E_{i-1,j} + C_U(i,j),
+    E_{i-1,j+1} + C_R(i,j))``.
+
     One vectorized step per row (each row needs the one above, so the loop
     over rows is sequential).
 
@@ -148,22 +163,61 @@ def cumulative_cost(cost, *, direction="vertical"):
            [ 3.,  7., 11.]])
     """
     e = _as_cost_array(cost)
+    steps = _as_step_costs(step_costs, e.shape)
     if _check_direction(direction) == "horizontal":
-        return cumulative_cost(e.T).T
+        return cumulative_cost(e.T, step_costs=None if steps is None else [_t(c) for c in steps]).T
     h, w = e.shape
     out = np.empty_like(e)
     out[0] = e[0]
     above = np.full(w + 2, np.inf)  # E of the row above, with +inf beyond both ends
+    if steps is None:
+        for i in range(1, h):
+            above[1:-1] = out[i - 1]
+            row = out[i]
+            np.minimum(above[:-2], above[2:], out=row)  # min(E[i-1, j-1], E[i-1, j+1])
+            np.minimum(row, above[1:-1], out=row)  # ... and E[i-1, j]
+            row += e[i]
+        return out
+    left, up, right = steps
     for i in range(1, h):
         above[1:-1] = out[i - 1]
         row = out[i]
-        np.minimum(above[:-2], above[2:], out=row)  # min(E[i-1, j-1], E[i-1, j+1])
-        np.minimum(row, above[1:-1], out=row)  # ... and E[i-1, j]
+        candidates = [above[:-2] if left is None else above[:-2] + left[i],
+                      above[1:-1] if up is None else above[1:-1] + up[i],
+                      above[2:] if right is None else above[2:] + right[i]]
+        np.minimum(candidates[0], candidates[2], out=row)
+        np.minimum(row, candidates[1], out=row)
         row += e[i]
     return out
 
 
-def backtrack(cumulative, *, direction="vertical"):
+def _t(array):
+    return None if array is None else array.T
+
+
+def _as_step_costs(step_costs, shape):
+    """``step_costs`` as three float64 arrays of ``shape`` (or None), or None."""
+    if step_costs is None:
+        return None
+    try:
+        parts = list(step_costs)
+    except TypeError:
+        raise TypeError("step_costs must be a triple (left, up, right) of arrays or None") from None
+    if len(parts) != 3:
+        raise ValueError(f"step_costs must hold 3 entries (left, up, right), got {len(parts)}")
+    out = []
+    for name, part in zip(("left", "up", "right"), parts):
+        if part is None:
+            out.append(None)
+            continue
+        arr = _as_cost_array(part, f"step_costs' {name}")
+        if arr.shape != shape:
+            raise ValueError(f"step_costs' {name} has shape {arr.shape}; it needs the cost's shape {shape}")
+        out.append(arr)
+    return out
+
+
+def backtrack(cumulative, *, direction="vertical", step_costs=None):
     """Trace the cheapest seam back through a cumulative cost map.
 
     Parameters
@@ -173,6 +227,8 @@ def backtrack(cumulative, *, direction="vertical"):
         recurrence).
     direction : {"vertical", "horizontal"}
         As the map was built.
+    step_costs : (array_like or None, array_like or None, array_like or None), optional
+        The step costs the map was built with (see :func:`cumulative_cost`).
 
     Returns
     -------
@@ -193,24 +249,41 @@ def backtrack(cumulative, *, direction="vertical"):
     array([0, 1, 0])
     """
     E = _as_cost_array(cumulative, "cumulative")
+    steps = _as_step_costs(step_costs, E.shape)
     if _check_direction(direction) == "horizontal":
         E = E.T
+        steps = None if steps is None else [_t(c) for c in steps]
     h, w = E.shape
     seam = np.empty(h, dtype=np.intp)
     j = int(np.argmin(E[-1]))
     seam[-1] = j
-    for i in range(h - 2, -1, -1):
+    if steps is None:
+        for i in range(h - 2, -1, -1):
+            row = E[i]
+            best = j
+            if j > 0 and row[j - 1] < row[best]:
+                best = j - 1
+            if j + 1 < w and row[j + 1] < row[best]:
+                best = j + 1
+            seam[i] = j = best
+        return seam
+    left, up, right = steps
+    for i in range(h - 2, -1, -1):  # the step into (i + 1, j) from (i, j - 1), (i, j) or (i, j + 1)
         row = E[i]
-        best = j
-        if j > 0 and row[j - 1] < row[best]:
-            best = j - 1
-        if j + 1 < w and row[j + 1] < row[best]:
-            best = j + 1
+        best, value = j, row[j] + (0.0 if up is None else up[i + 1, j])
+        if j > 0:
+            candidate = row[j - 1] + (0.0 if left is None else left[i + 1, j])
+            if candidate < value:
+                best, value = j - 1, candidate
+        if j + 1 < w:
+            candidate = row[j + 1] + (0.0 if right is None else right[i + 1, j])
+            if candidate < value:
+                best = j + 1
         seam[i] = j = best
     return seam
 
 
-def minimum_error_boundary(cost, *, direction="vertical"):
+def minimum_error_boundary(cost, *, direction="vertical", step_costs=None):
     """The minimum-cost 8-connected seam through an error surface (Efros & Freeman 2001, Section 2.1).
 
     Parameters
@@ -221,6 +294,9 @@ def minimum_error_boundary(cost, *, direction="vertical"):
         ``"vertical"``: the seam crosses the strip from top to bottom (a left
         or right overlap); ``"horizontal"``: from left to right (a top or
         bottom overlap).
+    step_costs : (array_like or None, array_like or None, array_like or None), optional
+        Costs of the three steps into each pixel (see :func:`cumulative_cost`);
+        default none.
 
     Returns
     -------
@@ -254,7 +330,8 @@ def minimum_error_boundary(cost, *, direction="vertical"):
     >>> minimum_error_boundary(e.T, direction="horizontal")
     array([3, 2, 2, 1])
     """
-    return backtrack(cumulative_cost(cost, direction=direction), direction=direction)
+    return backtrack(cumulative_cost(cost, direction=direction, step_costs=step_costs), direction=direction,
+                     step_costs=step_costs)
 
 
 def seam_mask(seam, shape, *, direction="vertical"):
@@ -324,6 +401,58 @@ def matching_cost(a_s, a_t, b_s, b_t):
     return np.sqrt(((a_s - b_s) ** 2).sum(-1)) + np.sqrt(((a_t - b_t) ** 2).sum(-1))
 
 
+#: ``ε`` added to the gradient terms of :func:`gradient_matching_cost` (values in [0, 1]): it keeps the cost
+#: finite where both images are flat, and there makes a seam about ``M / ε`` dear (not in the paper).
+GRADIENT_EPSILON = 0.01
+
+
+def gradient_matching_cost(a_s, a_t, b_s, b_t):
+    """Kwatra et al.'s gradient-normalised matching cost ``M'``: seams are cheaper where the images vary.
+
+    Parameters
+    ----------
+    a_s, a_t, b_s, b_t : numpy.ndarray, shape (n, C)
+        The values of images ``A`` and ``B`` at the two pixels ``s`` and
+        ``t`` of ``n`` neighbouring pairs (values in [0, 1]).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        ``M(s, t, A, B)`` of :func:`matching_cost` divided by the gradients
+        of both images along the pair's direction, finite and >= 0.
+
+    Notes
+    -----
+    The paper's Section 3 ("Cost function"):
+
+    .. math:: M'(s, t, A, B) = \\frac{\\|A(s) - B(s)\\| + \\|A(t) - B(t)\\|}
+              {\\|G^d_A(s)\\| + \\|G^d_A(t)\\| + \\|G^d_B(s)\\| + \\|G^d_B(t)\\|}
+
+    with ``G^d`` the gradient along the direction ``d`` of the arc
+    ``s``-``t``. Here the gradient at both ends of the arc is the finite
+    difference along it, ``G^d_A(s) = G^d_A(t) = A(t) - A(s)``, so ``M'``
+    needs the four values an edge cost receives and nothing else (the
+    paper's discretisation of ``G^d`` could not be checked), and
+    :data:`GRADIENT_EPSILON` is added to the denominator so that flat
+    regions give a large finite cost instead of a division by zero. ``M'``
+    does not obey the triangle inequality, so with old seams the cut is the
+    minimum of the graph but a seam node may charge a little more or less
+    than the seams it stands for (see :func:`graph_cut`).
+
+    Examples
+    --------
+    The same mismatch costs less across an edge of the images than in a flat region:
+
+    >>> flat, edge = np.array([[0.5]]), np.array([[1.0]])
+    >>> float(gradient_matching_cost(flat, flat, flat + 0.1, flat + 0.1)[0])  # 0.2 / 0.01
+    20.0
+    >>> round(float(gradient_matching_cost(flat, edge, flat + 0.1, edge + 0.1)[0]), 4)  # 0.2 / 2.01
+    0.0995
+    """
+    gradients = 2.0 * (np.sqrt(((a_t - a_s) ** 2).sum(-1)) + np.sqrt(((b_t - b_s) ** 2).sum(-1)))
+    return matching_cost(a_s, a_t, b_s, b_t) / (gradients + GRADIENT_EPSILON)
+
+
 def _as_values(image, name):
     """A finite real image as float64 ``(H, W, C)``."""
     arr = np.asarray(image)
@@ -346,6 +475,15 @@ def _as_mask(mask, shape, name, default):
         raise ValueError(f"{name} must be a bool array of shape {shape} (one value per pixel of old), "
                          f"got dtype {arr.dtype} shape {arr.shape}")
     return arr
+
+
+def _check_disjoint(first, second, names, fix):
+    """Refuse two constraint masks that share a pixel, naming both, the first shared pixel and ``fix``."""
+    both = first & second
+    if both.any():
+        r, c = np.argwhere(both)[0]
+        raise ValueError(f"{names[0]} and {names[1]} both hold {int(both.sum())} pixels (the first at row {r}, "
+                         f"column {c}); {fix}")
 
 
 def _neighbour_pairs(mask):
@@ -492,11 +630,7 @@ def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None,
     region = _as_mask(mask, shape, "mask", True)
     keep_old = _as_mask(old_mask, shape, "old_mask", False)
     take_new = _as_mask(new_mask, shape, "new_mask", False)
-    both = keep_old & take_new
-    if both.any():
-        r, c = np.argwhere(both)[0]
-        raise ValueError(f"old_mask and new_mask both hold {int(both.sum())} pixels (the first at row {r}, column "
-                         f"{c}); a pixel can be constrained to one side only")
+    _check_disjoint(keep_old, take_new, ("old_mask", "new_mask"), "a pixel can be constrained to one side only")
     for name, constraint in (("old_mask", keep_old), ("new_mask", take_new)):
         if (constraint & ~region).any():
             raise ValueError(f"{name} holds {int((constraint & ~region).sum())} pixels outside mask; "

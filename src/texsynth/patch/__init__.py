@@ -7,11 +7,23 @@
   along minimum-error boundary cuts, and texture transfer.
 - :func:`patch_sampling`: Liang et al. 2001, patches chosen by their boundary
   zones, feathered.
+- :func:`graphcut_texture`, :func:`graphcut_merge`: Kwatra et al. 2003, patches
+  joined along graph min-cuts with refinement, and interactive merging.
+- :func:`carve_seams`: Avidan & Shamir 2007, content-aware resizing and object
+  removal by removing and inserting seams of least energy.
+- :func:`wang_tiles`, :func:`wang_tiling`, :func:`wang_texture`: Cohen et al.
+  2003, a set of tiles with coloured edges quilted from diamonds, tiled at random.
 """
 
+from ._graphcut import GraphcutInfo, GraphcutMergeInfo, graphcut_merge, graphcut_texture
 from ._patch_sampling import PatchSamplingInfo, patch_sampling
 from ._patchwork import PatchworkInfo, patchwork, patchwork_transfer, patchwork_video, voronoi_weights
 from ._quilting import QuiltInfo, QuiltTransferInfo, quilt, quilt_transfer
+from ._seam_carving import SeamCarvingInfo, carve_seams
+from ._wang_tiles import WangTileSet, WangTilesInfo, WangTilingInfo, wang_texture, wang_tiles, wang_tiling
 
 __all__ = ["patchwork", "patchwork_video", "patchwork_transfer", "voronoi_weights", "PatchworkInfo",
-           "quilt", "quilt_transfer", "patch_sampling", "QuiltInfo", "QuiltTransferInfo", "PatchSamplingInfo"]
+           "quilt", "quilt_transfer", "patch_sampling", "QuiltInfo", "QuiltTransferInfo", "PatchSamplingInfo",
+           "graphcut_texture", "graphcut_merge", "GraphcutInfo", "GraphcutMergeInfo",
+           "carve_seams", "SeamCarvingInfo", "wang_tiles", "wang_tiling", "wang_texture", "WangTileSet",
+           "WangTilesInfo", "WangTilingInfo"]

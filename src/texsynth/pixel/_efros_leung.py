@@ -62,7 +62,7 @@ from scipy import ndimage
 
 from ..core._progress import Progress
 from ..core._validate import (
-    as_float_array,
+    as_binary_map,
     as_image,
     as_rng,
     as_size,
@@ -160,16 +160,7 @@ def _check_window(neighborhood_size, exemplar_shape):
 
 def _check_map(array, shape, name):
     """A binary (H, W) map: bool, or numbers that are all 0 or 1."""
-    arr = np.asarray(array)
-    if arr.ndim == 3 and arr.shape[-1] == 1:
-        arr = arr[..., 0]
-    if arr.shape != tuple(shape):
-        raise ValueError(f"{name} must have shape {tuple(shape)} (one value per pixel), got shape {np.shape(array)}")
-    values = as_float_array(arr, name)
-    if not np.all((values == 0) | (values == 1)):
-        raise ValueError(f"{name} must be binary (True/1 where a pixel is known, False/0 elsewhere); "
-                         f"threshold it first, e.g. {name} > 0.5")
-    return values.astype(bool)
+    return as_binary_map(array, shape, name)
 
 
 def _check_constraints(target, mask, size, channels, seed_center):

@@ -26,6 +26,9 @@ neighbourhood is closest to this one?*, and asks it here:
     Masked squared distances of a template to every window of an image, by
     FFT (quilting, patch-based sampling); :func:`within_tolerance` and
     :func:`within_radius` turn them into candidate sets.
+:class:`TemplateSearch`
+    The same with the roles exchanged: a fixed template placed over every
+    position of a partly known image (graph-cut textures' whole input).
 :func:`patchmatch`
     For every patch of an image, the k nearest patches of an exemplar
     (PatchMatch): fields on grids, warm-started, with masks and wrap.
@@ -62,7 +65,7 @@ from ._common import sq_distances
 from ._exact import SequentialExact, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
 from ._masked import MASKED_METHODS, MaskedIndex, masked_sq_distances
-from ._template import WindowSearch, within_radius, within_tolerance
+from ._template import TemplateSearch, WindowSearch, within_radius, within_tolerance
 from ._coherent import COHERENT_MODES, KCoherence, neighbor_sources
 from ._patchmatch import FIELD_METHODS, FIELD_MIN_VALUES, check_field_method, nearest_field, patchmatch, resolve_field
 from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
@@ -73,7 +76,7 @@ METHODS = _methods()
 
 __all__ = [
     "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "sq_distances",
-    "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "within_tolerance", "within_radius",
+    "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "TemplateSearch", "within_tolerance", "within_radius",
     "KCoherence", "neighbor_sources", "COHERENT_MODES", "patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]

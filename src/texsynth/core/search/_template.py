@@ -33,7 +33,7 @@ from scipy import fft as sp_fft
 
 from .._validate import check_memory
 
-__all__ = ["WindowSearch", "within_radius", "within_tolerance"]
+__all__ = ["TemplateSearch", "WindowSearch", "within_radius", "within_tolerance"]
 
 # FFT rounding: distances below this fraction of the terms' magnitude are 0
 # (double precision FFTs of 2**16-2**20 points err by ~1e-14 relative; 1e-9 is
@@ -137,6 +137,97 @@ class WindowSearch:
         rounding = _ROUNDING * (constant + self._peak * m.sum())
         d2[d2 < rounding] = 0.0
         return d2
+
+
+class TemplateSearch:
+    """Squared distances between a fixed template and every placement of it over a partly known image.
+
+    :class:`WindowSearch`'s question with the roles exchanged: the template
+    (graph-cut textures' whole input) is fixed and known everywhere, and the
+    image it is placed over (the output) is known only where ``known`` is
+    true, so the distance of the placement whose top-left pixel is ``p`` is
+
+    .. math:: d(p) = \\sum_x k(p + x)\\, \\|O(p + x) - T(x)\\|^2
+            = \\sum_x k\\|O\\|^2 (p + x) - 2 \\sum_x (k O)(p + x) \\cdot T(x) + \\sum_x k(p + x) \\|T(x)\\|^2
+
+    over the pixels ``x`` of the template, with ``n(p) = sum_x k(p + x)``
+    known pixels under it: four correlations, each a product of Fourier
+    transforms (the template's are computed once per image shape).
+
+    Parameters
+    ----------
+    template : numpy.ndarray
+        ``(h, w, C)`` float array.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> template = rng.random((4, 5, 3))
+    >>> image = rng.random((10, 12, 3)); image[3:7, 2:7] = template
+    >>> known = np.ones((10, 12)); known[:, 4:] = 0  # only the left four columns are known
+    >>> d2, n = TemplateSearch(template).sq_distances(image, known)
+    >>> d2.shape, float(d2[3, 2]), float(n[3, 2])
+    ((7, 8), 0.0, 8.0)
+    """
+
+    def __init__(self, template):
+        template = np.asarray(template, dtype=np.float64)
+        if template.ndim != 3:
+            raise ValueError(f"template must be a channels-last array (h, w, C), got shape {template.shape}")
+        self.template = template
+        self._spectra = {}
+
+    def _template_spectra(self, fft_shape):
+        if fft_shape not in self._spectra:
+            t = self.template[::-1, ::-1]  # correlation = convolution with the flipped template
+            ones = np.ones(t.shape[:2])
+            self._spectra[fft_shape] = (sp_fft.rfft2(t, s=fft_shape, axes=(0, 1)),
+                                        sp_fft.rfft2(np.einsum("ijc,ijc->ij", t, t), s=fft_shape),
+                                        sp_fft.rfft2(ones, s=fft_shape))
+        return self._spectra[fft_shape]
+
+    def sq_distances(self, image, known):
+        """``(d, n)``: the masked squared distance and the number of known pixels of every placement.
+
+        Parameters
+        ----------
+        image : numpy.ndarray
+            ``(H, W, C)`` with ``H >= h`` and ``W >= w``; values where ``known`` is 0 are ignored.
+        known : numpy.ndarray
+            ``(H, W)``, 1 where the image is known, 0 elsewhere (or non-negative weights).
+
+        Returns
+        -------
+        d, n : numpy.ndarray, shape (H - h + 1, W - w + 1)
+            ``d[p]`` and ``n[p]`` for the placement whose top-left pixel is
+            ``p``; ``d`` is exact up to the FFT's rounding (values within it of
+            0 are 0), ``n`` rounded to whole pixels for a binary ``known``.
+        """
+        image = np.asarray(image, dtype=np.float64)
+        k = np.asarray(known, dtype=np.float64)
+        h, w, C = self.template.shape
+        H, W = k.shape
+        if image.shape != (H, W, C) or H < h or W < w:
+            raise ValueError(f"image must have shape (H, W, {C}) with H >= {h}, W >= {w}, and known (H, W); got "
+                             f"{image.shape} and {k.shape}")
+        fft_shape = (sp_fft.next_fast_len(H, real=True), sp_fft.next_fast_len(W, real=True))
+        check_memory(16.0 * fft_shape[0] * fft_shape[1] * (C + 6), (H, W), "image", "the placements' transforms")
+        t_spec, t_sq_spec, ones_spec = self._template_spectra(fft_shape)
+        masked = image * k[..., None]
+        sq = np.einsum("ijc,ijc->ij", masked, image)  # k ||O||^2
+        k_spec = sp_fft.rfft2(k, s=fft_shape)
+
+        def valid(spectrum_product):
+            # circular convolution of an (H, W) image with an (h, w) kernel: rows h-1..H-1 are the valid ones
+            return sp_fft.irfft2(spectrum_product, s=fft_shape, axes=(0, 1))[h - 1:H, w - 1:W]
+
+        cross = np.einsum("ijc,ijc->ij", sp_fft.rfft2(masked, s=fft_shape, axes=(0, 1)), t_spec)
+        d = valid(sp_fft.rfft2(sq, s=fft_shape) * ones_spec) - 2.0 * valid(cross) + valid(k_spec * t_sq_spec)
+        n = valid(k_spec * ones_spec)
+        rounding = _ROUNDING * (float(sq.max(initial=0.0)) + float(np.einsum("ijc,ijc->", self.template,
+                                                                             self.template))) * h * w
+        d[d < rounding] = 0.0
+        return d, np.round(n, 6)
 
 
 def within_tolerance(sq_distances, error_tolerance):
