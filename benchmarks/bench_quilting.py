@@ -205,13 +205,14 @@ def figures():
                 load(TEXTURES / "lcv" / "nuts.pgm", 160)]
     save_image(static / "quilting_transfer.png",
                _row([face] + [quilt_transfer(t, face, block=16, rng=0) for t in textures]), overwrite=True)
-    # patch sampling next to quilting and patchwork on the same inputs
+    # the patch methods next to texture optimization and patchwork on the same inputs
     rows = []
     for path, crop in ((TEXTURES / "skimage" / "brick.png", 128), (TEXTURES / "embark" / "1.jpg", 128),
                        (TEXTURES / "lcv" / "nuts.pgm", 128)):
         ex = load(path, crop)
         rows.append(_row([ex, quilt(ex, 256, rng=0), patch_sampling(ex, 256, rng=0),
-                          texsynth.patchwork(ex, 256, grid_spacing=32, rng=0)]))
+                          texsynth.graphcut_texture(ex, 256, rng=0), texsynth.optimize_texture(ex, 256, rng=0),
+                          texsynth.patchwork(ex, 256, rng=0)]))
     width = max(r.shape[1] for r in rows)
     rows = [np.pad(r, ((0, 6), (0, width - r.shape[1]), (0, 0)), constant_values=1.0) for r in rows]
     save_image(static / "patch_methods_compared.png", np.concatenate(rows)[:-6], overwrite=True)
