@@ -122,8 +122,14 @@ def _small_runs():
     return {
         "synthesize_pixels": lambda: texsynth.synthesize_pixels(bread[:24, :24], 16, levels=2, return_info=True, rng=0),
         "efros_leung": lambda: texsynth.efros_leung(bread[:24, :24], 12, neighborhood_size=5, return_info=True, rng=0),
+        "synthesize_controlled": lambda: texsynth.synthesize_controlled(bread, 24, levels=2, orientation=0.3,
+                                                                        return_info=True, rng=0),
         "optimize_texture": lambda: texsynth.optimize_texture(bread, 40, neighborhood_sizes=(8,), levels=2,
                                                               max_iterations=2, return_info=True, rng=0),
+        "inpaint": lambda: texsynth.inpaint(bread, np.eye(40, dtype=bool), neighborhood_sizes=(8,), levels=1,
+                                            max_iterations=1, return_info=True, rng=0),
+        "uncrop": lambda: texsynth.uncrop(bread[:32, :32], 40, neighborhood_sizes=(8,), levels=1, max_iterations=1,
+                                          return_info=True, rng=0),
         "animate_texture": lambda: texsynth.animate_texture(bread, flows.rotation(24, 0.05), n_frames=2,
                                                             neighborhood_sizes=(8,), levels=1, max_iterations=1,
                                                             max_frame_iterations=1, return_info=True, rng=0),
@@ -145,6 +151,9 @@ def _small_runs():
         "heeger_bergen": lambda: texsynth.heeger_bergen(metal, 64, scales=2, iterations=1, return_info=True, rng=0),
         "portilla_simoncelli": lambda: texsynth.portilla_simoncelli(metal, 64, scales=2, iterations=1,
                                                                     return_info=True, rng=0),
+        "random_phase_noise": lambda: texsynth.random_phase_noise(bread, 64, return_info=True, rng=0),
+        "tile_and_blend": lambda: texsynth.tile_and_blend(bread, 64, return_info=True, rng=0),
+        "tile_and_blend_at": lambda: texsynth.tile_and_blend_at(bread, [0, 5], [3, -7], return_info=True, rng=0),
     }
 
 

@@ -511,3 +511,60 @@ def test_outputs_get_the_umask_permissions(tmp_path, metal_file):
         assert stat.S_IMODE((tmp_path / "out.png").stat().st_mode) == 0o640  # a replaced file keeps its mode
     finally:
         os.umask(old)
+
+
+def test_sixteen_bits_in_sixteen_bits_out_unless_told(tmp_path, capsys):
+    from texsynth.io import image_bits
+
+    albedo = data.load("bread")[:48, :48]
+    deep = (np.random.default_rng(0).random((48, 48, 3)) * 65535).astype(np.uint16)  # no 8-bit values
+    source = save_image(tmp_path / "albedo16.png", deep, bits=16)
+    assert run("quilt", str(source), "-o", str(tmp_path / "q.png"), "--size", "64x56", "--seed", "0",
+               "--block", "16") == 0
+    out = load_image(tmp_path / "q.png")
+    assert image_bits(tmp_path / "q.png") == 16
+    # quilting copies pixels: every output value is one of the input's 16-bit values, exactly
+    import texsynth
+
+    assert np.array_equal(out, texsynth.quilt(deep / 65535.0, (56, 64), block=16, rng=0))
+    assert run("quilt", str(source), "-o", str(tmp_path / "q8.png"), "--size", "64x56", "--bits", "8") == 0
+    assert image_bits(tmp_path / "q8.png") == 8
+    assert run("quilt", str(source), "-o", str(tmp_path / "q.tif"), "--size", "64x56", "--bits", "32") == 0
+    assert image_bits(tmp_path / "q.tif") == 32
+    assert run("quilt", str(source), "-o", str(tmp_path / "q.jpg"), "--size", "64x56") == 0  # JPEG: 8 bits
+    assert run("quilt", str(save_image(tmp_path / "a8.png", albedo)), "-o", str(tmp_path / "e.png")) == 0
+    assert image_bits(tmp_path / "e.png") == 8
+    capsys.readouterr()
+    assert run("quilt", str(source), "-o", str(tmp_path / "bad.png"), "--bits", "32") == 2
+    assert "--bits 32" in capsys.readouterr().err and not (tmp_path / "bad.png").exists()
+
+
+def test_channels_are_rendered_through_the_map_and_written_as_a_set(tmp_path, capsys):
+    import texsynth
+
+    albedo = data.load("bread")[:48, :48]
+    height = (albedo.mean(-1) * 65535).astype(np.uint16)
+    gy, gx = np.gradient(albedo.mean(-1))
+    normal = np.stack([-4 * gx, 4 * gy, np.ones_like(gx)], -1)
+    normal = (normal / np.linalg.norm(normal, axis=-1, keepdims=True) + 1) / 2
+    files = [save_image(tmp_path / "albedo.png", albedo), save_image(tmp_path / "height.png", height, bits=16),
+             save_image(tmp_path / "normal.png", normal, bits=16)]
+    argv = ["patch-sampling", str(files[0]), "-o", str(tmp_path / "out.png"), "--size", "64x64", "--seed", "0",
+            "--block", "16", "--channels", str(files[1]), "--normal-maps", str(files[2])]
+    assert run(*argv) == 0
+    out, info = texsynth.patch_sampling(albedo, 64, block=16, rng=0, return_info=True)
+    assert np.abs(load_image(tmp_path / "out.png") - out).max() <= 0.5 / 255 + 1e-9
+    rendered_height = load_image(tmp_path / "out_height.png")  # 16 bits in, 16 bits out
+    expected = texsynth.apply_coordinates(height, info) / 65535.0
+    assert np.abs(rendered_height - expected).max() <= 1.5 / 65535
+    n = load_image(tmp_path / "out_normal.png") * 2 - 1
+    assert np.abs(np.linalg.norm(n, axis=-1) - 1).max() < 1e-3
+    # a channel of the wrong size is refused before the synthesis, and nothing is written
+    small = save_image(tmp_path / "small.png", albedo[:40])
+    capsys.readouterr()
+    argv[argv.index("-o") + 1] = str(tmp_path / "other.png")
+    assert run(*argv[:-4], "--channels", f"{files[1]},{small}") == 2
+    assert "small.png" in capsys.readouterr().err and not list(tmp_path.glob("other*"))
+    # an existing channel output is refused (nothing written) unless --overwrite
+    assert run(*argv) == 0 and run(*argv) == 2
+    assert run(*argv, "--overwrite") == 0

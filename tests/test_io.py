@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from texsynth import data
-from texsynth.io import load_frames, load_image, save_frames, save_image, to_uint
+from texsynth.io import image_bits, load_frames, load_image, save_frames, save_image, to_uint
 
 POSIX = pytest.mark.skipif(os.name != "posix", reason="POSIX permissions and signals")
 
@@ -364,9 +364,84 @@ def test_formats_without_alpha_or_sixteen_bit_colour(tmp_path):
     for suffix in (".bmp", ".ppm"):
         back = load_image(save_image(tmp_path / f"la{suffix}", la))  # alpha dropped, as for JPEG
         assert back.shape == (6, 7) and np.abs(back - la[..., 0]).max() <= 0.5 / 255 + 1e-9
-    with pytest.raises(ValueError, match="bits=16 PNG is written for grey images only.*tif"):
-        save_image(tmp_path / "c16.png", np.zeros((4, 4, 3)), bits=16)
+    with pytest.raises(ValueError, match="bits=16 needs a .png or .tif"):
+        save_image(tmp_path / "c16.jpg", np.zeros((4, 4, 3)), bits=16)
+    with pytest.raises(ValueError, match="bits=32.*needs a .tif"):
+        save_image(tmp_path / "c32.png", np.zeros((4, 4, 3)), bits=32)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["la.bmp", "la.ppm"]
+
+
+_DEPTHS = {8: (np.uint8, 255), 16: (np.uint16, 65535), 32: (np.float32, 1)}
+
+
+@pytest.mark.parametrize("channels", [None, 2, 3, 4])
+@pytest.mark.parametrize("bits, suffix", [(8, ".png"), (16, ".png"), (8, ".tif"), (16, ".tif"), (32, ".tif")])
+def test_round_trips_of_every_depth_and_layout_are_exact(tmp_path, channels, bits, suffix):
+    rng = np.random.default_rng(bits + (channels or 1))
+    shape = (9, 11) if channels is None else (9, 11, channels)
+    kind, white = _DEPTHS[bits]
+    pixels = rng.random(shape).astype(np.float32) if bits == 32 else rng.integers(0, white + 1, shape).astype(kind)
+    path = save_image(tmp_path / f"x{suffix}", pixels, bits=bits)
+    back = load_image(path)
+    assert back.shape == shape and back.dtype == (np.float32 if bits == 32 else np.float64)
+    assert np.array_equal(back, pixels / np.float64(white) if bits != 32 else pixels)
+    assert image_bits(path) == bits
+    if bits != 32:  # float in, the same integers out
+        assert np.array_equal(load_image(save_image(tmp_path / f"y{suffix}", back, bits=bits)), back)
+
+
+def _png16(path, pixels, filters):
+    """A 16-bit PNG whose rows use the given filter types (1 Sub, 2 Up, 3 Average, 4 Paeth), as libpng writes."""
+    import struct
+    import zlib
+
+    h, w, c = pixels.shape
+    raw = np.ascontiguousarray(pixels, ">u2").reshape(h, w * c).view(np.uint8).astype(np.int32)
+    bpp, lines = 2 * c, []
+    for r in range(h):
+        x, prior, kind = raw[r], raw[r - 1] if r else np.zeros_like(raw[0]), filters[r % len(filters)]
+        left = np.r_[np.zeros(bpp, np.int32), x[:-bpp]]
+        corner = np.r_[np.zeros(bpp, np.int32), prior[:-bpp]]
+        p = left + prior - corner
+        pa, pb, pc = np.abs(p - left), np.abs(p - prior), np.abs(p - corner)
+        paeth = np.where((pa <= pb) & (pa <= pc), left, np.where(pb <= pc, prior, corner))
+        pred = {0: 0, 1: left, 2: prior, 3: (left + prior) // 2, 4: paeth}[kind]
+        lines.append(bytes([kind]) + ((x - pred) & 0xFF).astype(np.uint8).tobytes())
+
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+
+    colour = {2: 4, 3: 2, 4: 6}[c]
+    Path(path).write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 16, colour, 0, 0, 0))
+                           + chunk(b"IDAT", zlib.compress(b"".join(lines))) + chunk(b"IEND", b""))
+
+
+@pytest.mark.parametrize("filters", [(1,), (2,), (3,), (4,), (0, 1, 2, 3, 4)])
+def test_sixteen_bit_colour_png_of_other_writers_is_read_exactly(tmp_path, filters):
+    # other tools (libpng, Substance, Photoshop) filter rows adaptively; Pillow reads such files as 8 bits
+    pixels = (np.random.default_rng(0).random((13, 17, 3)) * 65535).astype(np.uint16)
+    pixels[:, :8] = np.linspace(0, 65535, 8).astype(np.uint16)[None, :, None]  # smooth runs too
+    _png16(tmp_path / "f.png", pixels, filters)
+    assert np.array_equal(load_image(tmp_path / "f.png"), pixels / 65535.0)
+
+
+def test_the_png_row_filters_match_pillows_decoder(tmp_path):
+    from texsynth.io import _unfilter
+
+    rng = np.random.default_rng(1)
+    image = (np.linspace(0, 200, 64)[None, :, None] + rng.integers(0, 50, (40, 64, 3))).astype(np.uint8)
+    iio.imwrite(tmp_path / "p.png", image)  # Pillow chooses a filter per row
+    import zlib
+
+    raw = (tmp_path / "p.png").read_bytes()
+    body, at = b"", 8
+    while at < len(raw):
+        length, kind = int.from_bytes(raw[at:at + 4], "big"), raw[at + 4:at + 8]
+        body += raw[at + 8:at + 8 + length] if kind == b"IDAT" else b""
+        at += 12 + length
+    rows = np.frombuffer(zlib.decompress(body), np.uint8).reshape(40, -1)
+    assert len(set(rows[:, 0].tolist())) > 1  # several filter types in use
+    assert np.array_equal(_unfilter(rows, 40, 64 * 3, 3).reshape(40, 64, 3), image)
 
 
 def test_npy_suffix_in_capitals_and_folder_targets(tmp_path):

@@ -15,7 +15,8 @@ README = (ROOT / "README.md").read_text()
 TABLE = README[README.index("## Methods"):README.index("## ", README.index("## Methods") + 5)]
 # public functions that are parts or helpers of a registered method, not methods of their own
 HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_map", "edge_feature_map",
-           "linear_blend", "wang_tiles", "wang_tiling"}
+           "linear_blend", "wang_tiles", "wang_tiling", "tile_and_blend_at", "find_textons",
+           "apply_coordinates"}
 
 
 @pytest.mark.parametrize("name", list(METHODS))

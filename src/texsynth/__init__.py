@@ -4,10 +4,10 @@ The algorithms are functions at the top level (``texsynth.optimize_texture``,
 ``texsynth.patchwork``, ...), each implemented in its family:
 
 =============================  ====================================================
-:mod:`texsynth.pixel`          pixel-based: Wei-Levoy, Wei's mixtures and solids, Efros-Leung
+:mod:`texsynth.pixel`          pixel-based: Wei-Levoy, Wei's mixtures and solids, Efros-Leung, Zhang et al.
 :mod:`texsynth.patch`          patch-based: Harrison's patchwork, image quilting, patch-based sampling, graph cuts, seam carving, Wang tiles
 :mod:`texsynth.optimization`   optimization-based: Kwatra, Ruiters
-:mod:`texsynth.statistical`    statistical: Heeger-Bergen, Portilla-Simoncelli
+:mod:`texsynth.statistical`    statistical: Heeger-Bergen, Portilla-Simoncelli, random phase noise, tiling and blending
 :mod:`texsynth.procedural`     procedural: Perlin noise, marble, reaction-diffusion
 :mod:`texsynth.core`           the shared layer: neighbourhoods, pyramids, search, EM
 =============================  ====================================================
@@ -27,14 +27,18 @@ __getattr__, __dir__, __all__ = attach(
     submodules=["pixel", "patch", "optimization", "statistical", "procedural", "core",
                 "metrics", "testing", "io", "data"],
     names={
-        **dict.fromkeys(["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung"], ".pixel"),
+        **dict.fromkeys(["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung",
+                         "synthesize_controlled", "find_textons"], ".pixel"),
         **dict.fromkeys(["patchwork", "patchwork_video", "patchwork_transfer", "quilt", "quilt_transfer",
                         "patch_sampling", "graphcut_texture", "graphcut_merge", "carve_seams", "wang_texture",
                         "wang_tiles", "wang_tiling"], ".patch"),
-        **dict.fromkeys(["optimize_texture", "animate_texture", "interpolate_textures", "ridge_feature_map",
+        **dict.fromkeys(["optimize_texture", "animate_texture", "inpaint", "uncrop", "interpolate_textures",
+                         "ridge_feature_map",
                          "edge_feature_map", "linear_blend"], ".optimization"),
         **dict.fromkeys(["heeger_bergen", "portilla_simoncelli", "ps_statistics", "ps_step",
-                         "interpolate_statistics"], ".statistical"),
+                         "interpolate_statistics", "random_phase_noise", "tile_and_blend", "tile_and_blend_at"],
+                        ".statistical"),
+        "apply_coordinates": ".core.coordinates",
     },
 )
 __all__.append("__version__")

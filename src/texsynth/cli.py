@@ -4,12 +4,22 @@
 
     texsynth list
     texsynth demo [--out DIR]
-    texsynth METHOD INPUT [INPUT ...] -o OUTPUT [--size WxH] [--seed N] [method options]
+    texsynth METHOD INPUT [INPUT ...] -o OUTPUT [--size WxH] [--seed N] [--bits 8|16|32] [method options]
+    texsynth quilt albedo.png -o out.png --channels height.png,rough.png --normal-maps normal.png
 
 The methods and how each is exposed come from :mod:`texsynth.registry`; each
 method's options are generated from the keyword-only parameters of its Python
 function and their numpydoc descriptions, so the command and the API never
 drift apart. Bad input gives a one-line error and exit status 2.
+
+The output keeps the bit depth of the (first) input file, as far as its format
+allows (PNG up to 16 bits, TIFF up to 32-bit float, other formats 8), unless
+``--bits`` says otherwise. Methods that record where each output pixel came
+from (:data:`texsynth.registry.COORDINATE_METHODS`) take ``--channels`` and
+``--normal-maps``: more images of the input's size (height, roughness, normal
+maps of the same material) rendered through the synthesis's source-coordinate
+map (:func:`texsynth.apply_coordinates`) and written next to the output as
+``OUTPUT-STEM_CHANNEL-STEM.SUFFIX``, all files or none.
 """
 
 from __future__ import annotations
@@ -23,7 +33,7 @@ import sys
 from pathlib import Path
 
 from .io import _check_suffix
-from .registry import METHODS, Method
+from .registry import COORDINATE_METHODS, METHODS, Method
 
 __all__ = ["main", "METHODS", "Method"]
 
@@ -154,6 +164,17 @@ def _add_method_parser(sub, name, method):
     parser.add_argument("--seed", type=int, default=None, help="random seed (same seed, same output)")
     parser.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    if method.output == "image":
+        parser.add_argument("--bits", type=int, choices=(8, 16, 32), default=None,
+                            help="bits per sample of the output file: 8, 16 (PNG, TIFF) or 32 (float TIFF); "
+                                 "default: the input file's, as far as the output format allows")
+    if name in COORDINATE_METHODS:
+        parser.add_argument("--channels", metavar="FILES",
+                            help="comma-separated images of the input's size (height, roughness, ...) rendered "
+                                 "through the synthesis's source-coordinate map and written next to OUTPUT as "
+                                 "OUTPUT-STEM_CHANNEL-STEM (each keeps its own bit depth unless --bits is given)")
+        parser.add_argument("--normal-maps", metavar="FILES",
+                            help="as --channels, for tangent-space normal maps: blended pixels are renormalised")
     params = inspect.signature(func).parameters
     shown = _option_names(method, params)
     help_text = _doc_params(func, shown)
@@ -355,7 +376,40 @@ def _load_inputs(method, paths):
     return [loader(p) for p in paths]
 
 
-def _write(method, result, output, overwrite):
+_MOST_BITS = {".png": 16, ".tif": 32, ".tiff": 32, ".npy": 32}
+
+
+def _output_bits(requested, source, path):
+    """The bits of an output file: ``--bits`` if given, else the ``source`` file's (None: the format's default),
+    as far as the format of ``path`` stores them."""
+    if requested is not None:
+        return requested
+    if source is None:
+        return None
+    from .io import image_bits
+
+    return min(image_bits(source), _MOST_BITS.get(Path(path).suffix.lower(), 8))
+
+
+def _channel_files(args, output):
+    """``[(channel path, output path, is a normal map)]`` of --channels and --normal-maps."""
+    out = Path(output)
+    pairs = []
+    for option, normal in (("channels", False), ("normal_maps", True)):
+        text = getattr(args, option, None)
+        for part in (text.split(",") if text else []):
+            if not part.strip():
+                raise CommandError(f"--{option.replace('_', '-')} has an empty file name in {text!r}; pass "
+                                   "comma-separated image files")
+            path = Path(part.strip())
+            pairs.append((path, out.with_name(f"{out.stem}_{path.stem}{out.suffix}"), normal))
+    targets = [out] + [t for _, t, _ in pairs]
+    if len({t.resolve() for t in targets}) < len(targets):
+        raise CommandError("two --channels files have the same name (or the output's); rename one of them")
+    return pairs
+
+
+def _write(method, result, output, overwrite, bits=None, extra=None):
     import numpy as np
 
     from .io import save_frames, save_image
@@ -364,6 +418,9 @@ def _write(method, result, output, overwrite):
     if method.output == "frames":
         save_frames(out, result, overwrite=overwrite)
         return [out]
+    if extra:  # the output and the channels rendered through its map: all files or none
+        return _write_set({out: result, **{path: image for path, (image, _) in extra.items()}}, overwrite,
+                          {out: bits, **{path: b for path, (_, b) in extra.items()}})
     if method.output == "volume" or (method.inputs == "none" and np.ndim(result) >= 3
                                      and (np.ndim(result) == 4 or np.shape(result)[-1] > 4)):
         volume = np.asarray(result)
@@ -371,14 +428,17 @@ def _write(method, result, output, overwrite):
         for axis, label in enumerate("zyx"):
             files[out.with_name(f"{out.stem}_slice_{label}.png")] = np.take(volume, volume.shape[axis] // 2, axis=axis)
         return _write_set(files, overwrite)
-    save_image(out, result, overwrite=overwrite)
+    save_image(out, result, overwrite=overwrite, bits=bits)
     return [out]
 
 
-def _write_set(files, overwrite):
+def _write_set(files, overwrite, bits=None):
     """Write ``{path: image}`` as a set: every target is checked first, and a failure part-way
-    removes the files this call created (each file is written atomically by save_image)."""
+    removes the files this call created (each file is written atomically by save_image).
+    ``bits`` is ``{path: bits}`` (None or missing: save_image's default)."""
     from .io import save_image
+
+    bits = bits or {}
 
     for path in files:
         if path.exists() and not overwrite:
@@ -387,7 +447,7 @@ def _write_set(files, overwrite):
     try:
         for path, image in files.items():
             existed = path.exists()
-            save_image(path, image, overwrite=overwrite)
+            save_image(path, image, overwrite=overwrite, bits=bits.get(path))
             if not existed:
                 created.append(path)
     except BaseException:
@@ -411,7 +471,21 @@ def _run_method(args):
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
     if method.output != "volume":  # refuse a format that cannot be written before the synthesis runs
         _check_suffix(out, frames=method.output == "frames")
+    requested_bits = getattr(args, "bits", None)
+    if requested_bits == 32 and out.suffix.lower() not in {".tif", ".tiff", ".npy"}:
+        raise CommandError(f"--bits 32 (float samples) needs a .tif output, got {args.output!r}")
+    if requested_bits == 16 and out.suffix.lower() not in {".png", ".tif", ".tiff", ".npy"}:
+        raise CommandError(f"--bits 16 needs a .png or .tif output, got {args.output!r}")
+    channel_files = _channel_files(args, args.output)
+    for source, target, _ in channel_files:
+        if source.resolve() in {out, *(Path(p).resolve() for p in paths)} or target.resolve() in {
+                Path(p).resolve() for p in paths + [str(c) for c, _, _ in channel_files]}:
+            raise CommandError(f"--channels file {str(source)!r} is also an input or an output; choose other paths")
+        if target.exists() and not args.overwrite:
+            raise CommandError(f"output {str(target)!r} (of --channels {str(source)!r}) exists; pass --overwrite "
+                               "to replace it (nothing was written)")
     inputs = _load_inputs(method, paths)
+    channels = _load_channels(channel_files, inputs[0].shape[:2] if inputs else None)
     if method.inputs == "pair":
         inputs = _match_channels(*inputs)
     params = inspect.signature(func).parameters
@@ -461,11 +535,41 @@ def _run_method(args):
             kwargs[method.size] = size
         else:
             positional.append(size)
+    if channels:
+        kwargs["return_info"] = True
     result = func(*positional, **kwargs)
+    info = None
     if isinstance(result, tuple):
-        result = result[0]
+        result, info = result[0], result[1]
     result = method.to_unit(result)
-    return _write(method, result, args.output, args.overwrite)
+    source = paths[0] if paths and method.inputs != "frames" else None
+    bits = _output_bits(requested_bits, source, out) if method.output == "image" else None
+    extra = None
+    if channels:
+        from .core.coordinates import apply_coordinates
+
+        images = apply_coordinates([image for image, _ in channels], info,
+                                   normals=[normal for _, normal in channels])
+        extra = {target: (np.clip(image, 0.0, 1.0), _output_bits(requested_bits, src, target))
+                 for (src, target, _), image in zip(channel_files, images)}
+    return _write(method, result, args.output, args.overwrite, bits, extra)
+
+
+def _load_channels(channel_files, shape):
+    """The --channels images as ``[(image, is a normal map)]``, each of the input's ``shape``."""
+    from .io import load_image
+
+    out = []
+    for path, _, normal in channel_files:
+        image = load_image(path)
+        if shape is not None and image.shape[:2] != tuple(shape):
+            raise CommandError(f"--channels file {str(path)!r} is {image.shape[1]}x{image.shape[0]} but the input is "
+                               f"{shape[1]}x{shape[0]}; pass channels of the input's size")
+        if normal and (image.ndim != 3 or image.shape[-1] < 3):
+            raise CommandError(f"--normal-maps file {str(path)!r} has {1 if image.ndim == 2 else image.shape[-1]} "
+                               "channel(s); a normal map is RGB (x, y, z encoded in [0, 1])")
+        out.append((image, normal))
+    return out
 
 
 class _Parser(argparse.ArgumentParser):

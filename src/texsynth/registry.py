@@ -185,6 +185,20 @@ def _animate(exemplar, seed):
     return _side_by_side([frames[0], frames[3], frames[7]])
 
 
+def _controlled(exemplar, seed):
+    import numpy as np
+
+    from .pixel import synthesize_controlled
+
+    def vortex(rows, cols):  # the texture turned along circles about the centre
+        return np.arctan2(rows - 96.0, cols - 96.0) + np.pi / 2
+
+    def grow(rows, cols):  # elements from 0.8x at the left to 2x at the right
+        return 0.8 + 1.2 * cols / 192.0
+
+    return synthesize_controlled(exemplar[:96, :96], 192, orientation=vortex, scale=grow, rng=seed)
+
+
 def _interpolate(exemplar, seed):
     from .optimization import interpolate_textures
 
@@ -211,6 +225,19 @@ def _patchwork_video(exemplar, seed):
     return _side_by_side([video[0], video[5], video[11]])
 
 
+def _inpaint(exemplar, seed):
+    import numpy as np
+
+    from .optimization import inpaint
+
+    image = exemplar[:96, :96]
+    rows, cols = np.mgrid[:96, :96]
+    hole = (rows - 48) ** 2 + (cols - 48) ** 2 < 20**2
+    shown = image.copy()
+    shown[hole] = 1.0
+    return _side_by_side([shown, inpaint(image, hole, rng=seed)])
+
+
 # --------------------------------------------------------------------------- the methods
 _WEI_LEVOY = "Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009"
 _WEI = "Wei, \"Texture synthesis from multiple sources\", SIGGRAPH 2003 sketch, doi:10.1145/965400.965507"
@@ -225,9 +252,12 @@ _RUITERS = "Ruiters, Schnabel & Klein, Computer Graphics Forum 2010, doi:10.1111
 _HARRISON = "Harrison, \"Patchwork texture synthesis\", Monash University technical report, 2002"
 _HB = "Heeger & Bergen, SIGGRAPH 1995, doi:10.1145/218380.218446; Briand et al., IPOL 2014"
 _PS = "Portilla & Simoncelli, IJCV 2000, doi:10.1023/A:1026553619983"
+_GGM = "Galerne, Gousseau & Morel, IEEE TIP 2011, doi:10.1109/TIP.2010.2052822"
+_HEITZ = "Heitz & Neyret, HPG 2018, doi:10.1145/3233304; Deliot & Heitz, GPU Zen 2, 2019"
 _PERLIN = "Perlin, SIGGRAPH 1985 / 2002, doi:10.1145/325165.325247"
 _TURK = "Turk, SIGGRAPH 1991, doi:10.1145/122718.122749"
 _PEARSON = "Pearson, Science 1993, doi:10.1126/science.261.5118.189"
+_ZHANG = "Zhang, Zhou, Velho, Guo & Shum, SIGGRAPH 2003, doi:10.1145/882262.882344"
 
 
 def _m(target, summary, paper, page, demos=(), **cli):
@@ -286,6 +316,14 @@ METHODS: dict[str, Method] = {
                 "multisource", inputs="images", output="volume",
                 demos=[("solid_bread", "Wei solid texture from one 2-D view: three faces of a 32^3 cube (x, y and "
                         "z slices)", "bread", _solid)]),
+    "controlled": _m("pixel:synthesize_controlled",
+                     "Zhang et al. 2003: texton masks keep elements whole; --orientation RAD and --scale S turn and "
+                     "grow them; --exemplar-b B with --blend X | --blend-map M | --transition varies one into "
+                     "the other", _ZHANG, "texton", files=("exemplar_b",), maps=("blend",), ramps=("blend",),
+                     spatial="blend",
+                     demos=[("controlled_vortex_reptile", "Zhang et al. texton-mask synthesis with a vortex "
+                             "orientation field and a scale growing from 0.8 (left) to 2.0 (right): the scales "
+                             "turn along circles and grow, whole", "reptile", _controlled)]),
     "efros-leung": _m("pixel:efros_leung",
                       "Efros-Leung 1999: non-parametric sampling, grown pixel by pixel from a seed; "
                       "--target/--mask for hole filling", _EFROS_LEUNG, "efros_leung", files=("target",),
@@ -309,6 +347,15 @@ METHODS: dict[str, Method] = {
                   files=("first_frame",),
                   demos=[("animate_bumpy", "Kwatra flow-guided animation, rotation 0.06 rad/frame: frames 1, 4 and 8 "
                           "(elements follow the flow; they soften over the frames)", "bumpy", _animate)]),
+    "inpaint": _m("optimization:inpaint", "Hole filling by texture optimization with hard constraints "
+                  "(IMAGE --hole MASK [--sample-mask MASK])", _KWATRA, "completion", size=None,
+                  maps=("hole", "sample_mask"),
+                  demos=[("inpaint_bread", "Hole filling (a 40 px disc of the bread photo, filled from the rest)",
+                          "bread", _inpaint)]),
+    "uncrop": _m("optimization:uncrop", "Uncrop: extend an image beyond its borders by texture optimization "
+                 "(--size WxH)", _KWATRA, "completion", maps=("sample_mask",), skip=("position",),
+                 demos=[("uncrop_bread", "Uncrop: the bread photo (64 px, centre) extended to 96 px",
+                         "bread", _call("optimization:uncrop", (96, 96), crop=64))]),
     "interpolate": _m("optimization:interpolate_textures",
                       "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --transition | --alpha-map map.png; "
                       "--features FA FB)", _RUITERS, "interpolation", inputs="pair", skip=("rpm_options",),
@@ -377,7 +424,29 @@ METHODS: dict[str, Method] = {
                                      for sample, title in (("reptile", "Portilla-Simoncelli: structured texture"),
                                                            ("text", "Portilla-Simoncelli: text (letter-like strokes, "
                                                                     "no words)"))]),
+    "random-phase": _m("statistical:random_phase_noise",
+                       "Galerne et al. 2011: random phase noise / ADSN, micro-textures in one FFT (--method adsn)",
+                       _GGM, "random_phase",
+                       demos=[(f"random_phase_{sample}", title, sample,
+                               _call("statistical:random_phase_noise", (256, 256), **options))
+                              for sample, title, options in (
+                                  ("metal", "Random phase noise: micro-texture (works)", {}),
+                                  ("bread", "ADSN: the same colour noise for every channel (works)",
+                                   {"method": "adsn"}),
+                                  ("brick", "Random phase noise: structured texture (fails: edges are phases)", {}))]),
+    "tile-blend": _m("statistical:tile_and_blend",
+                     "Heitz-Neyret 2018: infinite by-example noise, tiling and histogram-preserving blending",
+                     _HEITZ, "tiling_blending",
+                     demos=[(f"tile_blend_{sample}", title, sample, _call("statistical:tile_and_blend", (384, 384)))
+                            for sample, title in (("bumpy", "Tiling and blending: stochastic texture (works)"),
+                                                  ("brick", "Tiling and blending: structured texture (fails: "
+                                                            "ghosted bricks)"))]),
 }
+
+#: Methods whose ``info.coordinates`` is a source-coordinate map (``texsynth.apply_coordinates``):
+#: the command line offers them ``--channels`` (extra channels rendered through the synthesis).
+COORDINATE_METHODS = ("pixels", "efros-leung", "optimize", "patchwork", "quilt", "quilt-transfer", "graphcut",
+                      "wang-tiles", "patch-sampling")
 
 
 def demos():

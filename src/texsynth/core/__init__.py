@@ -14,6 +14,8 @@
 :mod:`texsynth.core.histogram`     histogram matching by exact quantile assignment
 :mod:`texsynth.core.seams`         optimal seams: minimum-error boundary cuts (dynamic programming)
                                    and grid min-cuts with seam nodes
+:mod:`texsynth.core.coordinates`   source-coordinate maps: other channels (normals, height)
+                                   rendered through a synthesis
 =============================  ==========================================================
 
 The core imports no algorithm family; the families import the core (see
@@ -22,4 +24,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates"])

@@ -250,12 +250,19 @@ def as_size(size, name="size", ndim=2):
     return tuple(int(s) for s in out)
 
 
-def check_positive_int(value, name, minimum=1):
-    """Return ``value`` as int, raising if it is not an integer >= ``minimum``."""
+#: Most passes an iterative method accepts (``iterations``, ``passes``, ...): every pass is a full
+#: sweep over the image, so more would run for days without changing a converged result.
+MAX_ITERATIONS = 100_000
+
+
+def check_positive_int(value, name, minimum=1, maximum=None):
+    """Return ``value`` as int, raising if it is not an integer in ``minimum..maximum``."""
     if not isinstance(value, numbers.Integral) or isinstance(value, bool):
         raise TypeError(f"{name} must be an integer >= {minimum}, got {value!r}")
     if value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{name} must be at most {maximum} (each is a full pass over the image), got {value}")
     return int(value)
 
 

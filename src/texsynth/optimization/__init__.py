@@ -6,10 +6,14 @@
   interpolation (with :func:`interpolate_neighborhoods`, the feature maps
   :func:`ridge_feature_map` and :func:`edge_feature_map`, the baseline
   :func:`linear_blend` and :func:`transition_alpha_map`).
+- :func:`inpaint`, :func:`uncrop`: image completion by texture optimization
+  with hard constraints (hole filling with a sampling area; extending an
+  image beyond its borders).
 """
 
 from ..core._deprecate import warn
 from ._kwatra import AnimationInfo, OptimizationInfo, StageInfo, animate_texture, optimize_texture
+from ._completion import inpaint, uncrop
 from ._ruiters import (
     InterpolationInfo,
     edge_feature_map,
@@ -21,7 +25,7 @@ from ._ruiters import (
 )
 
 __all__ = [
-    "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo",
+    "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo", "inpaint", "uncrop",
     "interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
     "linear_blend", "transition_alpha_map", "InterpolationInfo",
 ]

@@ -82,9 +82,10 @@ from scipy import fft as sfft
 
 from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
+from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_float_array, as_image, as_rng, as_size, check_bool, check_in_range, check_memory,
                               check_positive_float, check_positive_int, restore_channels, with_channels)
-from ..core.em import expectation_maximization
+from ..core.em import expectation_maximization, irls_weights
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
@@ -219,6 +220,21 @@ class OptimizationInfo:
         neighbourhood of the output came from.
     seconds : float
         Total wall time.
+    coordinates : numpy.ndarray or None
+        ``(H, W, 2)`` int, the source-coordinate map (``docs/conventions.md``):
+        for every output pixel, the exemplar pixel that the final ``z_p`` of
+        largest weight ``ω_p g(x - p)`` (IRLS weight times fall-off) puts
+        there. The output blends about ``(w / spacing)^2`` overlapping
+        ``z_p``, which agree closely once the synthesis has converged; the
+        dominant one is a copy map, so :func:`texsynth.apply_coordinates`
+        renders other channels as sharp, consistent copies. (A blend of all
+        the ``z_p`` would not reproduce the output either: the E-step also
+        solves the gradient energy, matches histograms and enforces
+        constraints, which are no weighted sum of exemplar pixels; and it
+        would take ``(w / spacing)^2`` times the memory.) None when the last
+        stage ran at a coarser level than the output.
+    weights : None
+        A copy map has no weights.
     """
 
     energy: np.ndarray
@@ -228,6 +244,8 @@ class OptimizationInfo:
     centers: np.ndarray
     sources: np.ndarray
     seconds: float = 0.0
+    coordinates: np.ndarray | None = None
+    weights: np.ndarray | None = None
 
     @property
     def boundaries(self):
@@ -595,14 +613,19 @@ def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, v
     mean, wd = values.average()
     data_w = wd.copy()
     rhs = wd[..., None] * mean
-    if constraint is not None:  # eq. 2: the weighted average with the targets (Section 4)
+    hard = constraint is not None and np.isinf(constraint[2])
+    if constraint is not None and not hard:  # eq. 2: the weighted average with the targets (Section 4)
         m, t, lam = constraint
         data_w += lam * m
         rhs += (lam * m)[..., None] * t
     if mu == 0:
-        return (rhs / data_w[..., None]).astype(ex.image.dtype, copy=False)
-    (gx, wx), (gy, wy) = dx.average(), dy.average()
-    x = _solve_gradient_system(data_w, rhs, wx, gx, wy, gy, mu, wrap, x0.astype(np.float64))
+        x = rhs / data_w[..., None]
+    else:
+        (gx, wx), (gy, wy) = dx.average(), dy.average()
+        x = _solve_gradient_system(data_w, rhs, wx, gx, wy, gy, mu, wrap, x0.astype(np.float64))
+    if hard:  # λ = ∞: the targets replace the average where the mask is 1 (blended where a coarse pixel is partly known)
+        m, t, _ = constraint
+        x = (1 - m)[..., None] * x + m[..., None] * t
     return x.astype(ex.image.dtype, copy=False)
 
 
@@ -817,6 +840,8 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
             score += pen[zidx] - occurrence.own + occurrence.copy_penalty(ex, zidx, centers)
 
     def rank(rows, cand):
+        if rows.size == 0:  # e.g. every neighbourhood touches a constrained pixel
+            return
         r = sq_distances(q[rows], _features(ex.patches(cand), ex.mu), ex.weights)
         s = r if pen is None else r + pen[cand] + occurrence.copy_penalty(ex, cand, centers[rows])
         better = s < score[rows]
@@ -983,10 +1008,37 @@ def _source_map(centers, sources, shape):
     return (sources[k] + q - centers[k]).astype(np.float64)
 
 
+def _dominant_sources(ex, centers, zidx, omega, shape, mode):
+    """``(H, W, 2)``: at every pixel, the exemplar pixel of the ``z_p`` of largest ``ω_p g(x - p)``.
+
+    For one offset inside the neighbourhood, distinct centres give distinct pixels, so the largest
+    weight is kept by plain assignment, offset by offset.
+    """
+    w = ex.size
+    corner_out = centers - w // 2  # the E-step's patch placement (PatchSum: centred at the centre)
+    corner_ex = ex.corner[zidx]
+    best = np.full(tuple(shape), -np.inf)
+    out = np.zeros(tuple(shape) + (2,), np.int64)
+    for i in range(w):
+        for j in range(w):
+            r, c = corner_out[:, 0] + i, corner_out[:, 1] + j
+            if mode == "wrap":
+                r, c = r % shape[0], c % shape[1]
+            else:
+                keep = (r >= 0) & (r < shape[0]) & (c >= 0) & (c < shape[1])
+                r, c = r[keep], c[keep]
+            value = (omega * ex.g[i, j]) if mode == "wrap" else (omega * ex.g[i, j])[keep]
+            src = corner_ex + (i, j) if mode == "wrap" else (corner_ex + (i, j))[keep]
+            better = value > best[r, c]
+            best[r[better], c[better]] = value[better]
+            out[r[better], c[better]] = src[better]
+    return out
+
+
 def _energy(rho, r, eps2, x, constraint):
     """E = sum_p (ρ_p + ε²)^{r/2} + λ E_c(x): the robust eq. 1 plus eq. 2."""
     e = float(np.sum((rho + eps2) ** (r / 2.0)))
-    if constraint is not None:
+    if constraint is not None and np.isfinite(constraint[2]):  # hard constraints hold by construction
         m, t, lam = constraint
         e += lam * float(np.einsum("ij,ijc->", m, (x - t) ** 2))
     return e
@@ -1009,7 +1061,9 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
     coords = opts.coords  # animation frame: the previous frame's correspondence, warped
     prior = None if coords is None else ex.lookup(coords[centers[:, 0], centers[:, 1]] - w // 2, 0)
 
-    use_field = opts.field(constraint, ex, len(centers))
+    # hard constraints (λ = ∞) are in x_p already: the M-step is the plain nearest neighbour
+    searched = None if constraint is not None and np.isinf(constraint[2]) else constraint
+    use_field = opts.field(searched, ex, len(centers))
     memo = _SearchMemo(n=len(centers), dim=None if use_field else ex.weights.shape[0])
     weight, limit = opts.occurrence, opts.copy_limit
     occurrence = None
@@ -1049,7 +1103,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
             if occurrence is not None and zidx is not None:
                 occurrence.update(ex, zidx)
                 occ = occurrence
-            return _m_step(ex, x, centers, mode, zidx, constraint, memo, _RESEARCH_TOLERANCE, occ)
+            return _m_step(ex, x, centers, mode, zidx, searched, memo, _RESEARCH_TOLERANCE, occ)
         # searched once per stage (PatchMatch from the prior, or the index); later iterations rank
         # coherent candidates
         memo.searched += len(centers) if zidx is None else 0
@@ -1068,11 +1122,14 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         g0 = gaussian_falloff(w, sigma=max(spacing, 1) / 4.0)
     current = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
 
-    colours = None
-    if opts.histogram and constraint is None and coords is None:
+    colours, free = None, None
+    if opts.histogram and searched is None and coords is None:  # no constraint, or hard ones
+        # with hard constraints only the pixels nothing constrains are matched (uncrop, hole filling)
+        free = None if constraint is None else constraint[0] < 1e-6
+        count = shape[0] * shape[1] if free is None else int(free.sum())
         allowed = ex.image[ex.valid > 0.5]  # (pixels, C): the exemplar pixels that may be copied
-        colours = [quantile_targets(np.sort(allowed[:, c]), shape[0] * shape[1]).astype(ex.image.dtype)
-                   for c in range(allowed.shape[1])]
+        colours = [quantile_targets(np.sort(allowed[:, c]), count).astype(ex.image.dtype)
+                   for c in range(allowed.shape[1])] if count else None
 
     def e_step(state, omega, it):
         nonlocal current
@@ -1087,8 +1144,11 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
             votes = (completeness.jidx, pj, vote_w)
         g = g0 if it == 0 and g0 is not None else ga  # bootstrap assembly, frame assembly or ex.g
         current = _e_step(ex, zidx, centers, shape, omega[:n], mode, mu, constraint, current, g=g, votes=votes)
-        if colours is not None:  # the exemplar's colour histograms, against the E-step's wash-out
+        if colours is not None and free is None:  # the exemplar's colour histograms, against the E-step's wash-out
             current = np.stack([match_to_targets(current[..., c], t, False)[0] for c, t in enumerate(colours)], -1)
+        elif colours is not None:
+            for c, t in enumerate(colours):
+                current[..., c][free] = match_to_targets(current[..., c][free], t, False)[0]
         return current
 
     def search(x, state):
@@ -1130,10 +1190,12 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         progress.advance({"level": level, "size": w, "iteration": it, "energy": energy},
                          n=max_it - it if stop else 1)
 
-    x, (zidx, _), _, _, stage.converged = expectation_maximization(
+    x, (zidx, _), rho, _, stage.converged = expectation_maximization(
         x, state, rho, e_step, search, log, max_iterations=max_it, tolerance=tolerance, r=r, eps2=eps2,
         on_iteration=report,
     )
+    # for the source-coordinate map (computed once, after the last stage): what the last E-step weighs
+    record["dominant"] = (level, ex, centers, zidx, irls_weights(rho[:n], r, eps2), tuple(shape), mode)
     stage.seconds = time.perf_counter() - t0
     stage.nn_seconds = nn
     stage.searches = memo.searched
@@ -1211,7 +1273,7 @@ def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tole
         r=check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True),
         mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True, maximum=_MAX_WEIGHT),
         spacing=check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True),
-        max_iterations=check_positive_int(max_iterations, "max_iterations"),
+        max_iterations=check_positive_int(max_iterations, "max_iterations", maximum=MAX_ITERATIONS),
         tolerance=check_positive_float(tolerance, "tolerance", allow_zero=True),
         tileable=check_bool(tileable, "tileable"),
         falloff=check_bool(falloff, "falloff"),
@@ -1297,6 +1359,31 @@ def _check_memory(shape, channels, opts, frames=1):
     check_memory(need, tuple(shape), also={"n_frames": frames} if frames > 1 else None)
 
 
+def _check_constraint_memory(problem):
+    """Refuse soft constraints whose M-step (Algorithm 2) cannot fit: it queries an index of every
+    exemplar neighbourhood of the largest size at the finest level, as float32 vectors (the image
+    itself, when it is its own exemplar, at 512^2 and 64-px neighbourhoods: 9 GiB)."""
+    if problem.constraint is None or not np.isfinite(problem.constraint[2]):
+        return
+    h, w, channels = problem.ex.shape
+    size = max(problem.sizes)
+    need = 3.0 * max(h - size + 1, 1) * max(w - size + 1, 1) * size * size * channels * 4
+    try:
+        check_memory(need, problem.ex.shape[:2], "exemplar", "the search index of the soft constraints (Algorithm 2)",
+                     also={"neighborhood_sizes": problem.sizes})
+    except ValueError as error:
+        raise ValueError(f"{error}, or constraint_weight=float('inf') (hard constraints: the plain M-step, "
+                         f"PatchMatch on large stages; texsynth.inpaint does this)") from None
+
+
+def _check_constraint_weight(constraint_weight):
+    """λ of eq. 2: a number in [0, 1e6], or infinity for hard constraints."""
+    if isinstance(constraint_weight, numbers.Real) and not isinstance(constraint_weight, bool) \
+            and constraint_weight == np.inf:
+        return np.inf
+    return check_positive_float(constraint_weight, "constraint_weight", allow_zero=True, maximum=_MAX_WEIGHT)
+
+
 def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.0, mask=None, target=None,
              exemplar_mask=None, init=None, sizes_name="neighborhood_sizes", preset="paper"):
     """The arrays of :func:`optimize_texture`, checked, as a :class:`_Problem` (``"auto"`` sizes and
@@ -1310,7 +1397,7 @@ def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.
         levels = auto_levels if _is_auto(levels) else levels
     sizes = _check_sizes(neighborhood_sizes, sizes_name)
     levels = check_positive_int(levels, "levels")
-    lam = check_positive_float(constraint_weight, "constraint_weight", allow_zero=True, maximum=_MAX_WEIGHT)
+    lam = _check_constraint_weight(constraint_weight)
     smallest = sizes[-1]
     if smallest > min(ex.shape[:2]):
         raise ValueError(
@@ -1443,6 +1530,14 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         ``λ >= 0``, the weight of ``E_c`` against the texture energy (default
         1). With the default sizes and ``r``, the texture term weighs a pixel
         by roughly 1-10, so λ = 1 is a gentle pull and λ = 100 nearly hard.
+        ``float("inf")``: hard constraints, the limit λ → ∞ (as in Wexler
+        et al.'s and PatchMatch's hole filling): every E-step sets the
+        masked pixels to ``target`` (blended by the mask where a coarse
+        pixel is partly masked), so each ``x_p`` already holds them and the
+        M-step is the plain nearest-neighbour search (PatchMatch on large
+        stages, not Algorithm 2's index query of every constrained
+        neighbourhood): how :func:`texsynth.inpaint` and
+        :func:`texsynth.uncrop` fill large images.
     exemplar_mask : array_like, optional
         ``(h, w)`` bool: exemplar pixels that may be copied. Neighbourhoods
         touching a False pixel are never used (e.g. the hole when the
@@ -1508,8 +1603,10 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         neighbourhoods, the average matches the exemplar's flattest ones
         best, and at large enlargements the output can wash out into one
         flat region; restoring the histogram breaks that loop. Not applied
-        with constraints (``target``). The energy may then rise within a
-        stage. ``"auto"``: True (preset ``"default"``), False (``"paper"``).
+        with soft constraints (``target``); with hard ones
+        (``constraint_weight=inf``) only the unconstrained pixels are
+        matched. The energy may then rise within a stage. ``"auto"``: True
+        (preset ``"default"``), False (``"paper"``).
     method : {"auto", "patchmatch", "exact", "kdtree", "tsvq"}
         Nearest-neighbour backend of the M-step (:mod:`texsynth.core.search`),
         chosen per (level, size) stage. ``"patchmatch"``: PatchMatch (Barnes
@@ -1658,6 +1755,7 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     if margin:  # a tileable canvas a little larger, cropped: no neighbourhood ends at the output's edges
         problem = _with_margin(problem, margin)
     _check_memory(problem.shape, problem.ex.shape[-1], opts)
+    _check_constraint_memory(problem)
     rng = as_rng(rng)
     x, info = _synthesize(problem, opts, rng, progress=progress, desc="optimize_texture")
     if margin:
@@ -1666,6 +1764,8 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         corner = info.centers - w // 2
         inside = np.all((corner >= 0) & (corner + w <= np.asarray(shape)), axis=1)
         info.centers, info.sources = info.centers[inside], info.sources[inside]
+        if info.coordinates is not None:
+            info.coordinates = info.coordinates[: shape[0], : shape[1]].copy()
     info.seconds = time.perf_counter() - t_start
     out = restore_channels(np.clip(x, 0.0, 1.0), problem.grey)
     return (out, info) if return_info else out
@@ -1704,10 +1804,12 @@ def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc):
                 x = _run_stage(cache[key], x, out_shapes[level], level, opts, cons_pyr[level], rng, record, bar)
     finally:
         bar.close()
+    level, *last = record.get("dominant", (None,))
     info = OptimizationInfo(
         energy=np.asarray(record["energy"]), mse=np.asarray(record["mse"]),
         stage=np.asarray(record["stage"], dtype=int), stages=record["stages"],
         centers=record["centers"], sources=record["sources"] * (2 ** record["stages"][-1].level),
+        coordinates=_dominant_sources(*last) if level == 0 else None,
     )
     return x, info
 

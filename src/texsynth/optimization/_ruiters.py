@@ -48,6 +48,7 @@ from scipy.spatial import cKDTree
 
 from ..core._deprecate import TotalSeconds, renamed_parameters
 from ..core._progress import Progress
+from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_size, check_bool, check_in_range,
                               check_memory, check_positive_float, check_positive_int, restore_channels,
                               with_channels)
@@ -1090,7 +1091,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     # (float32, colour + distance + alpha channels), the relaxation a few image-sized sums
     check_memory(float(out_shape[0]) * out_shape[1] * (p.a.shape[-1] + 2) * 200, tuple(out_shape))
     stages = _check_stages(stages)
-    max_iterations = check_positive_int(max_iterations, "max_iterations")
+    max_iterations = check_positive_int(max_iterations, "max_iterations", maximum=MAX_ITERATIONS)
     # weights above 1e6 make their term all that counts, and far beyond they overflow float32
     alpha_weight = check_positive_float(alpha_weight, "alpha_weight", allow_zero=True, maximum=1e6)
     bands = check_positive_int(statistics_bands, "statistics_bands", 2)
@@ -1103,7 +1104,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     spring_weight = check_positive_float(spring_weight, "spring_weight", allow_zero=True, maximum=1e6)
     # colours lie in [0, 1]: a bandwidth of 100 already averages every colour
     bandwidth = check_positive_float(mean_shift_bandwidth, "mean_shift_bandwidth", maximum=100.0)
-    ms_iterations = check_positive_int(mean_shift_iterations, "mean_shift_iterations", 0)
+    ms_iterations = check_positive_int(mean_shift_iterations, "mean_shift_iterations", 0, MAX_ITERATIONS)
     if tolerance is not None:
         tolerance = check_in_range(tolerance, "tolerance", 0.0, 1.0)
     n_colour = p.a.shape[-1]

@@ -139,6 +139,13 @@ class GraphcutInfo:
     cut_seconds : float
         Of all that, the time spent fitting patches: building the graphs and
         cutting them (the rest: the FFT search and the seam costs).
+    coordinates : numpy.ndarray
+        ``(H, W, 2)`` int, the exemplar pixel ``(row, col)`` each output
+        pixel was copied from: ``sources[k] + (p - corners[k])`` for its patch
+        ``k = labels[p]`` (the source-coordinate map of ``docs/conventions.md``;
+        render other channels through it with :func:`texsynth.apply_coordinates`).
+    weights : None
+        Every pixel is a copy.
     """
 
     corners: np.ndarray
@@ -155,6 +162,8 @@ class GraphcutInfo:
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
     cut_seconds: float = 0.0
+    coordinates: np.ndarray | None = None
+    weights: np.ndarray | None = None
 
 
 @dataclass
@@ -295,6 +304,16 @@ class _Output:
         out = self.canvas[rows, cols].copy()
         out[inside] = self.ex[sr[inside], sc[inside]]
         return out
+
+    def coordinates(self):
+        """``(H, W, 2)``: the exemplar pixel every output pixel shows, from its patch's window."""
+        corners, sources = np.asarray(self.corners).reshape(-1, 2), np.asarray(self.sources).reshape(-1, 2)
+        rows, cols = np.indices((self.H, self.W))
+        k = self.labels
+        i, j = rows - corners[k, 0], cols - corners[k, 1]
+        if self.tileable:
+            i, j = i % self.H, j % self.W
+        return np.stack([sources[k, 0] + i, sources[k, 1] + j], -1).astype(np.int64)
 
     def seam_pairs(self):
         """Flat indices ``(s, t)`` of neighbouring pixels from different patches (both covered)."""
@@ -819,7 +838,7 @@ def graphcut_texture(exemplar, size, *, preset="default", placement=None, block=
                              block=min(patch_shape) if whole else B, overlap=O, seam_cost=float(energy[-1]) if energy else 0.0,
                              energy=np.array(energy), stage=np.array(stages, dtype=np.int64),
                              seconds=time.perf_counter() - started, stage_seconds=stage_seconds,
-                             cut_seconds=timing["cut"])
+                             cut_seconds=timing["cut"], coordinates=output.coordinates())
 
 
 # --------------------------------------------------------------------------

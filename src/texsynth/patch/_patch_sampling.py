@@ -66,6 +66,9 @@ class PatchSamplingInfo(QuiltInfo):
     zone's pixels and channels) of the chosen and of the closest patch, and
     ``candidates`` the size of ``Ψ_B`` (1 when it was empty and the closest
     patch was taken). ``overlap`` is the boundary zone's width ``w_E``.
+    ``coordinates`` ``(H, W, K, 2)`` and ``weights`` ``(H, W, K)`` are the
+    feathered blend of every pixel (``K`` up to 4 where the zones of four
+    patches cross; weight 1 in a patch's interior).
     """
 
 
@@ -207,9 +210,10 @@ def patch_sampling(exemplar, size, *, block=None, overlap=None, error_tolerance=
     def join(region, new, known):
         return feather_weights(known)
 
-    canvas, records, searching = _paste_blocks(exf, grid, choose, join, progress, "patch sampling")
+    canvas, records, searching, sources = _paste_blocks(exf, grid, choose, join, progress, "patch sampling",
+                                                        return_info)
     out = _finish(canvas, size, image.dtype, grey)
     if return_info:
-        info = _info(grid, records, w_E, started, searching)
+        info = _info(grid, records, w_E, started, searching, sources, size)
         return out, PatchSamplingInfo(**vars(info))
     return out

@@ -85,6 +85,9 @@ __all__ = ["patchwork", "patchwork_video", "patchwork_transfer", "voronoi_weight
 
 _BAND_PIXELS = 1 << 16  # pixels per band: keeps the m*m weight arrays of a band in cache
 _NEAR = 0.01  # "near the cell": normalised weight above this must be sampled inside the input
+# cells kept per pixel in info.coordinates: those whose coefficient in eq. 2 is at least this (rendering
+# the exemplar through the map then reproduces the output to about 0.005, tests/test_coordinates.py)
+_SOURCE_MIN_WEIGHT = 1 / 512
 _TAPER = 0.5  # the weights taper to 0 over the outer half grid spacing of each cell's reach
 
 
@@ -133,6 +136,18 @@ class PatchworkInfo:
     stage_seconds : dict
         ``"matching"`` (transfer: choosing the ``q_i``) and ``"blending"``
         (eq. 2 or 7 over the output).
+    coordinates : numpy.ndarray or None
+        :func:`patchwork` only: ``(H, W, K, 2)`` int, the input pixels
+        ``x - p_i + q_i`` of the ``K`` cells that weigh most at each pixel,
+        largest first (mirrored back into the input where a far tail leaves
+        it); the source-coordinate map of ``docs/conventions.md``.
+    weights : numpy.ndarray or None
+        ``(H, W, K)`` float32, their coefficients ``w_i / sqrt(sum_j w_j^2)``
+        of eq. 2. They sum to more than 1; :func:`texsynth.apply_coordinates`
+        takes the rest from the channel's mean ``a``, as eq. 2 does, so
+        rendering the input through the map gives the output up to the
+        cells left out (those of coefficient below 1/512) and the clipping
+        to [0, 1].
     """
 
     p: np.ndarray
@@ -148,6 +163,8 @@ class PatchworkInfo:
     frame_sources: np.ndarray | None = None
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
+    coordinates: np.ndarray | None = None
+    weights: np.ndarray | None = None
 
 
 # --------------------------------------------------------------------------
@@ -525,6 +542,30 @@ def _blend(parts, sample, channels, local_means=None):
     return num
 
 
+def _mirror(index, n):
+    """Coordinates of np.pad's "symmetric" extension mapped back into ``0..n-1``."""
+    index = np.where(index < 0, -index - 1, index)
+    return np.where(index >= n, 2 * n - 1 - index, index)
+
+
+def _band_sources(parts, pads, width, in_size):
+    """The cells that weigh in eq. 2 at every pixel of a band, largest first: input coordinates
+    ``(..., K, 2)`` and coefficients ``w_i / sqrt(sum_j w_j^2)`` ``(..., K)`` in the padded block
+    layout, ``K`` the most cells of coefficient ``>= _SOURCE_MIN_WEIGHT`` at any pixel of the band."""
+    weights = np.stack([w for _, w, *_ in parts], -1)  # (By, T, Bx, T, m*m)
+    norm = np.sqrt(np.sum(weights.astype(np.float64) ** 2, -1, keepdims=True))
+    weights = (weights / np.where(norm > 0, norm, 1)).astype(np.float32)
+    weights[weights < _SOURCE_MIN_WEIGHT] = 0
+    order = np.argsort(-weights, axis=-1, kind="stable")
+    k = max(1, int(np.count_nonzero(weights, axis=-1).max()))
+    order = order[..., :k]
+    w = np.take_along_axis(weights, order, -1)
+    flats = np.take_along_axis(np.stack([flat for _, _, flat, *_ in parts], -1), order, -1)
+    row, col = np.divmod(flats, width)
+    coords = np.stack([_mirror(row - pads[0], in_size[0]), _mirror(col - pads[2], in_size[1])], -1)
+    return coords, w
+
+
 def _finish(out, dtype, was_grey):
     clipped = float(np.mean((out < 0) | (out > 1)))
     np.clip(out, 0, 1, out=out)
@@ -797,8 +838,13 @@ def patchwork(
     pads = geom.pad()
     table, width = _padded_flat(src - a, pads)
     out = np.empty((H, W, C), np.float32)
+    sources = []  # return_info: the source-coordinate map, band by band (bookkeeping beside the blend)
 
     def compose(band, parts):
+        if return_info:
+            c, w = _band_sources(parts, pads, width, ex.shape[:2])
+            idx, rows = geom.to_output(band, c)
+            sources.append((idx, rows, geom.to_output(band, w)[1]))
         blended = _blend(parts, lambda n, ids, flat: table.take(flat, axis=0), C)
         idx, rows = geom.to_output(band, blended)
         out[idx] = rows + a  # eq. 2: ... + a
@@ -806,7 +852,14 @@ def patchwork(
     cells = _run_bands(geom, width, pads, return_info, compose, progress, "patchwork")
     result, clipped = _finish(out, image.dtype, grey)
     if return_info:
-        return result, _info(geom, cells, clipped, start)
+        from ..core.coordinates import compact_slots
+
+        k = max(w.shape[-1] for _, _, w in sources)
+        coordinates, weights = np.zeros((H, W, k, 2), np.int64), np.zeros((H, W, k), np.float32)
+        for idx, c, w in sources:
+            coordinates[idx, :, : w.shape[-1]], weights[idx, :, : w.shape[-1]] = c, w
+        coordinates, weights = compact_slots(coordinates, weights)
+        return result, _info(geom, cells, clipped, start, coordinates=coordinates, weights=weights)
     return result
 
 

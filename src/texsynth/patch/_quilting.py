@@ -48,6 +48,7 @@ import numpy as np
 
 from ..core._progress import Progress
 from ..core._validate import (
+    MAX_ITERATIONS,
     as_image,
     as_rng,
     as_size,
@@ -98,6 +99,16 @@ class QuiltInfo:
     stage_seconds : dict
         ``"search"`` (scoring every exemplar block) and ``"paste"`` (cuts and
         pasting); transfer passes as ``"pass 1"``, ``"pass 2"``, ...
+    coordinates : numpy.ndarray
+        The source-coordinate map (``docs/conventions.md``): ``(H, W, 2)``
+        int, the exemplar pixel ``(row, col)`` each output pixel was copied
+        from (after the cuts); for a method that blends
+        (:func:`~texsynth.patch.patch_sampling`), ``(H, W, K, 2)`` with
+        ``weights``. Render other channels through it with
+        :func:`texsynth.apply_coordinates`.
+    weights : numpy.ndarray or None
+        ``(H, W, K)`` blend weights, largest first, summing to 1 (None where
+        every pixel is a copy).
     """
 
     corners: np.ndarray
@@ -109,6 +120,8 @@ class QuiltInfo:
     overlap: int
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
+    coordinates: np.ndarray | None = None
+    weights: np.ndarray | None = None
 
 
 @dataclass
@@ -131,6 +144,16 @@ class QuiltTransferInfo:
     alphas: np.ndarray
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
+
+    @property
+    def coordinates(self):
+        """``(H, W, 2)``: the texture pixel each output pixel was copied from (the last pass's map)."""
+        return self.passes[-1].coordinates
+
+    @property
+    def weights(self):
+        """None: every pixel of a transfer is a copy."""
+        return self.passes[-1].weights
 
 
 # --------------------------------------------------------------------------
@@ -237,19 +260,88 @@ def _overlap_widths(known):
     return leading(cols), leading(rows), leading(cols[::-1]), leading(rows[::-1])
 
 
-def _paste_blocks(exemplar, grid, choose, join, progress, desc):
+class _SourceMap:
+    """Which exemplar pixels every canvas pixel shows, and with what weights: the source-coordinate map.
+
+    Bookkeeping beside the canvas (it never changes what is pasted). Cuts (bool
+    joins) keep one flat exemplar index per pixel. Blends keep up to ``slots``
+    (flat exemplar index, weight) pairs per pixel: pasting a block with weight
+    ``w`` scales the pixel's weights by ``1 - w`` and adds the new source with
+    ``w``, exactly as the canvas takes ``(1 - w) old + w new``; a pixel the new
+    block takes whole (``w = 1``) starts over.
+    """
+
+    def __init__(self, grid, exemplar_shape):
+        self.grid = grid
+        self.width = exemplar_shape[1]
+        self.block = np.arange(grid.block)
+        self.index = self.weight = self.count = None
+
+    def _start(self, blend):
+        shape = self.grid.canvas_shape
+        if not blend:
+            self.index = np.zeros(shape + (1,), np.intp)
+            return
+        coverage = np.zeros(shape, np.intp)
+        for r, c in self.grid.corners():
+            coverage[self.grid.window(r, c)] += 1
+        self.index = np.zeros(shape + (int(coverage.max()),), np.intp)
+        self.weight = np.zeros(shape + (int(coverage.max()),))
+        self.count = np.zeros(shape, np.intp)
+
+    def paste(self, window, top, left, weight):
+        blend = weight.dtype != np.bool_
+        if self.index is None:
+            self._start(blend)
+        source = (top + self.block)[:, None] * self.width + (left + self.block)[None, :]
+        if not blend:  # a cut: the pixels the new block takes show its exemplar pixels
+            index = self.index[window][..., 0]
+            index[weight] = source[weight]
+            self.index[window] = index[..., None]
+            return
+        w = weight.astype(np.float64)
+        index, wt, count = self.index[window], self.weight[window], self.count[window]
+        wt *= (1.0 - w)[..., None]
+        whole = w == 1.0
+        count[whole] = 0
+        wt[whole] = 0.0
+        take = w > 0
+        rows, cols = np.nonzero(take)
+        slot = count[rows, cols]
+        index[rows, cols, slot] = source[rows, cols]
+        wt[rows, cols, slot] = w[rows, cols]
+        count[take] += 1
+        self.index[window], self.weight[window], self.count[window] = index, wt, count
+
+    def result(self, size):
+        """``(coordinates, weights)`` of the output ``size``: ``(H, W, 2)`` and None where every pixel is a copy."""
+        from ..core.coordinates import compact_slots
+
+        index = self.index[: size[0], : size[1]]
+        coords = np.stack(np.divmod(index, self.width), -1).astype(np.int64)
+        if self.weight is None:
+            return coords[:, :, 0], None
+        coords, weight = compact_slots(coords, self.weight[: size[0], : size[1]])
+        if coords.shape[2] == 1 and np.all(weight == 1.0):
+            return coords[:, :, 0], None
+        return coords, weight
+
+
+def _paste_blocks(exemplar, grid, choose, join, progress, desc, track=False):
     """Visit the grid in raster order and paste one exemplar block per position.
 
     ``choose(window, region, known) -> (top, left, error, best, candidates)`` picks the
     exemplar block for the output pixels ``window`` (which show ``region``, known
     where ``known``); ``join(region, block, known) -> weight`` says how much of the
     new block each pixel takes (bool for a cut, float for a blend).
-    Returns the canvas and the records of :class:`QuiltInfo`, plus the seconds spent choosing.
+    Returns the canvas and the records of :class:`QuiltInfo`, plus the seconds spent choosing
+    and, with ``track``, the :class:`_SourceMap` (else None).
     """
     B = grid.block
     canvas = np.zeros(grid.canvas_shape + (exemplar.shape[2],))
     filled = np.zeros(grid.canvas_shape, dtype=bool)
     records, searching = [], 0.0
+    sources = _SourceMap(grid, exemplar.shape[:2]) if track else None
     with Progress(progress, grid.n_blocks, desc) as bar:
         for r, c in grid.corners():
             window = grid.window(r, c)
@@ -265,9 +357,11 @@ def _paste_blocks(exemplar, grid, choose, join, progress, desc):
                 region += weight[..., None] * (block - region)
             canvas[window] = region
             filled[window] = True
+            if sources is not None:
+                sources.paste(window, top, left, weight)
             records.append((top, left, *scores))
             bar.advance()
-    return canvas, records, searching
+    return canvas, records, searching, sources
 
 
 def _draw(distances, error_tolerance, gen):
@@ -278,12 +372,14 @@ def _draw(distances, error_tolerance, gen):
     return top, left, float(distances.flat[k]), float(distances.min()), int(chosen.size)
 
 
-def _info(grid, records, overlap, started, searching):
+def _info(grid, records, overlap, started, searching, source_map=None, size=None):
     rec = np.array(records, dtype=np.float64).reshape(-1, 5)
     total = time.perf_counter() - started
+    coordinates, weights = source_map.result(size) if source_map is not None else (None, None)
     return QuiltInfo(corners=grid.corners(), sources=rec[:, :2].astype(np.int64), errors=rec[:, 2],
                      best_errors=rec[:, 3], candidates=rec[:, 4].astype(np.int64), block=grid.block,
-                     overlap=overlap, seconds=total, stage_seconds={"search": searching, "paste": total - searching})
+                     overlap=overlap, seconds=total, stage_seconds={"search": searching, "paste": total - searching},
+                     coordinates=coordinates, weights=weights)
 
 
 # --------------------------------------------------------------------------
@@ -461,10 +557,10 @@ def quilt(exemplar, size, *, block=None, overlap=None, error_tolerance=ERROR_TOL
             return top, left, 0.0, 0.0, n_positions
         return _draw(search.sq_distances(region, known), tolerance, gen)
 
-    canvas, records, searching = _paste_blocks(exf, grid, choose, join, progress, "quilt")
+    canvas, records, searching, sources = _paste_blocks(exf, grid, choose, join, progress, "quilt", return_info)
     out = _finish(canvas, size, image.dtype, grey)
     if return_info:
-        return out, _info(grid, records, O, started, searching)
+        return out, _info(grid, records, O, started, searching, sources, size)
     return out
 
 
@@ -620,7 +716,7 @@ def quilt_transfer(texture, pattern, *, block=None, overlap=None, iterations=TRA
     tex, grey = with_channels(tex_image)
     pat, _ = with_channels(as_image(pattern, "pattern"))
     size = pat.shape[:2]
-    n_passes = check_positive_int(iterations, "iterations")
+    n_passes = check_positive_int(iterations, "iterations", maximum=MAX_ITERATIONS)
     alphas = _alphas(alpha, n_passes)
     tolerance = _check_tolerance(error_tolerance)
     prescale = check_bool(prescale, "prescale")
@@ -657,9 +753,10 @@ def quilt_transfer(texture, pattern, *, block=None, overlap=None, iterations=TRA
                         / (B * B * channels)
                 return _draw(a * overlap_error + (1 - a) * corr, tolerance, gen)
 
-            canvas, records, searching = _paste_blocks(texf, grid, choose, _boundary_cut, False, "")
+            canvas, records, searching, sources = _paste_blocks(texf, grid, choose, _boundary_cut, False, "",
+                                                                track=return_info)
             previous = canvas[: size[0], : size[1]]
-            passes.append(_info(grid, records, O, pass_started, searching))
+            passes.append(_info(grid, records, O, pass_started, searching, sources, size))
             stages[f"pass {i + 1}"] = time.perf_counter() - pass_started
             bar.advance({"block": B, "alpha": float(a)})
     out = _finish(previous, size, tex_image.dtype, grey)

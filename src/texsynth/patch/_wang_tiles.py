@@ -89,11 +89,16 @@ class WangTileSet:
         west colours (vertical edges) are separate sets, ``0 .. colors - 1``.
     colors : int
         Colours per direction.
+    coordinates : numpy.ndarray or None
+        ``(n, T, T, 2)`` int: the exemplar pixel ``(row, col)`` each tile
+        pixel was copied from (None for a set made by hand). Tilings made
+        from the set carry it into their ``info.coordinates``.
     """
 
     tiles: np.ndarray
     edges: np.ndarray
     colors: int
+    coordinates: np.ndarray | None = None
 
     @property
     def tile(self):
@@ -159,12 +164,21 @@ class WangTilingInfo:
     stage_seconds : dict
         ``"choice"`` (the scanline choice of tiles), ``"assembly"`` (copying
         them into the output) and, from :func:`wang_texture`, ``"tiles"``.
+    coordinates : numpy.ndarray or None
+        ``(H, W, 2)`` int, the exemplar pixel ``(row, col)`` each output pixel
+        was copied from (the source-coordinate map of ``docs/conventions.md``;
+        :func:`texsynth.apply_coordinates` renders other channels through it);
+        None if the tile set has no ``coordinates``.
+    weights : None
+        Every pixel is a copy.
     """
 
     indices: np.ndarray
     tiles: WangTileSet
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
+    coordinates: np.ndarray | None = None
+    weights: np.ndarray | None = None
 
 
 # --------------------------------------------------------------------------
@@ -233,6 +247,19 @@ def _diagonal_cut(first, second, m, anti):
     strip[~allowed] = big
     seam = minimum_error_boundary(strip)
     return base + offsets[seam], float(strip[y, seam].sum())
+
+
+def _tile_coordinates(samples, edges, labels, T, a):
+    """``(n, T, T, 2)``: the exemplar pixel of every tile pixel, from its diamond's sample (:func:`_frame`)."""
+    y, x = np.indices((T, T))
+    out = np.zeros(labels.shape + (2,), dtype=np.int64)
+    for i, edge in enumerate(edges):
+        for side in (NORTH, EAST, SOUTH, WEST):
+            here = labels[i] == side
+            origin = samples[0 if side in (NORTH, SOUTH) else 1][edge[side]]
+            u, v = _frame(side, y[here], x[here], T, a)
+            out[i][here] = np.stack([origin[0] + u, origin[1] + v], -1)
+    return out
 
 
 def _make_tile(layers, m, cut):
@@ -381,6 +408,10 @@ def _check_colors(colors):
 # The tiles, the tiling, and both at once
 
 
+#: Most sets of samples ``wang_tiles`` draws: a thousand sets of 8 tiles of 128 px take about a minute.
+_MAX_CANDIDATES = 1000
+
+
 def wang_tiles(exemplar, tile=None, *, colors=2, overlap=None, error_tolerance=ERROR_TOLERANCE, candidates=CANDIDATES,
                cut=True, rng=None, return_info=False, progress=False):
     """Make a set of Wang tiles from an exemplar by quilting with diamonds (Cohen et al. 2003).
@@ -491,6 +522,9 @@ def wang_tiles(exemplar, tile=None, *, colors=2, overlap=None, error_tolerance=E
     o = _check_overlap(overlap, T, ex.shape[:2])
     cut = check_bool(cut, "cut")
     n_sets = check_positive_int(candidates, "candidates")
+    if n_sets > _MAX_CANDIDATES:  # each set makes every tile once: more buys nothing visible and takes hours
+        raise ValueError(f"candidates must be at most {_MAX_CANDIDATES} (each set of samples makes all the tiles "
+                         f"once), got {n_sets}; the default is {CANDIDATES}")
     tolerance = None if error_tolerance is None else check_positive_float(error_tolerance, "error_tolerance",
                                                                           allow_zero=True, maximum=1e6)
     n = 2 * k * k
@@ -528,7 +562,8 @@ def wang_tiles(exemplar, tile=None, *, colors=2, overlap=None, error_tolerance=E
             if best is None or set_costs[-1] < best[0]:  # the set whose cuts cost least
                 best = (set_costs[-1], samples, tiles, labels, costs)
     _, samples, tiles, labels, costs = best
-    result = WangTileSet(tiles=np.ascontiguousarray(tiles[..., 0]) if grey else tiles, edges=edges, colors=k)
+    result = WangTileSet(tiles=np.ascontiguousarray(tiles[..., 0]) if grey else tiles, edges=edges, colors=k,
+                         coordinates=_tile_coordinates(samples, edges, labels, T, a))
     if not return_info:
         return result
     total = time.perf_counter() - started
@@ -648,9 +683,14 @@ def wang_tiling(tiles, size, *, rng=None, return_info=False):
             out[r * T:r * T + rows, whole * T:] = images[indices[r, whole], :rows, :size[1] - whole * T]
     if not return_info:
         return out
+    coordinates = None
+    if tiles.coordinates is not None:  # the same gather as the images: (rows, T, columns, T, 2), cropped
+        grid = np.asarray(tiles.coordinates)[indices].swapaxes(1, 2)
+        coordinates = grid.reshape(n_rows * T, n_cols * T, 2)[: size[0], : size[1]].copy()
     total = time.perf_counter() - started
     return out, WangTilingInfo(indices=indices, tiles=tiles, seconds=total,
-                               stage_seconds={"choice": t_choice, "assembly": total - t_choice})
+                               stage_seconds={"choice": t_choice, "assembly": total - t_choice},
+                               coordinates=coordinates)
 
 
 def wang_texture(exemplar, size, *, tile=None, colors=2, overlap=None, error_tolerance=ERROR_TOLERANCE,

@@ -6,10 +6,13 @@
 - :func:`synthesize_solid`: Wei 2002, a solid texture from 2-D views.
 - :func:`efros_leung`: Efros & Leung 1999, non-parametric sampling grown
   pixel by pixel from a seed; hole filling.
+- :func:`synthesize_controlled`: Zhang et al. 2003, texton masks, orientation
+  and scale fields, progressive variation between two exemplars.
 """
 
 from ._efros_leung import EfrosLeungInfo, efros_leung
+from ._texton import ControlledSynthesisInfo, find_textons, synthesize_controlled
 from ._wei_levoy import ORDERS, SHAPES, PixelSynthesisInfo, mix_textures, synthesize_pixels, synthesize_solid
 
 __all__ = ["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung", "PixelSynthesisInfo",
-           "EfrosLeungInfo", "ORDERS", "SHAPES"]
+           "EfrosLeungInfo", "ORDERS", "SHAPES", "synthesize_controlled", "find_textons", "ControlledSynthesisInfo"]

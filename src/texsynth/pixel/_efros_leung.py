@@ -95,7 +95,8 @@ class EfrosLeungInfo:
         The exemplar pixel ``(row, col)`` each output pixel was copied from
         (the centre of the chosen window, or the seed's pixel); ``-1`` for
         pixels given by ``target``. Shows verbatim copying: smooth runs of
-        source positions are copied regions.
+        source positions are copied regions. Also ``coordinates`` (the name
+        every method's info shares; ``weights`` is None).
     error : numpy.ndarray, shape (H, W)
         The normalised error ``d(p, q)`` of the window each pixel was copied
         from; NaN for the seed and given pixels.
@@ -136,6 +137,17 @@ class EfrosLeungInfo:
     n_components: list = field(default_factory=list)
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
+
+    @property
+    def coordinates(self):
+        """``source`` under the name every method's info shares: the source-coordinate map
+        (``docs/conventions.md``) that :func:`texsynth.apply_coordinates` renders other channels through."""
+        return self.source
+
+    @property
+    def weights(self):
+        """None: every pixel is a copy."""
+        return None
 
 
 # --------------------------------------------------------------------------- #

@@ -52,6 +52,7 @@ import numpy as np
 from ..core import search
 from ..core._deprecate import renamed_parameters, warn
 from ..core._progress import Progress
+from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_image, as_rng, as_size, check_memory, check_positive_int, max_threads,
                               restore_channels, with_channels)
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
@@ -122,9 +123,15 @@ class PixelSynthesisInfo:
     stage_seconds : dict
         Wall time per level, ``{"level 2": ..., "level 1": ..., "level 0": ...}``.
     coordinates : numpy.ndarray or None
-        ``candidates="k-coherent"``: ``(H, W, 2)``, the exemplar pixel
-        ``(row, col)`` each output pixel was copied from (Ashikhmin's source
-        map ``s(p)``); None otherwise.
+        ``(H, W, 2)`` int, the exemplar pixel ``(row, col)`` each output pixel
+        was copied from: the centre of its nearest neighbourhood at the finest
+        level (with ``candidates="k-coherent"``, Ashikhmin's source map
+        ``s(p)``). The source-coordinate map of ``docs/conventions.md``:
+        :func:`texsynth.apply_coordinates` renders other channels of the
+        exemplar through it. :func:`synthesize_pixels` only; None for
+        mixtures and solids, whose pixels average several sources.
+    weights : None
+        Every pixel is a copy.
     """
 
     energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -137,6 +144,7 @@ class PixelSynthesisInfo:
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
     coordinates: np.ndarray | None = None
+    weights: np.ndarray | None = None
 
     @property
     def search(self):
@@ -486,6 +494,8 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
     run = _Run(levels, order, used, profile, iterations, passes, int(rng.integers(2**62)), candidates, k)
     energies, steps = [], []
     cells = None  # k-coherent: the grid cell each output pixel of the last level came from
+    # one 2-D source: the candidate each pixel of the finest level copies (its source-coordinate map)
+    picked = np.zeros(tuple(shape), np.intp) if len(sources) == 1 and spatial_dims == 2 else None
     with Progress(progress, total, desc) as bar:
         for level in range(levels - 1, -1, -1):
             t_level = time.perf_counter()
@@ -496,12 +506,12 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
                 energy, iters, cells = _coherent_level(lv, run, bar, parent_cells)
             elif order == "scanline":
                 with _one_blas_thread():
-                    energy, iters = _scanline_level(lv, run, bar)
+                    energy, iters = _scanline_level(lv, run, bar, picked if level == 0 else None)
             else:
                 # tree searches make many small BLAS calls, which multi-threaded BLAS
                 # slows down on a busy machine (tsvq 64^3 at load 3: 31 s -> 13 s)
                 with _one_blas_thread() if used != "exact" else contextlib.nullcontext():
-                    energy, iters = _independent_level(lv, run, bar)
+                    energy, iters = _independent_level(lv, run, bar, picked if level == 0 else None)
             energies.append(float(energy))
             steps.append(float(iters))
             info.level_shapes.append(lv.out.shape[:-1])
@@ -509,6 +519,8 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
     info.energy, info.iterations = np.asarray(energies), np.asarray(steps)
     if cells is not None:
         info.coordinates = tables[0][0][cells]
+    elif picked is not None:
+        info.coordinates = tables[0][0][picked].astype(np.int64)
     info.stage = np.arange(levels)
     info.seconds = time.perf_counter() - start
     return out_pyr[0], info
@@ -537,8 +549,11 @@ class _LineTable:
     q: np.ndarray | None = None  # approximate search: this line's fixed parts
 
 
-def _scanline_level(lv, run, bar):
-    """Wei & Levoy 2000, Table 1: visit pixels in scanline order, causal neighbourhoods."""
+def _scanline_level(lv, run, bar, picked=None):
+    """Wei & Levoy 2000, Table 1: visit pixels in scanline order, causal neighbourhoods.
+
+    With one source, ``picked`` (an ``(H, W)`` int array, or None) receives the
+    candidate each pixel copies."""
     height, width, channels = lv.out.shape
     exact = run.method == "exact"
     tabs = []
@@ -573,7 +588,7 @@ def _scanline_level(lv, run, bar):
             else:
                 t.q = q
         if single and exact:  # Wei & Levoy 2000: p = the exemplar pixel of nearest neighbourhood
-            energy += _scanline_single(row, tabs[0])
+            energy += _scanline_single(row, tabs[0], None if picked is None else picked[r])
             steps += width
         else:
             for j in range(width):
@@ -581,6 +596,8 @@ def _scanline_level(lv, run, bar):
                     t = tabs[0]
                     k, d_k = _query_one(t.index, np.concatenate([t.q[j], row[t.cols[j]].ravel()]))
                     row[j] = t.pixels[k]
+                    if picked is not None:
+                        picked[r, j] = k
                     energy += d_k
                     steps += 1
                     continue
@@ -592,8 +609,9 @@ def _scanline_level(lv, run, bar):
     return energy / n, steps / n
 
 
-def _scanline_single(row, t):
-    """One scanline of single-source exact synthesis: the per-pixel loop kept minimal."""
+def _scanline_single(row, t, picked=None):
+    """One scanline of single-source exact synthesis: the per-pixel loop kept minimal (``picked``: the
+    line's chosen candidates, or None)."""
     exact, pixels, cols = t.exact, t.pixels, t.cols
     energy = 0.0
     for j in range(len(row)):
@@ -601,6 +619,8 @@ def _scanline_single(row, t):
         k = d.argmin()
         row[j] = pixels[k]
         energy += d[k]
+        if picked is not None:
+            picked[j] = k
     return energy
 
 
@@ -784,8 +804,11 @@ class _PassTable:
     parity: np.ndarray | None = None  # row/column parity of every output pixel
 
 
-def _independent_level(lv, run, bar):
+def _independent_level(lv, run, bar, picked=None):
     """Wei & Levoy 2002: non-causal neighbourhoods, all pixels updated at once per pass.
+
+    With one source, ``picked`` (an ``(H, W)`` int array, or None) receives the
+    candidate each pixel copies in the last pass.
 
     Every pass reads the previous pass's output (Jacobi order), so the
     search for all pixels is one batched query per source. A Jacobi update
@@ -827,9 +850,12 @@ def _independent_level(lv, run, bar):
         for t in tabs:
             mask = np.zeros(t.src.size, bool) if parent_only else t.full
             queries.append(_output_vectors(out, parent, t.src, mask))
+        chosen = [] if picked is not None and len(tabs) == 1 else None
         p, energy, n_iter = _solve_all(flat, tabs, a_flat, queries, parent_only, 1 if parent_only else run.iterations,
-                                       threads)
+                                       threads, chosen)
         flat[:] = p
+        if chosen:
+            picked.reshape(-1)[:] = chosen[0]
         bar.advance({"level": lv.level, "parent_only": parent_only})
     return energy.mean(), n_iter.mean()
 
@@ -892,8 +918,10 @@ def _for_each_source(fn, n, threads):
         list(pool.map(fn, range(n)))  # list(): re-raise a worker's exception here
 
 
-def _solve_all(flat, tabs, a_flat, queries, parent_only, iterations, threads=1):
-    """Eq. 1 at every pixel at once (vectorized over pixels), as :func:`_solve_pixel`."""
+def _solve_all(flat, tabs, a_flat, queries, parent_only, iterations, threads=1, chosen=None):
+    """Eq. 1 at every pixel at once (vectorized over pixels), as :func:`_solve_pixel`.
+
+    ``chosen``, a list, receives each source's candidate per pixel (the direct solutions)."""
     n = len(flat)
     everything = np.arange(n)
     n_on = sum((a > 0).astype(int) for a in a_flat)
@@ -913,6 +941,8 @@ def _solve_all(flat, tabs, a_flat, queries, parent_only, iterations, threads=1):
     # One source at a pixel: that is the minimum of eq. 1. (The parent-only
     # first pass stops here everywhere: it is only a starting guess.)
     p, energy = _average_sel(tabs, a_flat, ks, nds, everything)
+    if chosen is not None:
+        chosen.extend(ks)
     n_iter = np.ones(n)
     multi = np.flatnonzero(n_on > 1)
     if parent_only or multi.size == 0:
@@ -1014,8 +1044,8 @@ def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name, work_d
 def _check_order_method(order, method, passes, max_iterations=1):
     _choice(order, ORDERS, "order")
     search.check_method(method)
-    check_positive_int(passes, "passes")
-    check_positive_int(max_iterations, "max_iterations")
+    check_positive_int(passes, "passes", maximum=MAX_ITERATIONS)
+    check_positive_int(max_iterations, "max_iterations", maximum=MAX_ITERATIONS)
 
 
 @renamed_parameters(search="method")

@@ -46,6 +46,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core._progress import Progress
+from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_image, as_rng, as_size, check_memory, check_positive_int, max_threads,
                               restore_channels, with_channels)
 from ..core.histogram import match_histogram, match_to_targets, quantile_targets
@@ -231,7 +232,7 @@ def heeger_bergen(exemplar, size=None, *, scales=4, orientations=4, iterations=5
     shape = ex.shape[:2] if size is None else as_size(size)
     scales = check_positive_int(scales, "scales", minimum=1)
     orientations = check_positive_int(orientations, "orientations", minimum=1)
-    iterations = check_positive_int(iterations, "iterations", minimum=1)
+    iterations = check_positive_int(iterations, "iterations", minimum=1, maximum=MAX_ITERATIONS)
     if not isinstance(periodic_exemplar, str) or periodic_exemplar not in PERIODIC_EXEMPLAR:
         raise ValueError(f"periodic_exemplar must be one of {PERIODIC_EXEMPLAR}, got {periodic_exemplar!r}")
     _check_scales(scales, ex.shape[:2], "exemplar")

@@ -106,6 +106,7 @@ from threadpoolctl import threadpool_limits
 
 from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
+from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_image, as_rng, as_size, check_in_range, check_memory, check_positive_int,
                               restore_channels, with_channels)
 from ..core.pyramid import SteerableCoefficients, SteerablePyramid, max_scales, periodic_smooth_decomposition
@@ -1397,7 +1398,7 @@ def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, 
         stats = exemplar
         _check_from_statistics(stats, size, scales, orientations, neighborhood_size, _check_periodic(periodic_exemplar))
         shape = as_size(size)
-        iterations = check_positive_int(iterations, "iterations", minimum=1)
+        iterations = check_positive_int(iterations, "iterations", minimum=1, maximum=MAX_ITERATIONS)
         _check_scales_fit(stats.scales, shape, "output")
         _check_memory(shape, stats.channels, stats.scales, stats.orientations)
         dtype, grey = np.dtype(np.float64), stats.channels == 1
@@ -1410,7 +1411,7 @@ def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, 
         scales = check_positive_int(4 if scales is None else scales, "scales", minimum=1)
         orientations = check_positive_int(4 if orientations is None else orientations, "orientations", minimum=1)
         neighborhood_size = _check_neighborhood(7 if neighborhood_size is None else neighborhood_size)
-        iterations = check_positive_int(iterations, "iterations", minimum=1)
+        iterations = check_positive_int(iterations, "iterations", minimum=1, maximum=MAX_ITERATIONS)
         _check_scales_fit(scales, ex.shape[:2], "exemplar")
         _check_scales_fit(scales, shape, "output")
         _check_memory(shape, ex.shape[-1], scales, orientations)

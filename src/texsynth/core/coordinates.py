@@ -1,0 +1,326 @@
+"""Source-coordinate maps: re-render any channel of the exemplar through a synthesis.
+
+Every patch and pixel method can return (``return_info=True``) where each
+output pixel came from in the exemplar: ``info.coordinates``. With it, one
+synthesis of the albedo gives the matching normal, roughness and height maps,
+because :func:`apply_coordinates` copies (or blends) each of those channels
+exactly as the synthesis copied (or blended) the albedo.
+
+The shape convention, the same for every method (``docs/conventions.md``):
+
+- ``coordinates``: ``(H, W, 2)`` integers, the exemplar pixel ``(row, col)``
+  each output pixel was copied from; ``weights`` is None. Methods that copy
+  pixels (image quilting, graph cuts, Wang tiles, Efros-Leung, Wei-Levoy,
+  texture optimization's dominant neighbourhood) give this.
+- ``coordinates``: ``(H, W, K, 2)`` with ``weights`` ``(H, W, K)``: the
+  ``K`` exemplar pixels an output pixel blends, the largest weight first
+  (``coordinates[:, :, 0]`` is therefore always a valid ``(H, W, 2)`` map
+  of the dominant source). Unused slots have weight 0. Methods that blend
+  (patch-based sampling's feathered zones, patchwork) give this.
+
+A pixel is rendered as
+
+.. math:: O(x) = \\sum_k w_k(x)\\, I(c_k(x)) + \\Big(1 - \\sum_k w_k(x)\\Big)\\, \\bar I
+
+with ``Ī`` the channel's mean: weights that sum to 1 (a convex blend) ignore
+the mean; patchwork's variance-preserving blend (Harrison's eq. 2, whose
+weights sum to more than 1) takes the rest from it, as the synthesis does.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validate import as_array, check_memory
+
+__all__ = ["apply_coordinates"]
+
+# slots whose weights are below this share of a pixel's largest are dropped when a method compacts its map
+_NEGLIGIBLE = 0.0
+
+
+def _check_map(coordinates, weights):
+    """The map as ``(H, W, K, 2)`` intp coordinates and ``(H, W, K)`` weights (None for copies)."""
+    coords = as_array(coordinates, "coordinates")
+    if coords.ndim not in (3, 4) or coords.shape[-1] != 2:
+        raise ValueError(
+            f"coordinates must have shape (H, W, 2) (one exemplar pixel per output pixel) or (H, W, K, 2) with "
+            f"weights (H, W, K), got shape {coords.shape}; pass info.coordinates of a synthesis (or the info itself)"
+        )
+    if not np.issubdtype(coords.dtype, np.integer):
+        raise TypeError(
+            f"coordinates must be integers (exemplar rows and columns), got dtype {coords.dtype}; pass "
+            "info.coordinates, or np.rint(c).astype(int) for a map you made yourself"
+        )
+    if min(coords.shape[:-1]) == 0:
+        raise ValueError(f"coordinates is empty (shape {coords.shape}); pass a map of at least one pixel")
+    if weights is None:
+        if coords.ndim == 4:
+            raise ValueError(
+                f"coordinates has shape {coords.shape} (H, W, K, 2): K sources per pixel need weights of shape "
+                f"{coords.shape[:3]}; pass weights=info.weights (or the info itself)"
+            )
+        return coords[:, :, None, :], None
+    w = as_array(weights, "weights")
+    if coords.ndim == 3:
+        coords = coords[:, :, None, :]
+        if w.ndim == 2:
+            w = w[..., None]
+    if w.shape != coords.shape[:3]:
+        raise ValueError(
+            f"weights has shape {w.shape} but coordinates {coords.shape} need weights of shape {coords.shape[:3]}; "
+            "pass the weights that came with the coordinates (info.weights)"
+        )
+    if not np.issubdtype(w.dtype, np.floating) and not np.issubdtype(w.dtype, np.integer):
+        raise TypeError(f"weights must be real numbers, got dtype {w.dtype}")
+    if not np.all(np.isfinite(w)):
+        raise ValueError("weights contains NaN or infinite values; pass the weights that came with the coordinates")
+    return coords, w
+
+
+def _check_bounds(coords, shape, name):
+    flat = coords.reshape(-1, 2)
+    (lo_r, lo_c), (hi_r, hi_c) = flat.min(0).tolist(), flat.max(0).tolist()
+    if lo_r < 0 or lo_c < 0 or hi_r >= shape[0] or hi_c >= shape[1]:
+        hint = (" (-1 marks pixels that came from no exemplar pixel, e.g. efros_leung's given target pixels: "
+                "render those from the target yourself)" if min(lo_r, lo_c) == -1 else "")
+        raise ValueError(
+            f"coordinates point outside {name}: rows {lo_r}..{hi_r} and columns {lo_c}..{hi_c}, but {name} is "
+            f"{shape[0]}x{shape[1]}{hint}; pass channels of the size of the exemplar the map was made from"
+        )
+
+
+def _as_channel(image, name):
+    arr = as_array(image, name)
+    if arr.ndim not in (2, 3) or min(arr.shape) == 0:
+        raise ValueError(f"{name} must have shape (H, W) or (H, W, C) like the exemplar, got shape {arr.shape}")
+    kind = arr.dtype
+    if kind == np.bool_ or not (np.issubdtype(kind, np.integer) or np.issubdtype(kind, np.floating)):
+        raise TypeError(
+            f"{name} has dtype {kind}; pass uint8, uint16 or float data (bool maps: .astype(np.uint8))"
+        )
+    return arr
+
+
+def _normal_flags(normals, keys):
+    if isinstance(normals, (bool, np.bool_)):
+        return dict.fromkeys(keys, bool(normals))
+    if isinstance(normals, dict):
+        unknown = set(normals) - set(keys)
+        if unknown:
+            raise ValueError(f"normals names channels {sorted(map(str, unknown))} that channels does not have; "
+                             f"its keys are {list(keys)}")
+        return {k: bool(normals.get(k, False)) for k in keys}
+    try:
+        flags = [bool(f) for f in normals]
+    except TypeError:
+        raise TypeError(f"normals must be a bool, one bool per channel or a dict of them, got "
+                        f"{type(normals).__name__}") from None
+    if len(flags) != len(keys):
+        raise ValueError(f"normals has {len(flags)} flags for {len(keys)} channels; pass one per channel or one bool")
+    return dict(zip(keys, flags))
+
+
+def _white(kind):
+    return float(np.iinfo(kind).max) if np.issubdtype(kind, np.integer) else 1.0
+
+
+def _render(channel, flats, weights, blended, normal, name):
+    """One channel through the flat indices (one contiguous ``(H, W)`` array per slot) and the weights
+    (None for copies; else a cache: slot 0 dense, the others as (flat pixels, weights) where nonzero,
+    converted once per working dtype)."""
+    h, w = channel.shape[:2]
+    table = channel.reshape(h * w, -1)
+    shape = flats[0].shape + channel.shape[2:]
+    if normal and table.shape[1] < 3:
+        raise ValueError(f"{name} is flagged as a normal map but has {table.shape[1]} channel(s); a normal map "
+                         "has 3 (x, y, z encoded in [0, 1]), or 4 with alpha")
+    if weights is None:  # copies: the values themselves, bit for bit, in their own dtype
+        return np.take(table, flats[0], axis=0).reshape(shape)
+    kind = channel.dtype
+    work = np.float64 if kind == np.float64 or np.issubdtype(kind, np.signedinteger) else np.float32
+    white = _white(kind)
+    values = table.astype(work)  # the exemplar-sized table, decoded once (not the output-sized samples)
+    if np.issubdtype(kind, np.integer):
+        values *= work(1.0 / white)
+    if normal:
+        values = values * 2 - 1
+    key = np.dtype(work).name
+    if key not in weights:  # slot 0 dense; the others only where they weigh (a few pixels of most maps)
+        weights[key] = [weights["first"].astype(work)] + [(at, wk.astype(work)) for at, wk in weights["sparse"]]
+    first, *others = weights[key]
+    out = np.take(values, flats[0], axis=0)
+    out *= first
+    flat_out = out.reshape(-1, out.shape[-1])
+    for (at, wk), flat in zip(others, flats[1:]):
+        flat_out[at] += np.take(values, flat.reshape(-1)[at], axis=0) * wk
+    if not weights["convex"]:  # weights not summing to 1 (patchwork): the rest from the mean
+        out += (1.0 - weights["total"][..., None]).astype(work) * values.mean(0, dtype=np.float64).astype(work)
+    if normal:  # renormalise where the pixel blends several sources, then encode in [0, 1]
+        vec = out[..., :3]
+        length = np.sqrt(np.einsum("...c,...c->...", vec, vec))[..., None]
+        np.divide(vec, length, out=vec, where=blended[..., None] & (length > 0))
+        out += 1
+        out *= 0.5
+    if np.issubdtype(kind, np.integer):
+        info = np.iinfo(kind)
+        out *= white
+        np.rint(out, out=out)
+        if not weights["convex"]:  # (a convex blend stays within the values it blends)
+            np.clip(out, info.min, info.max, out=out)
+        out = out.astype(kind)
+    else:
+        out = out.astype(kind, copy=False)
+    return out.reshape(shape)
+
+
+def apply_coordinates(channels, coordinates, weights=None, *, normals=False):
+    """Render images of the exemplar's size through a synthesis's source-coordinate map.
+
+    One synthesis, a consistent set of channels: synthesise the albedo with
+    ``return_info=True``, then render the normal, roughness and height maps
+    of the same material through ``info``; every channel copies (or blends)
+    the same exemplar pixels as the albedo did, so their edges line up.
+
+    Parameters
+    ----------
+    channels : array_like, or a list, tuple or dict of them
+        Images of the exemplar's height and width, ``(h, w)`` or ``(h, w,
+        C)``, uint8, uint16 or float (any range: a height in metres is
+        fine). Several at once share the index arithmetic.
+    coordinates : array_like or info
+        ``(H, W, 2)`` integer exemplar ``(row, col)`` per output pixel, or
+        ``(H, W, K, 2)`` with ``weights`` (see the module's shape
+        convention). An info of a synthesis (anything with a
+        ``coordinates`` attribute) gives its ``coordinates`` and
+        ``weights``.
+    weights : array_like, optional
+        ``(H, W, K)`` blend weights of the ``K`` sources (largest first), or
+        None for copies. Taken from the info when ``coordinates`` is one.
+    normals : bool, or a list or dict of bool
+        Which channels are tangent-space normal maps (``x, y, z`` encoded in
+        [0, 1], or 0..255 / 0..65535): their blended pixels are decoded to
+        [-1, 1], blended, renormalised to unit length and encoded again.
+        One bool for all channels, one per channel, or a dict by key.
+
+    Returns
+    -------
+    numpy.ndarray, or a list, tuple or dict of them
+        ``(H, W)`` or ``(H, W, C)`` per channel, each in its own dtype:
+        uint16 stays uint16, float32 stays float32. Copied pixels are the
+        channel's values bit for bit; blended integer pixels are rounded
+        (and clipped to the type's range), blended float pixels are not
+        clipped.
+
+    Raises
+    ------
+    ValueError
+        If the map has the wrong shape, points outside the channels (which
+        must all have one height and width), or the weights do not match
+        it; if a channel flagged as normals has fewer than 3 channels.
+    TypeError
+        For non-integer coordinates or a non-numeric channel.
+
+    Notes
+    -----
+    Output pixel ``x`` with sources ``c_k(x)`` and weights ``w_k(x)`` is
+    ``O(x) = sum_k w_k(x) I(c_k(x)) + (1 - sum_k w_k(x)) mean(I)``: a plain
+    copy when there is one source of weight 1, a convex blend when the
+    weights sum to 1 (the mean term vanishes), and patchwork's
+    variance-preserving eq. 2 otherwise. Rendering the exemplar itself
+    reproduces the synthesis: exactly for copying methods, to rounding for
+    blending ones (see each method's ``info.coordinates``).
+
+    ``benchmarks/bench_coordinates.py`` measures a 2048 x 2048 map applied
+    to four channels against one fancy-indexing copy and
+    ``scipy.ndimage.map_coordinates`` (``docs/benchmarks.md``).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> from texsynth import data
+    >>> albedo = data.load("bread")[:64, :64]
+    >>> height = albedo.mean(-1)  # any image of the exemplar's size
+    >>> out, info = texsynth.quilt(albedo, 96, block=24, rng=0, return_info=True)
+    >>> info.coordinates.shape
+    (96, 96, 2)
+    >>> bool(np.array_equal(apply_coordinates(albedo, info), out))
+    True
+    >>> apply_coordinates([albedo, height], info)[1].shape
+    (96, 96)
+    """
+    if hasattr(coordinates, "coordinates"):  # an info of a synthesis
+        info = coordinates
+        if weights is None:
+            weights = getattr(info, "weights", None)
+        coordinates = info.coordinates
+        if coordinates is None:
+            raise ValueError(f"this {type(info).__name__} has no coordinates (coordinates is None); see its "
+                             "docstring for the options that record them")
+    coords, w = _check_map(coordinates, weights)
+    if isinstance(channels, dict):
+        keys, items = list(channels), list(channels.values())
+    elif isinstance(channels, (list, tuple)):
+        keys, items = list(range(len(channels))), list(channels)
+        if not items:
+            raise ValueError("channels is an empty list; pass one image or a list of images of the exemplar's size")
+    else:
+        keys, items = None, [channels]
+    names = ["channels"] if keys is None else [f"channels[{k!r}]" for k in keys]
+    arrays = [_as_channel(c, n) for c, n in zip(items, names)]
+    shape = arrays[0].shape[:2]
+    for a, n in zip(arrays[1:], names[1:]):
+        if a.shape[:2] != shape:
+            raise ValueError(f"{n} is {a.shape[0]}x{a.shape[1]} but {names[0]} is {shape[0]}x{shape[1]}; every "
+                             "channel must have the exemplar's size")
+    flags = _normal_flags(normals, keys if keys is not None else [None])
+    _check_bounds(coords, shape, names[0] if keys is None else "the channels")
+    out_pixels = float(coords.shape[0]) * coords.shape[1]
+    check_memory(out_pixels * (8 * coords.shape[2] + sum(8 * (a.shape[2] if a.ndim == 3 else 1) for a in arrays)),
+                 coords.shape[:2], "coordinates", "the rendered channels")
+    # flat exemplar indices, one contiguous (H, W) array per slot, computed once for all channels
+    flats = [coords[:, :, k, 0].astype(np.intp) * shape[1] + coords[:, :, k, 1] for k in range(coords.shape[2])]
+    blended = cache = None
+    if w is not None:  # slot 0 dense; the others kept where they weigh (a few pixels of most maps)
+        first = w[:, :, 0].astype(np.float64)
+        total, blended = first.copy(), np.zeros(first.shape, bool)
+        cache = {"first": first[..., None], "sparse": [], "convex": bool(w.min() >= 0)}
+        for k in range(1, w.shape[2]):
+            wk = np.ascontiguousarray(w[:, :, k], dtype=np.float64).reshape(-1)
+            at = np.flatnonzero(wk)
+            cache["sparse"].append((at, wk[at][:, None]))
+            total.reshape(-1)[at] += wk[at]
+            blended.reshape(-1)[at] = True
+        cache["total"] = total
+        cache["convex"] = cache["convex"] and bool(np.abs(total - 1).max() <= 1e-6)
+    rendered = [_render(a, flats, cache, blended, flags[k], n)
+                for a, n, k in zip(arrays, names, keys if keys is not None else [None])]
+    if keys is None:
+        return rendered[0]
+    if isinstance(channels, dict):
+        return dict(zip(keys, rendered))
+    return type(channels)(rendered) if isinstance(channels, tuple) else rendered
+
+
+# --------------------------------------------------------------------------
+# helpers for the methods that record maps
+
+
+def compact_slots(coordinates, weights):
+    """Sort a blend map's slots by weight (largest first) and drop the slots no pixel uses.
+
+    ``coordinates`` ``(H, W, K, 2)``, ``weights`` ``(H, W, K)``; returns the
+    same with ``K`` the largest number of nonzero weights at any pixel.
+    Unused slots repeat the dominant slot's coordinates with weight 0, so
+    ``coordinates[:, :, 0]`` is a valid copy map.
+    """
+    order = np.argsort(-weights, axis=-1, kind="stable")
+    weights = np.take_along_axis(weights, order, -1)
+    coordinates = np.take_along_axis(coordinates, order[..., None], -2)
+    k = max(1, int(np.count_nonzero(weights > _NEGLIGIBLE, axis=-1).max()))
+    weights, coordinates = np.ascontiguousarray(weights[..., :k]), np.ascontiguousarray(coordinates[..., :k, :])
+    unused = weights <= _NEGLIGIBLE
+    coordinates[unused] = np.broadcast_to(coordinates[:, :, :1], coordinates.shape)[unused]
+    weights[unused] = 0
+    return coordinates, weights
+

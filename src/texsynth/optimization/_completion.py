@@ -1,0 +1,233 @@
+"""Image completion by texture optimization: hole filling with a sample mask, and uncrop.
+
+Kwatra et al. [1]_ (Section 4) fill a hole by texture optimization with the
+known pixels as constraints and the rest of the image as the exemplar. The
+two functions here are that application, at the sizes photographs have:
+
+:func:`inpaint`
+    Fill the pixels of ``hole`` from the image's other pixels, or only from
+    those ``sample_mask`` allows (resynthesizer's "heal selection" with a
+    sampling area, Embark's sample masks).
+:func:`uncrop`
+    Extend an image beyond its borders: the image is placed in a larger
+    canvas and everything around it is synthesised from it (resynthesizer's
+    "Uncrop", outpainting).
+
+Both run :func:`texsynth.optimize_texture` with hard constraints
+(``constraint_weight=inf``): the known pixels are the target, every E-step
+puts them back, so the M-step is the plain nearest-neighbour search and runs
+with PatchMatch on large stages. That is the form of Wexler, Shechtman &
+Irani's space-time completion [2]_ and of PatchMatch's hole filling [3]_;
+Kwatra et al.'s soft constraint with a large λ (Algorithm 2) reaches the
+same fixed point but queries an index of every image neighbourhood for every
+constrained neighbourhood, which at 512² needs tens of GiB.
+
+Choices, with reasons: the completeness term and the copy limit of the
+default preset are off (the known part of the image *is* a verbatim copy of
+the exemplar); its histogram matching is on for the unknown pixels (their
+colours get the sampling area's histogram after every E-step: without it an
+uncropped border washes out into flat colour, as large enlargements do);
+neighbourhood
+sizes and levels follow the image's feature scale as in the default preset,
+with at least enough levels that the coarsest sees the hole narrower than its
+largest neighbourhood (otherwise nothing carries structure across the hole:
+``docs/methods/optimization.md``, hole filling); the output equals the input
+outside the hole, bit for bit.
+
+References
+----------
+.. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization for
+   example-based synthesis", SIGGRAPH 2005. :doi:`10.1145/1073204.1073263`
+.. [2] Y. Wexler, E. Shechtman and M. Irani, "Space-time completion of video",
+   IEEE TPAMI 29(3), 2007. :doi:`10.1109/TPAMI.2007.60`
+.. [3] C. Barnes, E. Shechtman, A. Finkelstein and D. B. Goldman,
+   "PatchMatch: a randomized correspondence algorithm for structural image
+   editing", SIGGRAPH 2009. :doi:`10.1145/1531326.1531330`
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..core._validate import as_image, as_size, check_memory, check_positive_int, with_channels
+from ..core.neighborhood import all_patches
+from ._kwatra import _check_mask, _check_sizes, _is_auto, _scale_schedule, optimize_texture
+
+__all__ = ["inpaint", "uncrop"]
+
+#: What the completion functions pass to :func:`~texsynth.optimize_texture` besides the user's options.
+_FIXED = dict(constraint_weight=np.inf, completeness_weight=0.0, copy_limit=None, histogram_matching=True,
+              tileable=False)
+
+
+def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
+    """Sizes and levels: the default preset's, with levels enough for the coarsest to span the hole."""
+    auto_sizes, auto_levels = _scale_schedule(exemplar, shape)
+    sizes = auto_sizes if _is_auto(neighborhood_sizes) else _check_sizes(neighborhood_sizes)
+    if min(sizes) > min(exemplar.shape[:2]):
+        raise ValueError(f"the image is {exemplar.shape[0]}x{exemplar.shape[1]} but the smallest neighborhood is "
+                         f"{min(sizes)}; pass neighborhood_sizes no larger than {min(exemplar.shape[:2])}")
+    if not _is_auto(levels):
+        return sizes, check_positive_int(levels, "levels")
+    rows, cols = np.nonzero(hole)
+    span = max(rows.max() - rows.min() + 1, cols.max() - cols.min() + 1)
+    # the hole at level L is span / 2^L wide; the largest neighbourhood should cover it, and the
+    # coarsest exemplar should still hold the smallest neighbourhood
+    wanted = max(auto_levels, 1 + math.ceil(math.log2(max(span / max(sizes), 1))))
+    return sizes, min(wanted, 1 + int(math.log2(max(1, min(exemplar.shape[:2]) // min(sizes)))))
+
+
+def _check_sources(allowed, smallest, name):
+    """Refuse a sampling area with no whole neighbourhood of the smallest size."""
+    if not (all_patches(allowed[..., None].astype(np.float64), smallest).min(axis=(2, 3, 4)) > 0.5).any():
+        raise ValueError(
+            f"{name} leaves no {smallest}x{smallest} block of pixels to copy from; allow a larger sampling area "
+            f"or pass smaller neighborhood_sizes"
+        )
+
+
+def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels="auto", max_iterations=5,
+            method="auto", rng=None, progress=False, return_info=False):
+    """Fill a hole of an image with texture taken from the rest of it (Kwatra et al. 2005, Section 4).
+
+    Parameters
+    ----------
+    image : array_like
+        ``(H, W)`` or ``(H, W, C)`` image with a hole (the values inside the
+        hole are ignored).
+    hole : array_like of bool
+        ``(H, W)``: True where pixels are to be filled.
+    sample_mask : array_like of bool, optional
+        ``(H, W)``: True where pixels may be copied into the hole (the
+        sampling area); default every pixel outside the hole. Pixels of the
+        hole are never copied.
+    neighborhood_sizes, levels : "auto" or as in :func:`~texsynth.optimize_texture`
+        ``"auto"``: the default preset's sizes (from the image's feature
+        scale), and levels enough that the coarsest level sees the hole no
+        wider than the largest neighbourhood.
+    max_iterations, method, rng, progress
+        As in :func:`~texsynth.optimize_texture`.
+    return_info : bool
+        Also return the :class:`~texsynth.optimization.OptimizationInfo`.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        The image with the hole filled; every pixel outside the hole is the
+        input's, bit for bit.
+    info : OptimizationInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a ``hole`` or ``sample_mask`` of another shape, a hole with no
+        pixel or with no known pixel around it, a sampling area without a
+        whole neighbourhood, and the errors of
+        :func:`~texsynth.optimize_texture`.
+
+    Examples
+    --------
+    >>> from texsynth.data import load
+    >>> img = load("bread")[:48, :48]
+    >>> hole = np.zeros((48, 48), bool); hole[18:30, 18:30] = True
+    >>> out = inpaint(img, hole, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
+    >>> bool(np.array_equal(out[~hole], img[~hole]))
+    True
+    """
+    img = as_image(image, "image")
+    channels, grey = with_channels(img)
+    shape = channels.shape[:2]
+    hole = _check_mask(hole, shape, "hole") > 0.5
+    if not hole.any():
+        raise ValueError("hole marks no pixel; pass a boolean (H, W) mask that is True where pixels are to be filled")
+    if hole.all():
+        raise ValueError("hole covers the whole image, so nothing is known to fill it from; leave some pixels "
+                         "outside the hole (or use texsynth.optimize_texture to synthesise from an exemplar)")
+    allowed = ~hole if sample_mask is None else ~hole & (_check_mask(sample_mask, shape, "sample_mask") > 0.5)
+    sizes, levels = _schedule(channels, shape, hole, neighborhood_sizes, levels)
+    _check_sources(allowed, min(sizes), "sample_mask" if sample_mask is not None else "hole")
+    out, info = optimize_texture(channels, shape, mask=~hole, target=channels, exemplar_mask=allowed,
+                                 neighborhood_sizes=sizes, levels=levels, max_iterations=max_iterations,
+                                 method=method, rng=rng, progress=progress, return_info=True, **_FIXED)
+    out[~hole] = channels[~hole]
+    out = out[..., 0] if grey else out
+    return (out, info) if return_info else out
+
+
+def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_sizes="auto", levels="auto",
+           max_iterations=5, method="auto", rng=None, progress=False, return_info=False):
+    """Extend an image beyond its borders with texture taken from it (uncrop, outpainting).
+
+    Parameters
+    ----------
+    image : array_like
+        ``(h, w)`` or ``(h, w, C)``.
+    size : int or (int, int)
+        ``(H, W)`` of the result, at least the image's size.
+    position : "center" or (int, int)
+        Where the image's top-left pixel lands in the result: centred
+        (default), or ``(row, col)`` (``(0, 0)``: extend to the bottom and
+        right only).
+    sample_mask : array_like of bool, optional
+        ``(h, w)``: True where the image's pixels may be copied; default all.
+    neighborhood_sizes, levels, max_iterations, method, rng, progress, return_info
+        As in :func:`inpaint`.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        ``size``, with the input unchanged at ``position``.
+    info : OptimizationInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a ``size`` smaller than the image, a ``position`` that does not
+        keep the image inside, a ``sample_mask`` of another shape or without a
+        whole neighbourhood, and the errors of
+        :func:`~texsynth.optimize_texture`.
+
+    Examples
+    --------
+    >>> from texsynth.data import load
+    >>> img = load("bread")[:32, :32]
+    >>> out = uncrop(img, 48, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
+    >>> out.shape, bool(np.array_equal(out[8:40, 8:40], img))
+    ((48, 48, 3), True)
+    """
+    img = as_image(image, "image")
+    channels, grey = with_channels(img)
+    h, w = channels.shape[:2]
+    shape = as_size(size)
+    if shape[0] < h or shape[1] < w:
+        raise ValueError(f"size {shape} is smaller than the image ({h}, {w}); pass a size at least the image's "
+                         f"(to make it smaller, crop it)")
+    if isinstance(position, str) and position == "center":
+        top, left = (shape[0] - h) // 2, (shape[1] - w) // 2
+    else:
+        try:
+            top, left = (int(v) for v in position)
+        except (TypeError, ValueError):
+            raise TypeError(f"position must be 'center' or (row, col), got {position!r}") from None
+        if not (0 <= top <= shape[0] - h and 0 <= left <= shape[1] - w):
+            raise ValueError(f"position {(top, left)} puts the {h}x{w} image outside the {shape} result; pass "
+                             f"0 <= row <= {shape[0] - h} and 0 <= col <= {shape[1] - w}, or 'center'")
+    allowed = np.ones((h, w), bool) if sample_mask is None else _check_mask(sample_mask, (h, w), "sample_mask") > 0.5
+    # the canvas, its mask and target before optimize_texture checks its own arrays
+    check_memory(float(shape[0]) * shape[1] * (channels.shape[-1] * 2 + 1) * channels.itemsize, shape)
+    canvas = np.zeros(shape + (channels.shape[-1],), channels.dtype)
+    canvas[top : top + h, left : left + w] = channels
+    known = np.zeros(shape, bool)
+    known[top : top + h, left : left + w] = True
+    sizes, levels = _schedule(channels, shape, ~known, neighborhood_sizes, levels)
+    _check_sources(allowed, min(sizes), "sample_mask")
+    out, info = optimize_texture(channels, shape, mask=known, target=canvas, exemplar_mask=allowed,
+                                 neighborhood_sizes=sizes, levels=levels, max_iterations=max_iterations,
+                                 method=method, rng=rng, progress=progress, return_info=True, **_FIXED)
+    out[known] = canvas[known]
+    out = out[..., 0] if grey else out
+    return (out, info) if return_info else out

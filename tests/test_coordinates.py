@@ -1,0 +1,213 @@
+"""Source-coordinate maps: every method's ``info.coordinates``, and ``apply_coordinates``."""
+
+import numpy as np
+import pytest
+from scipy import ndimage
+
+import texsynth
+from texsynth import apply_coordinates, data
+
+
+@pytest.fixture(scope="module")
+def bread():
+    return data.load("bread")[:64, :64]
+
+
+def _luminance(image):
+    return image[..., :3] @ np.array([0.2125, 0.7154, 0.0721])
+
+
+def _normal_map(height, strength=4.0):
+    """A tangent-space normal map of a height field, encoded in [0, 1] (x right, y up, z out)."""
+    gy, gx = np.gradient(height)
+    n = np.stack([-gx * strength, gy * strength, np.ones_like(height)], -1)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    return (n + 1) / 2
+
+
+# the methods that copy pixels: rendering the exemplar through the map is the output, bit for bit
+COPYING = {
+    "quilt": lambda ex: texsynth.quilt(ex, 90, block=20, rng=0, return_info=True),
+    "quilt tileable": lambda ex: texsynth.quilt(ex, 80, block=20, tileable=True, rng=1, return_info=True),
+    "quilt paste": lambda ex: texsynth.quilt(ex, 70, block=20, cut=False, rng=2, return_info=True),
+    "graphcut": lambda ex: texsynth.graphcut_texture(ex, 80, rng=0, return_info=True),
+    "graphcut tileable": lambda ex: texsynth.graphcut_texture(ex, 80, tileable=True, rng=0, return_info=True),
+    "graphcut paper": lambda ex: texsynth.graphcut_texture(ex, 80, preset="paper", rng=0, return_info=True),
+    "wang": lambda ex: texsynth.wang_texture(ex, (70, 90), tile=24, rng=0, return_info=True),
+    "efros-leung": lambda ex: texsynth.efros_leung(ex[:24, :24], 20, neighborhood_size=5, rng=0,
+                                                  return_info=True),
+    "pixels scanline": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, levels=2, rng=0, return_info=True),
+    "pixels independent": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, levels=2, order="independent",
+                                                                rng=0, return_info=True),
+    "pixels k-coherent": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, levels=2, candidates="k-coherent",
+                                                               rng=0, return_info=True),
+}
+
+
+def _exemplar_of(name, ex):
+    if name == "efros-leung":
+        return ex[:24, :24]
+    return ex[:32, :32] if name.startswith("pixels") else ex
+
+
+@pytest.fixture(scope="module")
+def copying(bread):
+    return {name: run(bread) for name, run in COPYING.items()}
+
+
+@pytest.mark.parametrize("name", list(COPYING))
+def test_copying_methods_are_reproduced_exactly(name, bread, copying):
+    out, info = copying[name]
+    ex = _exemplar_of(name, bread)
+    assert info.coordinates.shape == out.shape[:2] + (2,) and info.coordinates.dtype == np.int64
+    assert info.weights is None
+    assert np.array_equal(apply_coordinates(ex, info), out)
+    # one synthesis, a consistent set: a per-pixel function of the exemplar renders to that function of the output
+    assert np.array_equal(apply_coordinates(_luminance(ex), info), _luminance(out))
+
+
+def test_quilt_transfer_map_is_its_last_pass(bread):
+    pattern = np.tile(np.linspace(0, 1, 48), (40, 1))
+    out, info = texsynth.quilt_transfer(bread, pattern, block=16, rng=0, return_info=True)
+    assert info.coordinates.shape == (40, 48, 2) and info.weights is None
+    assert np.array_equal(apply_coordinates(bread, info), out)
+
+
+@pytest.mark.parametrize("name", ["quilt", "graphcut", "wang", "pixels independent", "pixels k-coherent"])
+def test_recording_the_map_changes_nothing_synthesised(name, bread, copying):
+    kwargs = {"quilt": dict(size=90, block=20), "graphcut": dict(size=80), "wang": dict(size=(70, 90), tile=24),
+              "pixels independent": dict(size=36, levels=2, order="independent"),
+              "pixels k-coherent": dict(size=36, levels=2, candidates="k-coherent")}[name]
+    func = {"quilt": texsynth.quilt, "graphcut": texsynth.graphcut_texture, "wang": texsynth.wang_texture}.get(
+        name, texsynth.synthesize_pixels)
+    size = kwargs.pop("size")
+    plain = func(_exemplar_of(name, bread), size, rng=0, **kwargs)
+    assert np.array_equal(plain, copying[name][0])
+
+
+def test_patch_sampling_blends_with_weights_summing_to_one(bread):
+    out, info = texsynth.patch_sampling(bread, 90, block=20, rng=0, return_info=True)
+    assert np.array_equal(out, texsynth.patch_sampling(bread, 90, block=20, rng=0))
+    k = info.coordinates.shape[2]
+    assert info.coordinates.shape == (90, 90, k, 2) and info.weights.shape == (90, 90, k) and 2 <= k <= 4
+    assert np.allclose(info.weights.sum(-1), 1.0) and np.all(np.diff(info.weights, axis=-1) <= 0)
+    interior = info.weights[..., 0] == 1.0  # outside the boundary zones: plain copies
+    assert 0.3 < interior.mean() < 1.0
+    assert np.abs(apply_coordinates(bread, info) - out).max() < 1e-12
+    # the dominant slot alone is a copy map that agrees with the output wherever nothing is blended
+    dominant = apply_coordinates(bread, info.coordinates[:, :, 0])
+    assert np.array_equal(dominant[interior], out[interior])
+    assert np.abs(apply_coordinates(_luminance(bread), info) - _luminance(out)).max() < 1e-12
+    # tileable: the grid wraps, and the last patches blend with the first ones across the border
+    out, info = texsynth.patch_sampling(bread, 80, block=20, tileable=True, rng=3, return_info=True)
+    assert np.abs(apply_coordinates(bread, info) - out).max() < 1e-12
+
+
+@pytest.mark.parametrize("kwargs", [{}, {"tileable": True}, {"sharpness": 2}])
+def test_patchwork_is_reproduced_within_its_blend(kwargs):
+    metal = data.load("bumpy")[:96, :96]
+    out, info = texsynth.patchwork(metal, 112, grid_spacing=16, rng=0, return_info=True, **kwargs)
+    assert np.array_equal(out, texsynth.patchwork(metal, 112, grid_spacing=16, rng=0, **kwargs))
+    assert info.coordinates.ndim == 4 and info.weights.dtype == np.float32
+    assert np.all(info.weights.sum(-1) >= 1 - 1e-5)  # eq. 2's coefficients: the rest is the mean
+    rendered = np.clip(apply_coordinates(metal, info), 0, 1)  # patchwork clips its output to [0, 1]
+    assert np.abs(rendered - out).max() < 5e-3
+    lum = np.clip(apply_coordinates(_luminance(metal), info), 0, 1)
+    assert np.abs(lum - np.clip(_luminance(out), 0, 1)).mean() < 1e-3
+
+
+def test_optimize_texture_gives_the_neighbourhood_of_largest_weight(bread):
+    out, info = texsynth.optimize_texture(bread, 72, neighborhood_sizes=(16, 8), levels=2, max_iterations=3,
+                                          rng=0, return_info=True)
+    assert np.array_equal(out, texsynth.optimize_texture(bread, 72, neighborhood_sizes=(16, 8), levels=2,
+                                                         max_iterations=3, rng=0))
+    assert info.coordinates.shape == (72, 72, 2) and info.weights is None
+    error = np.abs(apply_coordinates(bread, info) - out).mean()
+    rng = np.random.default_rng(0)
+    random_map = np.stack([rng.integers(0, 64, (72, 72)), rng.integers(0, 64, (72, 72))], -1)
+    baseline = np.abs(apply_coordinates(bread, random_map) - out).mean()
+    assert error < 0.02 and error < baseline / 5  # the output blends z_p that agree: the copy is close
+
+
+def test_a_normal_and_a_height_map_line_up_with_the_albedo(bread, copying):
+    out, info = copying["quilt"]
+    height = ndimage.gaussian_filter(_luminance(bread), 1.5)
+    normal = _normal_map(height)
+    h_out, n_out = apply_coordinates([height, normal], info, normals=[False, True])
+    # the rendered height is the blurred luminance of the output wherever the blur saw one exemplar
+    # neighbourhood; its edges line up with the albedo's (and not with a shifted copy of them)
+    edges = ndimage.gaussian_gradient_magnitude(_luminance(out), 1.5)
+    h_edges = ndimage.gaussian_gradient_magnitude(h_out, 1.0)
+    aligned = np.corrcoef(edges.ravel(), h_edges.ravel())[0, 1]
+    shifted = np.corrcoef(edges.ravel(), np.roll(h_edges, (7, 5), (0, 1)).ravel())[0, 1]
+    assert aligned > 0.7 and shifted < 0.3
+    assert np.array_equal(n_out, _normal_map(height)[info.coordinates[..., 0], info.coordinates[..., 1]])
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32, np.uint16, np.uint8])
+def test_normals_have_unit_length_after_blending(dtype, bread):
+    _, info = texsynth.patch_sampling(bread, 80, block=20, rng=0, return_info=True)
+    normal = _normal_map(ndimage.gaussian_filter(_luminance(bread), 1.0))
+    if dtype in (np.uint8, np.uint16):
+        white = np.iinfo(dtype).max
+        normal = np.rint(normal * white).astype(dtype)
+    else:
+        white, normal = 1.0, normal.astype(dtype)
+    rendered = apply_coordinates({"normal": normal}, info, normals={"normal": True})["normal"]
+    assert rendered.dtype == dtype and rendered.shape == (80, 80, 3)
+    length = np.linalg.norm(rendered.astype(np.float64) / white * 2 - 1, axis=-1)
+    tolerance = {np.uint8: 2e-2, np.uint16: 1e-4, np.float32: 1e-6, np.float64: 1e-12}[dtype]
+    assert np.abs(length - 1).max() < tolerance
+    blended = np.count_nonzero(info.weights, -1) > 1
+    plain = apply_coordinates(normal, info)  # without normals=True the blend is shorter than 1
+    short = np.linalg.norm(plain.astype(np.float64) / white * 2 - 1, axis=-1)[blended]
+    if dtype != np.uint8:  # (8 bits cannot show the shortening)
+        assert short.min() < 1 - 10 * tolerance
+
+
+def test_channels_keep_their_dtype_and_copies_are_bit_exact(bread, copying):
+    _, info = copying["graphcut"]
+    rng = np.random.default_rng(0)
+    height16 = rng.integers(0, 65536, bread.shape[:2]).astype(np.uint16)
+    rough32 = rng.random(bread.shape[:2]).astype(np.float32) * 10  # any float range: metres, not [0, 1]
+    rendered = apply_coordinates((height16, rough32), info)
+    assert isinstance(rendered, tuple) and [r.dtype for r in rendered] == [np.uint16, np.float32]
+    rows, cols = info.coordinates[..., 0], info.coordinates[..., 1]
+    assert np.array_equal(rendered[0], height16[rows, cols]) and np.array_equal(rendered[1], rough32[rows, cols])
+
+
+def test_the_mean_term_and_integer_rounding():
+    channel = np.array([[0, 100], [200, 255]], np.uint8)
+    coords = np.array([[[[0, 1], [1, 0]]]])  # one output pixel blending (0, 1) and (1, 0)
+    assert apply_coordinates(channel, coords, np.array([[[0.5, 0.5]]])).tolist() == [[150]]
+    # weights summing to 1.2: the missing -0.2 comes from the channel's mean (138.75)
+    value = apply_coordinates(channel.astype(np.float64), coords, np.array([[[0.6, 0.6]]]))
+    assert value[0, 0] == pytest.approx(0.6 * 100 + 0.6 * 200 - 0.2 * 138.75)
+
+
+def test_an_info_without_a_map_is_refused(bread):
+    _, info = texsynth.mix_textures([bread[:24, :24], bread[24:48, 24:48]], 24, levels=1, rng=0,
+                                    return_info=True)
+    with pytest.raises(ValueError, match="no coordinates"):
+        apply_coordinates(bread, info)
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda ex: apply_coordinates(ex, np.zeros((4, 4), int)), r"coordinates must have shape \(H, W, 2\)"),
+    (lambda ex: apply_coordinates(ex, np.zeros((4, 4, 3), int)), r"coordinates must have shape"),
+    (lambda ex: apply_coordinates(ex, np.zeros((4, 4, 2))), r"coordinates must be integers.*astype\(int\)"),
+    (lambda ex: apply_coordinates(ex, np.full((4, 4, 2), 64)), r"coordinates point outside.*64x64.*exemplar"),
+    (lambda ex: apply_coordinates(ex, np.full((4, 4, 2), -1)), r"coordinates point outside.*-1 marks"),
+    (lambda ex: apply_coordinates(ex, np.zeros((4, 4, 3, 2), int)), r"need weights of shape \(4, 4, 3\)"),
+    (lambda ex: apply_coordinates(ex, np.zeros((4, 4, 3, 2), int), np.ones((4, 4, 2))),
+     r"weights has shape \(4, 4, 2\).*info.weights"),
+    (lambda ex: apply_coordinates([ex, ex[:32]], np.zeros((4, 4, 2), int)), r"channels\[1\] is 32x64.*size"),
+    (lambda ex: apply_coordinates(ex[..., 0], np.zeros((4, 4, 3, 2), int), np.ones((4, 4, 3)), normals=True),
+     r"normal map has 3"),
+    (lambda ex: apply_coordinates([ex], np.zeros((4, 4, 2), int), normals=[True, False]), r"normals has 2 flags"),
+    (lambda ex: apply_coordinates(ex.astype(complex), np.zeros((4, 4, 2), int)), r"channels has dtype complex"),
+    (lambda ex: apply_coordinates([], np.zeros((4, 4, 2), int)), r"channels is an empty list"),
+])
+def test_bad_maps_are_refused_naming_the_parameter_and_the_fix(call, match, bread):
+    with pytest.raises((ValueError, TypeError), match=match):
+        call(bread)
