@@ -130,6 +130,8 @@ def _small_runs():
                                             max_iterations=1, return_info=True, rng=0),
         "uncrop": lambda: texsynth.uncrop(bread[:32, :32], 40, neighborhood_sizes=(8,), levels=1, max_iterations=1,
                                           return_info=True, rng=0),
+        "make_tileable": lambda: texsynth.make_tileable(bread[:40, :40], band=8, neighborhood_sizes=(8,), levels=1,
+                                                        max_iterations=1, return_info=True, rng=0),
         "animate_texture": lambda: texsynth.animate_texture(bread, flows.rotation(24, 0.05), n_frames=2,
                                                             neighborhood_sizes=(8,), levels=1, max_iterations=1,
                                                             max_frame_iterations=1, return_info=True, rng=0),

@@ -94,6 +94,8 @@ CALLS = {
     "inpaint": (texsynth.inpaint, (EX, np.eye(24, dtype=bool)), dict(neighborhood_sizes=(8,), levels=1,
                                                                     max_iterations=1, rng=0)),
     "uncrop": (texsynth.uncrop, (EX, 32), dict(neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)),
+    "make_tileable": (texsynth.make_tileable, (EX,), dict(band=4, neighborhood_sizes=(8,), levels=1,
+                                                          max_iterations=1, rng=0)),
     "animate_texture": (texsynth.animate_texture, (EX, flows.translation(12, (0.0, 1.0))),
                         dict(n_frames=2, neighborhood_sizes=(8,), levels=1, max_iterations=1,
                              max_frame_iterations=1, rng=0)),

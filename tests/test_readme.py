@@ -28,3 +28,12 @@ def test_quick_start_runs(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     exec(compile(code, "README quick start", "exec"), {})
     assert any(tmp_path.iterdir())  # it saved its image
+
+
+def test_readme_images_exist_and_stay_small():
+    images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", README)
+    assert "docs/_static/gallery_strip.png" in images  # the gallery strip under the two commands
+    for image in images:
+        path = ROOT / image
+        assert path.is_file(), f"README shows {image}, which does not exist"
+        assert path.stat().st_size < 600_000, f"{image} is {path.stat().st_size // 1000} kB; keep README pictures small"

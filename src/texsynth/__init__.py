@@ -33,7 +33,7 @@ __getattr__, __dir__, __all__ = attach(
                         "patch_sampling", "graphcut_texture", "graphcut_merge", "carve_seams", "wang_texture",
                         "wang_tiles", "wang_tiling"], ".patch"),
         **dict.fromkeys(["optimize_texture", "animate_texture", "inpaint", "uncrop", "interpolate_textures",
-                         "ridge_feature_map",
+                         "make_tileable", "ridge_feature_map",
                          "edge_feature_map", "linear_blend"], ".optimization"),
         **dict.fromkeys(["heeger_bergen", "portilla_simoncelli", "ps_statistics", "ps_step",
                          "interpolate_statistics", "random_phase_noise", "tile_and_blend", "tile_and_blend_at"],

@@ -238,6 +238,16 @@ def _inpaint(exemplar, seed):
     return _side_by_side([shown, inpaint(image, hole, rng=seed)])
 
 
+def _make_tileable(exemplar, seed):
+    import numpy as np
+
+    from .optimization import make_tileable
+
+    image = exemplar[:96, :96]
+    reps = (2, 2) + (1,) * (image.ndim - 2)
+    return _side_by_side([np.tile(image, reps), np.tile(make_tileable(image, rng=seed), reps)])
+
+
 # --------------------------------------------------------------------------- the methods
 _WEI_LEVOY = "Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009"
 _WEI = "Wei, \"Texture synthesis from multiple sources\", SIGGRAPH 2003 sketch, doi:10.1145/965400.965507"
@@ -352,6 +362,10 @@ METHODS: dict[str, Method] = {
                   maps=("hole", "sample_mask"),
                   demos=[("inpaint_bread", "Hole filling (a 40 px disc of the bread photo, filled from the rest)",
                           "bread", _inpaint)]),
+    "make-tileable": _m("optimization:make_tileable", "Make a photo tile seamlessly: re-synthesise a band along "
+                        "its edges on a toroidal canvas (IMAGE [--band N])", _KWATRA, "completion", size=None,
+                        demos=[("make_tileable_brick", "Make tileable: the brick photo (77x96 px) tiled 2x2, before "
+                                "and after (a 9 px band along its edges re-synthesised)", "brick", _make_tileable)]),
     "uncrop": _m("optimization:uncrop", "Uncrop: extend an image beyond its borders by texture optimization "
                  "(--size WxH)", _KWATRA, "completion", maps=("sample_mask",), skip=("position",),
                  demos=[("uncrop_bread", "Uncrop: the bread photo (64 px, centre) extended to 96 px",

@@ -8,12 +8,13 @@
   :func:`linear_blend` and :func:`transition_alpha_map`).
 - :func:`inpaint`, :func:`uncrop`: image completion by texture optimization
   with hard constraints (hole filling with a sampling area; extending an
-  image beyond its borders).
+  image beyond its borders); :func:`make_tileable`: re-synthesise a band
+  along a photo's edges so that it tiles seamlessly.
 """
 
 from ..core._deprecate import warn
 from ._kwatra import AnimationInfo, OptimizationInfo, StageInfo, animate_texture, optimize_texture
-from ._completion import inpaint, uncrop
+from ._completion import inpaint, make_tileable, uncrop
 from ._ruiters import (
     InterpolationInfo,
     edge_feature_map,
@@ -26,6 +27,7 @@ from ._ruiters import (
 
 __all__ = [
     "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo", "inpaint", "uncrop",
+    "make_tileable",
     "interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
     "linear_blend", "transition_alpha_map", "InterpolationInfo",
 ]

@@ -12,8 +12,12 @@ two functions here are that application, at the sizes photographs have:
     Extend an image beyond its borders: the image is placed in a larger
     canvas and everything around it is synthesised from it (resynthesizer's
     "Uncrop", outpainting).
+:func:`make_tileable`
+    Make an existing photo tile seamlessly: a band along its edges is
+    re-synthesised on a toroidal canvas (the top meets the bottom, the left
+    the right), the interior is kept.
 
-Both run :func:`texsynth.optimize_texture` with hard constraints
+All three run :func:`texsynth.optimize_texture` with hard constraints
 (``constraint_weight=inf``): the known pixels are the target, every E-step
 puts them back, so the M-step is the plain nearest-neighbour search and runs
 with PatchMatch on large stages. That is the form of Wexler, Shechtman &
@@ -55,7 +59,7 @@ from ..core._validate import as_image, as_size, check_memory, check_positive_int
 from ..core.neighborhood import all_patches
 from ._kwatra import _check_mask, _check_sizes, _is_auto, _scale_schedule, optimize_texture
 
-__all__ = ["inpaint", "uncrop"]
+__all__ = ["inpaint", "uncrop", "make_tileable"]
 
 #: What the completion functions pass to :func:`~texsynth.optimize_texture` besides the user's options.
 _FIXED = dict(constraint_weight=np.inf, completeness_weight=0.0, copy_limit=None, histogram_matching=True,
@@ -229,5 +233,90 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
                                  neighborhood_sizes=sizes, levels=levels, max_iterations=max_iterations,
                                  method=method, rng=rng, progress=progress, return_info=True, **_FIXED)
     out[known] = canvas[known]
+    out = out[..., 0] if grey else out
+    return (out, info) if return_info else out
+
+
+def make_tileable(image, *, band="auto", neighborhood_sizes="auto", levels="auto", max_iterations=5,
+                  method="auto", rng=None, progress=False, return_info=False):
+    """Make a photo tile seamlessly by re-synthesising a band along its edges (its interior is kept).
+
+    The pixels within ``band`` of the image's edges are unknown, the rest
+    are hard constraints, and the whole image is the exemplar of a
+    *tileable* (toroidal) texture optimization: the band is filled so that
+    its neighbourhoods, which wrap round from the right edge to the left and
+    from the bottom to the top, look like neighbourhoods of the photo. The
+    result's opposite edges meet without a seam, so it can be repeated
+    (``np.tile(out, (2, 2, 1))``).
+
+    Parameters
+    ----------
+    image : array_like
+        ``(H, W)`` or ``(H, W, C)``.
+    band : "auto" or int
+        Width in pixels of the re-synthesised border (the same on all four
+        sides; the seam region across each wrap-around edge is twice as
+        wide). ``"auto"``: an eighth of the smaller side, and at least the
+        smallest neighbourhood size, so that every neighbourhood that crosses
+        an edge has unknown pixels to move (narrower, and the two edges'
+        pixels would be fixed face to face with nothing between them to
+        mend the seam); wider bands change more of the photo for no better
+        seam.
+    neighborhood_sizes, levels, max_iterations, method, rng, progress, return_info
+        As in :func:`inpaint`.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        The same shape; the pixels at least ``band`` from every edge are the
+        input's, bit for bit.
+    info : OptimizationInfo
+        Only with ``return_info=True``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a ``band`` that is not a positive int or "auto", an image too
+        small for the band (it must leave an interior at least as large as
+        the smallest neighbourhood), and the errors of
+        :func:`~texsynth.optimize_texture`.
+
+    Examples
+    --------
+    >>> from texsynth.data import load
+    >>> img = load("bread")[:48, :48]
+    >>> out = make_tileable(img, band=8, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
+    >>> bool(np.array_equal(out[8:-8, 8:-8], img[8:-8, 8:-8]))
+    True
+    """
+    img = as_image(image, "image")
+    channels, grey = with_channels(img)
+    h, w = shape = channels.shape[:2]
+    auto_sizes, _ = _scale_schedule(channels, shape)
+    smallest = min(auto_sizes if _is_auto(neighborhood_sizes) else _check_sizes(neighborhood_sizes))
+    if isinstance(band, str) and band == "auto":
+        band = max(min(h, w) // 8, smallest)
+    elif isinstance(band, str):
+        raise ValueError(f"band must be 'auto' or a positive int, got {band!r}")
+    else:
+        band = check_positive_int(band, "band")
+    if min(h, w) - 2 * band < smallest:
+        raise ValueError(
+            f"the image is {h}x{w}, too small for band {band}: the kept interior must be at least the smallest "
+            f"neighborhood ({smallest}) wide; pass a smaller band (at most {max((min(h, w) - smallest) // 2, 0)}) "
+            f"or a larger image"
+        )
+    known = np.zeros(shape, bool)
+    known[band : h - band, band : w - band] = True
+    # the hole is a frame; on the torus it is a cross of width 2*band through the wrapped edges
+    cross = np.zeros(shape, bool)
+    cross[: 2 * band, : 2 * band] = True
+    sizes, levels = _schedule(channels, shape, cross, neighborhood_sizes, levels)
+    allowed = np.ones(shape, bool)
+    fixed = dict(_FIXED, tileable=True)
+    out, info = optimize_texture(channels, shape, mask=known, target=channels, exemplar_mask=allowed,
+                                 neighborhood_sizes=sizes, levels=levels, max_iterations=max_iterations,
+                                 method=method, rng=rng, progress=progress, return_info=True, **fixed)
+    out[known] = channels[known]
     out = out[..., 0] if grey else out
     return (out, info) if return_info else out
