@@ -343,7 +343,7 @@ METHODS: dict[str, Method] = {
                               _call("pixel:efros_leung", (96, 96), crop=64, neighborhood_size=15))]),
     "optimize": _m("optimization:optimize_texture",
                    "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling", _KWATRA,
-                   "optimization", files=("target", "init"), maps=("mask", "exemplar_mask"),
+                   "optimization", files=("target", "init"), maps=("mask", "exemplar_mask", "exemplar_guide", "output_guide"),
                    demos=[("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
                            "bread", _call("optimization:optimize_texture", (128, 128))),
                           ("optimize_text_complete", "Kwatra texture optimization with the completeness term of the "

@@ -90,6 +90,7 @@ from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
 from ..core.search import PatchIndex, nearest_candidates, sq_distances
+from ..core.search._patchmatch import _patchmatch_checked
 from ..core.neighborhood import PatchSum, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
 from ..core.scale import feature_scale
@@ -398,9 +399,10 @@ class _Exemplar:
     PatchMatch M-step never needs it (it compares patches of the images).
     """
 
-    def __init__(self, image, valid, size, opts, rng, frame=False):
+    def __init__(self, image, valid, size, opts, rng, frame=False, guided=False):
         mu = opts.mu
         self.image, self.size, self.mu = image, size, mu
+        self.guided = guided  # the last channels are guides (may exceed 1 and make more than 4 channels)
         self.valid = valid
         self.view = all_patches(image, size)  # (Ny, Nx, w, w, C), a view
         ok = all_patches(valid[..., None].astype(np.float64), size).min(axis=(2, 3, 4)) > 0.5
@@ -761,8 +763,13 @@ class _Completeness:
         pad = w - 1 if mode == "wrap" else 0
         image = np.pad(x, ((0, pad), (0, pad), (0, 0)), mode="wrap") if pad else x
         start = None if current is None else _unwrap(current, x.shape[:2], w, pad)[:, None]
-        field, d2 = search.patchmatch(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
-                                      iterations=iterations, pixel_weights=ex.g, rng=rng)
+        if ex.guided:  # guide channels: more than 4 channels, values above 1
+            field, d2 = _patchmatch_checked(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
+                                            iterations=iterations, exemplar_mask=None, pixel_weights=ex.g,
+                                            mode="valid", penalty=None, rng=rng)
+        else:
+            field, d2 = search.patchmatch(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
+                                          iterations=iterations, pixel_weights=ex.g, rng=rng)
         found = field[:, 0]
         if pad:
             found = np.mod(found, x.shape[:2])
@@ -886,8 +893,10 @@ def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None)
             idx = ex.grid[c[:, 0] - w // 2, c[:, 1] - w // 2]
             return occurrence.penalty[idx] + occurrence.copy_penalty(ex, idx, centers[q])
     mask = None if ex.valid.all() else ex.valid
-    field, d2 = search.patchmatch(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
-                                  exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng)
+    # with guide channels (``ex.guided``) the images may have more than 4 channels and values above 1
+    run = _patchmatch_checked if ex.guided else search.patchmatch
+    field, d2 = run(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
+                    exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng)
     corner = field[:, 0] - w // 2
     new = ex.grid[corner[:, 0], corner[:, 1]]
     rho = d2[:, 0].astype(np.float64) if penalty is None else _rho_at(ex, x, centers, mode, new)
@@ -1045,8 +1054,9 @@ def _energy(rho, r, eps2, x, constraint):
 
 
 # --------------------------------------------------------------------------- one stage
-def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
-    """Algorithm 1 (or 2) at one level with one neighbourhood size."""
+def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, guide=None):
+    """Algorithm 1 (or 2) at one level with one neighbourhood size; ``guide`` ``(H, W, G)``: the output
+    guide at this level, the last ``G`` channels of ``x`` and of the exemplar (given, never synthesised)."""
     t0 = time.perf_counter()
     w = ex.size
     spacing = opts.grid(w)
@@ -1120,6 +1130,10 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         # random neighbourhoods per pixel gives a flat image whose nearest exemplar
         # neighbourhoods are the flattest ones, and the synthesis collapses onto them.
         g0 = gaussian_falloff(w, sigma=max(spacing, 1) / 4.0)
+    n_colours = ex.image.shape[-1] - (0 if guide is None else guide.shape[-1])
+    if guide is not None and x is not None:  # the up-sampled guide channels -> this level's output guide
+        x = x.copy()
+        x[..., n_colours:] = guide
     current = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
 
     colours, free = None, None
@@ -1129,7 +1143,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         count = shape[0] * shape[1] if free is None else int(free.sum())
         allowed = ex.image[ex.valid > 0.5]  # (pixels, C): the exemplar pixels that may be copied
         colours = [quantile_targets(np.sort(allowed[:, c]), count).astype(ex.image.dtype)
-                   for c in range(allowed.shape[1])] if count else None
+                   for c in range(n_colours)] if count else None  # the guide channels are given, not matched
 
     def e_step(state, omega, it):
         nonlocal current
@@ -1145,10 +1159,13 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress):
         g = g0 if it == 0 and g0 is not None else ga  # bootstrap assembly, frame assembly or ex.g
         current = _e_step(ex, zidx, centers, shape, omega[:n], mode, mu, constraint, current, g=g, votes=votes)
         if colours is not None and free is None:  # the exemplar's colour histograms, against the E-step's wash-out
-            current = np.stack([match_to_targets(current[..., c], t, False)[0] for c, t in enumerate(colours)], -1)
+            current = np.stack([match_to_targets(current[..., c], t, False)[0] for c, t in enumerate(colours)]
+                               + ([] if guide is None else list(np.moveaxis(guide, -1, 0))), -1)
         elif colours is not None:
             for c, t in enumerate(colours):
                 current[..., c][free] = match_to_targets(current[..., c][free], t, False)[0]
+        if guide is not None:  # the output's guide channels are given: reset after every E-step
+            current[..., n_colours:] = guide
         return current
 
     def search(x, state):
@@ -1261,6 +1278,7 @@ class _Problem:
     valid: np.ndarray  # (h, w) 1 where exemplar pixels may be copied
     constraint: tuple | None = None  # (mask, target, lambda) of eq. 2
     x_init: np.ndarray | None = None
+    guide: np.ndarray | None = None  # (H, W, G) output guide, scaled; ex then holds the exemplar guide's G last channels
 
 
 def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
@@ -1341,8 +1359,9 @@ def _with_margin(problem, margin):
         m, t, lam = constraint
         constraint = (np.pad(m, pad), np.pad(t, pad + ((0, 0),), mode="edge"), lam)
     x_init = None if problem.x_init is None else np.pad(problem.x_init, pad + ((0, 0),), mode="edge")
+    guide = None if problem.guide is None else np.pad(problem.guide, pad + ((0, 0),), mode="edge")
     shape = (problem.shape[0] + margin, problem.shape[1] + margin)
-    return dataclasses.replace(problem, shape=shape, constraint=constraint, x_init=x_init)
+    return dataclasses.replace(problem, shape=shape, constraint=constraint, x_init=x_init, guide=guide)
 
 
 def _check_memory(shape, channels, opts, frames=1):
@@ -1431,6 +1450,54 @@ def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.
     return _Problem(ex, grey, shape, sizes, levels, valid, constraint, x_init)
 
 
+def _check_guide(guide, shape, name):
+    """A guide ``(h, w)`` or ``(h, w, G)`` in [0, 1] of the spatial ``shape``, as ``(h, w, G)`` float."""
+    if isinstance(guide, (str, bytes, dict, numbers.Number)):
+        raise TypeError(f"{name} must be an array of shape {tuple(shape)} or {tuple(shape) + ('G',)} "
+                        f"(guide channels in [0, 1]), got {guide!r}")
+    arr = as_float_array(guide, name)
+    if arr.ndim == 2:
+        arr = arr[..., None]
+    if arr.ndim != 3 or arr.shape[:2] != tuple(shape):
+        raise ValueError(f"{name} must have shape {tuple(shape)} or {tuple(shape) + ('G',)} (one label or guide "
+                         f"value per pixel), got shape {np.shape(guide)}")
+    return arr
+
+
+def _with_guides(problem, exemplar_guide, output_guide, guide_weight):
+    """Guided synthesis (image analogies' texture by numbers): the guides as extra channels.
+
+    The exemplar guide is appended to the exemplar and the output guide kept for the output, both
+    multiplied by ``sqrt(guide_weight)`` (the colours' [0, 1] units), so every neighbourhood distance
+    compares the guides too; constraint targets and the initial image get the output guide's channels.
+    """
+    weight = check_positive_float(guide_weight, "guide_weight", allow_zero=True, maximum=_MAX_WEIGHT)
+    if exemplar_guide is None and output_guide is None:
+        return problem
+    if exemplar_guide is None or output_guide is None:
+        given, missing = ("exemplar_guide", "output_guide") if output_guide is None else ("output_guide",
+                                                                                          "exemplar_guide")
+        raise ValueError(f"{given} was given without {missing}; pass both (the exemplar's label map and the "
+                         f"output's) or neither")
+    ge = _check_guide(exemplar_guide, problem.ex.shape[:2], "exemplar_guide")
+    go = _check_guide(output_guide, problem.shape, "output_guide")
+    if ge.shape[-1] != go.shape[-1]:
+        raise ValueError(f"exemplar_guide has {ge.shape[-1]} channel(s) but output_guide has {go.shape[-1]}; "
+                         f"pass guides with the same channels (the same labels in both)")
+    if weight == 0:  # guides of no weight: the unguided synthesis, bit for bit
+        return problem
+    dtype = problem.ex.dtype
+    s = np.sqrt(weight)
+    ge, go = (ge * s).astype(dtype), (go * s).astype(dtype)
+    ex = np.concatenate([problem.ex, ge], axis=-1)
+    constraint = problem.constraint
+    if constraint is not None:
+        m, t, lam = constraint
+        constraint = (m, np.concatenate([t, go], axis=-1), lam)
+    x_init = None if problem.x_init is None else np.concatenate([problem.x_init, go], axis=-1)
+    return dataclasses.replace(problem, ex=ex, constraint=constraint, x_init=x_init, guide=go)
+
+
 def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
     """Exemplar, its valid mask, output shapes, constraints and init at every level."""
     levels = max(1, min(levels, max_levels(ex.shape[:2]), max_levels(shape)))
@@ -1460,8 +1527,8 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
                      relative_grid_spacing=0.25, irls_exponent=0.8, max_iterations=5, tolerance="auto",
                      gradient_weight=0.0, mask=None, target=None, constraint_weight=1.0, exemplar_mask=None,
                      tileable=False, init=None, falloff=True, occurrence_weight=0.0, copy_limit="auto",
-                     completeness_weight="auto", histogram_matching="auto", method="auto", rng=None, progress=False,
-                     return_info=False):
+                     completeness_weight="auto", histogram_matching="auto", method="auto", exemplar_guide=None,
+                     output_guide=None, guide_weight=1.0, rng=None, progress=False, return_info=False):
     """Synthesise a texture by texture optimization (Kwatra et al. 2005).
 
     Minimises the texture energy (eq. 1) of the output over its
@@ -1622,6 +1689,24 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         16 candidates of a (1 + 2)-approximate search, re-ranked exactly).
         The M-step never accepts a worse ``z_p``, so an approximate backend
         cannot raise the energy within a stage.
+    exemplar_guide, output_guide : array_like, optional
+        Guided synthesis ("texture by numbers", Hertzmann et al. 2001 [5]_):
+        ``(h, w)`` or ``(h, w, G)`` guide maps of the exemplar and ``(H, W)``
+        or ``(H, W, G)`` of the output (the same ``G``), values in [0, 1]
+        (any accepted dtype), e.g. a label map painted over each. Both or
+        neither. The guides become ``G`` extra channels of the exemplar and
+        of the output, multiplied by ``sqrt(guide_weight)``, so every
+        neighbourhood distance (M-step, energy) compares the guides too;
+        their Gaussian pyramids are built like the images'. The output's
+        guide channels are given, not synthesised: every E-step (and each
+        stage's start, after up-sampling) resets them to ``output_guide``;
+        histogram matching leaves them out; they are stripped from the
+        result.
+    guide_weight : float
+        Weight of the guide channels against the colours, ``>= 0`` (default
+        1): a guide difference of 1 costs as much as a colour difference of
+        ``sqrt(guide_weight)`` in one channel, in the colours' [0, 1] units.
+        0 ignores the guides (the unguided result, bit for bit).
     rng : None, int or numpy.random.Generator
         Seeds the random initial neighbourhoods (and approximate indexes).
     progress : bool or callable
@@ -1647,7 +1732,9 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         output, NaN in any input, ``constraint_weight < 0``,
         ``irls_exponent`` outside (0, 2], ``gradient_weight < 0``,
         ``occurrence_weight < 0``, ``completeness_weight < 0``, ``copy_limit`` outside
-        (0, 1].
+        (0, 1], one guide without the other, guides of another size than
+        the exemplar / the output or with different channel counts, guide
+        values outside [0, 1], ``guide_weight < 0``.
     TypeError
         Unsupported dtypes or argument types.
 
@@ -1727,6 +1814,14 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
        T.-T. Wong, "Solid texture synthesis from 2D exemplars", ACM
        Transactions on Graphics (SIGGRAPH 2007) 26(3).
        :doi:`10.1145/1276377.1276380`
+    .. [5] A. Hertzmann, C. E. Jacobs, N. Oliver, B. Curless and D. H. Salesin,
+       "Image analogies", SIGGRAPH 2001, pp. 327-340.
+       :doi:`10.1145/383259.383295`. Not checked against the paper (it is
+       not in our papers folder): its texture by numbers matches
+       neighbourhoods of the label images A, B together with those of A'
+       (its own weights and search); here the labels are extra channels of
+       Kwatra's neighbourhood distance, with our ``guide_weight``, and we
+       could not compare results with the paper's figures.
 
     Examples
     --------
@@ -1745,6 +1840,7 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
                        target=target, exemplar_mask=exemplar_mask, init=init, preset=preset)
     auto = _preset(preset, problem, tolerance=tolerance, completeness_weight=completeness_weight,
                    copy_limit=copy_limit, histogram_matching=histogram_matching)
+    problem = _with_guides(problem, exemplar_guide, output_guide, guide_weight)
     tileable = check_bool(tileable, "tileable")
     margin = 0 if tileable or preset == "paper" else problem.sizes[0] // 2
     opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,
@@ -1767,6 +1863,8 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         if info.coordinates is not None:
             info.coordinates = info.coordinates[: shape[0], : shape[1]].copy()
     info.seconds = time.perf_counter() - t_start
+    if problem.guide is not None:  # the guide channels were given, not synthesised
+        x = x[..., : x.shape[-1] - problem.guide.shape[-1]]
     out = restore_channels(np.clip(x, 0.0, 1.0), problem.grey)
     return (out, info) if return_info else out
 
@@ -1777,6 +1875,10 @@ def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc):
     ex, shape = problem.ex, problem.shape
     ex_pyr, valid_pyr, out_shapes, cons_pyr, init_pyr = _pyramids(
         ex, problem.valid, shape, problem.levels, problem.constraint, problem.x_init, opts.tileable)
+    guide_pyr = [None] * len(out_shapes)
+    if problem.guide is not None:  # the output guide's pyramid, from the same code as the images'
+        guide_pyr = [g.astype(ex.dtype, copy=False) for g in
+                     gaussian_pyramid(problem.guide, len(out_shapes), mode="wrap" if opts.tileable else "reflect")]
     plan = _schedule(problem.sizes, [e.shape[:2] for e in ex_pyr], out_shapes)
     if not any(plan):
         raise ValueError(f"no neighborhood size in {problem.sizes} fits the exemplar {ex.shape[:2]} and the output {shape}")
@@ -1798,10 +1900,12 @@ def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc):
             for w in plan[level]:
                 key = (level, w)
                 if key not in cache:
-                    cache[key] = _Exemplar(ex_pyr[level], valid_pyr[level], w, opts, rng, frame=opts.frame)
+                    cache[key] = _Exemplar(ex_pyr[level], valid_pyr[level], w, opts, rng, frame=opts.frame,
+                                           guided=problem.guide is not None)
                 if len(cache[key]) == 0:  # exemplar_mask leaves nothing at this level: skip it
                     continue
-                x = _run_stage(cache[key], x, out_shapes[level], level, opts, cons_pyr[level], rng, record, bar)
+                x = _run_stage(cache[key], x, out_shapes[level], level, opts, cons_pyr[level], rng, record, bar,
+                               guide=guide_pyr[level])
     finally:
         bar.close()
     level, *last = record.get("dominant", (None,))

@@ -54,15 +54,19 @@ class _Problem:
     ``patch_size // 2``.
     """
 
-    def __init__(self, image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty=None):
+    def __init__(self, image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty=None,
+                 checked=False):
         if penalty is not None and not callable(penalty):
             raise TypeError(f"penalty must be a callable penalty(queries, centres) -> costs, got {penalty!r}")
         self.penalty = penalty
         if not isinstance(mode, str) or mode not in MODES:
             raise ValueError(f"mode must be one of {', '.join(map(repr, MODES))}, got {mode!r}")
         self.mode = mode
-        img, _ = with_channels(as_image(image, "image"))
-        ex, _ = with_channels(as_image(exemplar, "exemplar"))
+        if checked:  # float (H, W, C) arrays of a caller that knows them (any C, any finite values)
+            img, ex = image, exemplar
+        else:
+            img, _ = with_channels(as_image(image, "image"))
+            ex, _ = with_channels(as_image(exemplar, "exemplar"))
         if img.shape[-1] != ex.shape[-1]:
             raise ValueError(
                 f"image has {img.shape[-1]} channels but exemplar has {ex.shape[-1]}; "
@@ -737,12 +741,24 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
     (True, 0.0)
     """
     problem = _Problem(image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty)
-    iterations = check_positive_int(iterations, "iterations", 0)
-    rng = as_rng(rng)
+    return _run(problem, init, check_positive_int(iterations, "iterations", 0), as_rng(rng))
+
+
+def _run(problem, init, iterations, rng):
+    """The field of ``problem`` after ``iterations`` of propagation and random search from ``init``."""
     field = problem.start(init, rng)
     for it in range(iterations):
         _iterate(problem, field, it, rng)
     return problem.result(field)
+
+
+def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iterations, exemplar_mask, pixel_weights,
+                        mode, penalty, rng):
+    """:func:`patchmatch` of float ``(H, W, C)`` arrays the caller has checked, with any number of channels
+    and values beyond [0, 1] (texture optimization's guide channels, weighted)."""
+    problem = _Problem(image, exemplar, patch_size, centers, 1, exemplar_mask, pixel_weights, mode, penalty,
+                       checked=True)
+    return _run(problem, init, iterations, rng)
 
 
 #: :func:`resolve_field`: problems up to this much work (exemplar patches times queries times the
