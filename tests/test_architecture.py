@@ -10,7 +10,7 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src" / "texsynth"
 FAMILIES = {"pixel", "patch", "optimization", "statistical", "procedural"}
 TOOLS = {"io", "data", "metrics", "testing"}
-FRONT = {"__init__", "__main__", "cli", "demo", "registry"}
+FRONT = {"__init__", "__main__", "cli", "demo", "registry", "_batch"}
 # Ruiters et al. run one Portilla-Simoncelli step per iteration (Section 4.5): documented in
 # docs/architecture.md as the one import across families
 EXCEPTIONS = {("texsynth.optimization._ruiters", "texsynth.statistical")}

@@ -16,7 +16,7 @@ TABLE = README[README.index("## Methods"):README.index("## ", README.index("## M
 # public functions that are parts or helpers of a registered method, not methods of their own
 HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_map", "edge_feature_map",
            "linear_blend", "wang_tiles", "wang_tiling", "tile_and_blend_at", "find_textons",
-           "apply_coordinates"}
+           "apply_coordinates", "batch"}
 
 
 @pytest.mark.parametrize("name", list(METHODS))

@@ -39,6 +39,7 @@ __getattr__, __dir__, __all__ = attach(
                          "interpolate_statistics", "random_phase_noise", "tile_and_blend", "tile_and_blend_at"],
                         ".statistical"),
         "apply_coordinates": ".core.coordinates",
+        "batch": "._batch",
     },
 )
 __all__.append("__version__")

@@ -4,6 +4,7 @@
 
     texsynth list
     texsynth demo [--out DIR]
+    texsynth batch INPUT_FOLDER_OR_MANIFEST -o FOLDER [--methods a,b] [--seeds N] [--scheduler tcp://HOST:PORT]
     texsynth METHOD INPUT [INPUT ...] -o OUTPUT [--size WxH] [--seed N] [--bits 8|16|32] [method options]
     texsynth quilt albedo.png -o out.png --channels height.png,rough.png --normal-maps normal.png
 
@@ -594,9 +595,51 @@ def build_parser():
     demo = sub.add_parser("demo", help="write a gallery of every method on bundled sample textures")
     demo.add_argument("--out", default="texsynth-demo", help="gallery folder (default: texsynth-demo)")
     demo.add_argument("--seed", type=int, default=0, help="random seed")
+    _add_batch_parser(sub)
     for name, method in METHODS.items():
         _add_method_parser(sub, name, method)
     return parser
+
+
+def _add_batch_parser(sub):
+    batch = sub.add_parser("batch", help="exemplars x methods x options x seeds -> a folder, on Dask (docs/scaling.md)")
+    batch.add_argument("inputs", metavar="INPUT", help="a folder of exemplar images or a .csv/.json manifest "
+                                                       "(columns exemplar, method, options as JSON, seed(s), size)")
+    batch.add_argument("-o", "--output", required=True, help="output folder (outputs, summary.json, summary.csv)")
+    batch.add_argument("--methods", default="patchwork", help="comma-separated method names (default: patchwork)")
+    batch.add_argument("--options", default=None, help="method options as JSON: an object or a list of objects")
+    batch.add_argument("--seeds", default="1", help="a count of seeds (default 1) or a JSON list of seed indices")
+    batch.add_argument("--size", help="output size WIDTHxHEIGHT; default: the manifest's, else the exemplar's")
+    batch.add_argument("--scheduler", help="address of a running Dask scheduler, tcp://HOST:PORT "
+                                           "(default: a local cluster on this machine)")
+    batch.add_argument("--workers", type=int, default=None, help="local workers (default: one per core)")
+    batch.add_argument("--threads", action="store_true", help="local workers are threads, not processes")
+    batch.add_argument("--overwrite", action="store_true", help="recompute items whose output exists "
+                                                                "(default: skip them, i.e. resume)")
+    batch.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def _run_batch(args):
+    import json
+
+    from ._batch import batch
+
+    try:
+        options = json.loads(args.options) if args.options else None
+        seeds = json.loads(args.seeds)
+    except json.JSONDecodeError as exc:
+        raise CommandError(f"--options and --seeds must be JSON: {exc}") from None
+    size = parse_size(args.size) if args.size else None
+    summary = batch(args.inputs, args.output, methods=[m for m in args.methods.split(",") if m], options=options,
+                    seeds=seeds, size=size, scheduler=args.scheduler, n_workers=args.workers,
+                    processes=not args.threads, overwrite=args.overwrite,
+                    progress=not args.no_progress and sys.stderr.isatty())
+    print(f"{summary.count('done')} done, {summary.count('skipped')} skipped (output existed), "
+          f"{summary.count('failed')} failed in {summary.seconds:.1f} s; see {Path(args.output) / 'summary.csv'}")
+    for item in summary.failed:
+        print(f"texsynth: failed: {item['exemplar']} {item['method']} seed {item['seed_index']}: "
+              f"{item['error'].splitlines()[0]}", file=sys.stderr)
+    return 1 if summary.failed else 0
 
 
 def _used_options(argv):
@@ -615,6 +658,7 @@ def main(argv=None):
         if args.command == "list":
             width = max((len(n) for n in METHODS), default=4)
             print(f"{'demo':<{width}}  gallery of every method on bundled sample textures")
+            print(f"{'batch':<{width}}  many exemplars x methods x seeds into a folder, on Dask (pip install texsynth[dask])")
             for name, method in METHODS.items():
                 print(f"{name:<{width}}  {method.summary}")
             return 0
@@ -624,13 +668,15 @@ def main(argv=None):
             index = run_demo(args.out, seed=args.seed, log=print)
             print(f"gallery written: {index}")
             return 0
+        if args.command == "batch":
+            return _run_batch(args)
         for option in _used_options(argv if argv is not None else sys.argv[1:]):
             if option in args._deprecated:
                 print(f"texsynth: warning: {option} is deprecated; use {args._deprecated[option]}", file=sys.stderr)
         written = _run_method(args)
         print("wrote " + ", ".join(str(p) for p in written))
         return 0
-    except (CommandError, ValueError, TypeError, OSError, MemoryError) as exc:
+    except (CommandError, ValueError, TypeError, OSError, MemoryError, ImportError) as exc:
         # bad input, a file that cannot be read or written (missing, a folder, read-only, a full disk):
         # one line, exit status 2, and save_image has left nothing half-written
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__

@@ -1,0 +1,342 @@
+"""Batch synthesis on Dask: exemplars x methods x options x seeds -> an output folder.
+
+The implementation of :func:`texsynth.batch` and of the ``texsynth batch`` command
+(see ``docs/scaling.md``). The module is private (``_batch``) so that it does not
+shadow the public function ``texsynth.batch``.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io as _stdio
+import json
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+__all__ = ["batch", "BatchSummary", "item_seed"]
+
+CONNECT_TIMEOUT = 5  # seconds to reach a scheduler given as an address
+_IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".ppm", ".pgm", ".pnm", ".gif", ".webp", ".npy"}
+
+
+def _distributed():
+    try:
+        import distributed
+    except ImportError as exc:
+        raise ImportError("texsynth.batch runs on dask.distributed, which is not installed: "
+                          "pip install texsynth[dask]") from exc
+    return distributed
+
+
+def item_seed(key):
+    """The seed of one item, derived from its key alone (a 64-bit int).
+
+    ``key`` is the item's JSON key (exemplar path relative to the input folder
+    or manifest, method, options, seed index). The same key gives the same
+    seed on any machine, worker or order.
+
+    >>> item_seed('["a.png", "patchwork", {}, 0]') == item_seed('["a.png", "patchwork", {}, 0]')
+    True
+    """
+    import numpy as np
+
+    entropy = int.from_bytes(hashlib.sha256(key.encode()).digest()[:16], "little")
+    return int(np.random.SeedSequence(entropy).generate_state(1, np.uint64)[0])
+
+
+@dataclass
+class BatchSummary:
+    """What a batch did: one dict per item (also written as ``summary.json`` and ``summary.csv``).
+
+    Each item has ``exemplar``, ``method``, ``options``, ``seed_index``, ``seed``
+    (the derived seed passed as ``rng``), ``size``, ``output``, ``status``
+    (``"done"``, ``"skipped"``: its output existed, or ``"failed"``), ``error``
+    and ``seconds``.
+    """
+
+    items: list = field(default_factory=list)
+    seconds: float = 0.0
+    dashboard_link: str | None = None
+
+    def count(self, status):
+        """How many items have this status."""
+        return sum(item["status"] == status for item in self.items)
+
+    @property
+    def failed(self):
+        """The items that failed."""
+        return [item for item in self.items if item["status"] == "failed"]
+
+
+def _parse_size(value):
+    if value is None or value == "":
+        return None
+    if isinstance(value, int):
+        return (value, value)
+    if isinstance(value, str):
+        parts = [int(p) for p in value.lower().split("x")]
+        return (parts[0], parts[0]) if len(parts) == 1 else (parts[1], parts[0])  # WxH -> (H, W)
+    return tuple(int(v) for v in value)
+
+
+def _seed_indices(seeds):
+    if isinstance(seeds, str):
+        seeds = json.loads(seeds)
+    if isinstance(seeds, int):
+        if seeds < 1:
+            raise ValueError(f"seeds must be a positive count or a list of seed indices, got {seeds}")
+        return list(range(seeds))
+    return [int(s) for s in seeds]
+
+
+def _rows(inputs, methods, options, seeds, size):
+    """``[(exemplar key, exemplar path, method, options, seed index, size)]`` from a folder, files or a manifest."""
+    options_list = [options or {}] if isinstance(options, dict) or options is None else list(options)
+    if isinstance(inputs, (list, tuple)):
+        files = [(Path(p).name, Path(p)) for p in inputs]
+        rows = [(k, p, m, o, None, None) for k, p in files for m in methods for o in options_list]
+    else:
+        path = Path(inputs)
+        if path.is_dir():
+            files = sorted(p for p in path.iterdir() if p.is_file() and not p.name.startswith(".")
+                           and p.suffix.lower() in _IMAGE_SUFFIXES)
+            rows = [(p.name, p, m, o, None, None) for p in files for m in methods for o in options_list]
+        elif path.suffix.lower() in {".csv", ".json"}:
+            rows = _manifest_rows(path, methods, options_list)
+        elif not path.exists():
+            raise FileNotFoundError(f"inputs {str(path)!r} does not exist (a folder of images or a .csv/.json manifest)")
+        else:
+            raise ValueError(f"inputs must be a folder of images, a list of files or a .csv/.json manifest, got {str(path)!r}")
+    out = []
+    for key, p, m, o, s, sz in rows:
+        for index in (_seed_indices(s) if s is not None else _seed_indices(seeds)):
+            out.append((key, p, m, o, index, sz if sz is not None else size))
+    return out
+
+
+def _manifest_rows(path, methods, options_list):
+    if path.suffix.lower() == ".json":
+        records = json.loads(path.read_text())
+        records = records.get("items", records) if isinstance(records, dict) else records
+    else:
+        with open(path, newline="") as f:
+            records = list(csv.DictReader(f))
+    rows = []
+    for record in records:
+        if "exemplar" not in record:
+            raise ValueError(f"manifest {str(path)!r}: every row needs an 'exemplar' column, got {sorted(record)}")
+        exemplar = str(record["exemplar"])
+        file = Path(exemplar) if Path(exemplar).is_absolute() else path.parent / exemplar
+        opts = record.get("options") or None
+        if isinstance(opts, str):
+            opts = json.loads(opts)
+        seed = record.get("seeds", record.get("seed"))
+        seed = None if seed in (None, "") else (json.loads(seed) if isinstance(seed, str) else seed)
+        if isinstance(seed, int) and "seed" in record and "seeds" not in record:
+            seed = [seed]  # a `seed` column is one seed index, `seeds` a count or a list
+        row_methods = [record["method"]] if record.get("method") else methods
+        for m in row_methods:
+            for o in ([opts] if opts is not None else options_list):
+                rows.append((exemplar, file, m, o, seed, _parse_size(record.get("size"))))
+    return rows
+
+
+def _plan(rows, folder):
+    """One dict per item, with its key, derived seed and output file."""
+    from .registry import METHODS
+
+    items, names = [], {}
+    for key, path, method, options, index, size in rows:
+        item_key = json.dumps([key, method, options, index], sort_keys=True)
+        stem = Path(key).with_suffix("").as_posix().replace("/", "_")
+        tag = f"_o{hashlib.sha256(json.dumps(options, sort_keys=True).encode()).hexdigest()[:6]}" if options else ""
+        name = f"{stem}_{method}{tag}_s{index}.png"
+        if name in names and names[name] != item_key:
+            raise ValueError(f"two items would write {name!r}: {names[name]} and {item_key}; rename one exemplar")
+        names[name] = item_key
+        item = {"exemplar": str(key), "path": str(path), "method": method, "options": options, "seed_index": index,
+                "seed": item_seed(item_key), "size": list(size) if size else None, "output": name,
+                "status": "pending", "error": "", "seconds": 0.0}
+        spec = METHODS.get(method)
+        if spec is None:
+            item.update(status="failed", error=f"unknown method {method!r}; 'texsynth list' names them")
+        elif spec.inputs != "image" or spec.output != "image":
+            item.update(status="failed", error=f"method {method!r} does not take one exemplar image to one image")
+        elif not Path(path).is_file():
+            item.update(status="failed", error=f"exemplar {str(path)!r} does not exist")
+        items.append(item)
+    return items
+
+
+def run_item(item, folder):
+    """Synthesise one item and write its output atomically; returns ``(status, error, seconds)``.
+
+    Runs on a worker; every exception is returned as the item's error.
+    """
+    import inspect
+
+    from .io import image_bits, load_image, save_image
+    from .registry import METHODS
+
+    start = time.perf_counter()
+    try:
+        spec = METHODS[item["method"]]
+        func = spec.function()
+        exemplar = load_image(item["path"])
+        size = tuple(item["size"]) if item["size"] else exemplar.shape[:2]
+        kwargs = dict(item["options"] or {}, rng=item["seed"])
+        args = [exemplar]
+        if spec.size:
+            if inspect.signature(func).parameters[spec.size].kind is inspect.Parameter.KEYWORD_ONLY:
+                kwargs[spec.size] = size
+            else:
+                args.append(size)
+        result = spec.to_unit(func(*args, **kwargs))
+        bits = min(image_bits(item["path"]), 16) if not str(item["path"]).endswith(".npy") else 16
+        save_image(Path(folder) / item["output"], result, overwrite=True, bits=bits)
+        return "done", "", time.perf_counter() - start
+    except Exception as exc:  # noqa: BLE001 - a failing item is recorded, never stops the others
+        return "failed", f"{type(exc).__name__}: {exc}", time.perf_counter() - start
+
+
+def _write_summary(folder, summary):
+    from .io import _atomic_write
+
+    fields = ["exemplar", "method", "options", "seed_index", "seed", "size", "output", "status", "error", "seconds"]
+    items = [{k: item[k] for k in fields} for item in summary.items]
+
+    def write_json(tmp):
+        Path(tmp).write_text(json.dumps({"seconds": summary.seconds, "done": summary.count("done"),
+                                         "skipped": summary.count("skipped"), "failed": summary.count("failed"),
+                                         "items": items}, indent=1))
+
+    def write_csv(tmp):
+        buffer = _stdio.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=fields)
+        writer.writeheader()
+        for item in items:
+            writer.writerow({**item, "options": json.dumps(item["options"]), "size": json.dumps(item["size"])})
+        Path(tmp).write_text(buffer.getvalue())
+
+    _atomic_write(Path(folder) / "summary.json", write_json)
+    _atomic_write(Path(folder) / "summary.csv", write_csv)
+
+
+def _connect(distributed, client, scheduler, n_workers, processes):
+    """``(client, things to close)``."""
+    if client is not None:
+        return client, []
+    if scheduler is not None:
+        try:
+            return distributed.Client(scheduler, timeout=f"{CONNECT_TIMEOUT}s"), None
+        except (OSError, TimeoutError) as exc:
+            raise ConnectionError(f"cannot reach the Dask scheduler at {scheduler!r} within {CONNECT_TIMEOUT} s "
+                                  f"({type(exc).__name__}); is it running, and is the address right?") from None
+    n = n_workers or os.cpu_count() or 1
+    cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
+                                       dashboard_address=":0")
+    return distributed.Client(cluster), [cluster]
+
+
+def batch(inputs, output_folder, *, methods=("patchwork",), options=None, seeds=1, size=None, client=None,
+          scheduler=None, n_workers=None, processes=True, overwrite=False, progress=True):
+    """Synthesise exemplars x methods x options x seeds into a folder, on ``dask.distributed``.
+
+    Parameters
+    ----------
+    inputs : str, os.PathLike or list of paths
+        A folder of exemplar images, a list of image files, or a manifest:
+        a ``.csv`` with the columns ``exemplar`` (a path, relative to the
+        manifest's folder), ``method``, ``options`` (JSON), ``seed`` (one
+        seed index) or ``seeds`` (a count or a JSON list) and ``size``
+        (``WxH``), the last four optional; or a ``.json`` list of objects
+        with the same keys.
+    output_folder : str or os.PathLike
+        Where the outputs (``STEM_METHOD[_oHASH]_sINDEX.png``) and
+        ``summary.json``/``summary.csv`` are written; created if needed.
+    methods : sequence of str
+        Registry names (``texsynth list``) of methods taking one exemplar;
+        a manifest's ``method`` column overrides them.
+    options : dict or list of dict
+        Keyword options passed to each method (a list: one variant each).
+    seeds : int or list of int
+        A count of seed indices (0 .. N-1) or the indices; an item's seed
+        is derived from its key (:func:`item_seed`), not from the index
+        alone, so it is the same on 1 worker or 50, in any order.
+    size : int or (int, int), optional
+        Output ``(height, width)``; default: a manifest row's ``size``, else
+        the exemplar's size.
+    client : distributed.Client, optional
+        An existing client (left open).
+    scheduler : str, optional
+        Address of a running scheduler, ``"tcp://HOST:PORT"``; an
+        unreachable one raises ConnectionError within ``CONNECT_TIMEOUT``
+        seconds. Without ``client`` or ``scheduler`` an in-process
+        ``LocalCluster`` is started and closed.
+    n_workers : int, optional
+        Workers of that ``LocalCluster`` (default: the machine's cores), one
+        thread each.
+    processes : bool
+        Whether the ``LocalCluster``'s workers are processes (default: most
+        methods hold the GIL in Python loops) or threads (faster to start).
+    overwrite : bool
+        Recompute items whose output exists. Off by default: a re-run skips
+        them (resume), so a killed batch completes only the missing items.
+    progress : bool or callable
+        One bar over the items (and the dashboard link on stderr); a
+        callable receives ``(step, total, info)``.
+
+    Returns
+    -------
+    BatchSummary
+        One record per item; failed items carry their error and never stop
+        the others.
+    """
+    distributed = _distributed()
+    from .core._progress import Progress
+
+    if isinstance(methods, str):
+        methods = [methods]
+    folder = Path(output_folder)
+    size = _parse_size(size)
+    items = _plan(_rows(inputs, list(methods), options, seeds, size), folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    for item in items:
+        if item["status"] == "pending" and (folder / item["output"]).exists() and not overwrite:
+            item["status"] = "skipped"
+    start = time.perf_counter()
+    summary = BatchSummary(items=items)
+    todo = [item for item in items if item["status"] == "pending"]
+    with Progress(progress, len(items), "batch") as bar:
+        bar.advance(n=len(items) - len(todo))
+        if todo:
+            dask_client, closing = _connect(distributed, client, scheduler, n_workers, processes)
+            owned = closing is None or bool(closing)
+            try:
+                summary.dashboard_link = getattr(dask_client, "dashboard_link", None)
+                if progress is True and summary.dashboard_link:
+                    from tqdm.auto import tqdm
+
+                    tqdm.write(f"texsynth batch: Dask dashboard at {summary.dashboard_link}", file=sys.stderr)
+                futures = {dask_client.submit(run_item, item, str(folder), key=f"texsynth-{item['seed']:x}-"
+                                              f"{item['output']}", pure=False): item for item in todo}
+                for future in distributed.as_completed(futures):
+                    item = futures[future]
+                    try:
+                        status, error, seconds = future.result()
+                    except Exception as exc:  # noqa: BLE001 - e.g. a worker killed by the OS
+                        status, error, seconds = "failed", f"{type(exc).__name__}: {exc}", 0.0
+                    item.update(status=status, error=error, seconds=seconds)
+                    bar.advance({"failed": summary.count("failed")})
+            finally:
+                if owned:
+                    dask_client.close()
+                for thing in closing or []:
+                    thing.close()
+    summary.seconds = time.perf_counter() - start
+    _write_summary(folder, summary)
+    return summary

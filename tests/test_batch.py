@@ -1,0 +1,135 @@
+"""texsynth.batch and `texsynth batch` (issue 21, the batch half) on a 2-worker LocalCluster."""
+
+import json
+import sys
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("distributed")
+
+import texsynth  # noqa: E402
+from texsynth import data  # noqa: E402
+from texsynth._batch import item_seed  # noqa: E402
+from texsynth.io import load_image, save_image  # noqa: E402
+
+NAMES = ["bread", "metal", "water", "brick"]
+METHODS = ["patchwork", "quilt"]
+SIZE = 48
+
+
+@pytest.fixture(scope="module")
+def client():
+    from distributed import Client, LocalCluster
+
+    # threads, not processes: the cluster starts in milliseconds (the library's default is processes)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as c:
+        yield c
+
+
+@pytest.fixture()
+def exemplars(tmp_path):
+    folder = tmp_path / "in"
+    folder.mkdir()
+    for name in NAMES:
+        save_image(folder / f"{name}.png", data.load(name)[:64, :64])
+    return folder
+
+
+def _direct(path, method, seed):
+    return getattr(texsynth, method)(load_image(path), (SIZE, SIZE), rng=seed)
+
+
+def test_outputs_equal_the_one_process_results_and_rerun_resumes(exemplars, tmp_path, client):
+    out = tmp_path / "out"
+    summary = texsynth.batch(exemplars, out, methods=METHODS, size=SIZE, client=client, progress=False)
+    assert summary.count("done") == 8 and not summary.failed
+    for item in summary.items:
+        key = json.dumps([item["exemplar"], item["method"], {}, 0], sort_keys=True)
+        assert item["seed"] == item_seed(key)
+        expected = tmp_path / "expected.png"
+        save_image(expected, _direct(exemplars / item["exemplar"], item["method"], item["seed"]), overwrite=True)
+        np.testing.assert_array_equal(load_image(out / item["output"]), load_image(expected))
+    on_disk = json.loads((out / "summary.json").read_text())
+    assert on_disk["done"] == 8 and (out / "summary.csv").read_text().count("\n") == 9
+    # a re-run after deleting two outputs recomputes only those two
+    removed = [summary.items[0]["output"], summary.items[5]["output"]]
+    before = {p.name: p.stat().st_mtime_ns for p in out.glob("*.png")}
+    for name in removed:
+        (out / name).unlink()
+    again = texsynth.batch(exemplars, out, methods=METHODS, size=SIZE, client=client, progress=False)
+    assert sorted(i["output"] for i in again.items if i["status"] == "done") == sorted(removed)
+    assert again.count("skipped") == 6
+    assert all(p.stat().st_mtime_ns == before[p.name] for p in out.glob("*.png") if p.name not in removed)
+    assert json.loads((out / "summary.json").read_text())["skipped"] == 6
+
+
+def test_same_outputs_on_one_worker_in_another_order(exemplars, tmp_path, client):
+    from distributed import Client, LocalCluster
+
+    two = texsynth.batch(exemplars, tmp_path / "two", methods=["patchwork"], seeds=2, size=SIZE, client=client,
+                         progress=False)
+    files = sorted(exemplars.iterdir(), reverse=True)  # the same keys (file names), another order
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as one_client:
+        one = texsynth.batch(files, tmp_path / "one", methods=["patchwork"], seeds=2, size=SIZE, client=one_client,
+                             progress=False)
+    assert one.count("done") == two.count("done") == 8
+    for item in two.items:
+        np.testing.assert_array_equal(load_image(tmp_path / "one" / item["output"]),
+                                      load_image(tmp_path / "two" / item["output"]))
+
+
+def test_a_corrupt_file_and_an_unknown_method_are_reported_and_the_rest_runs(exemplars, tmp_path, client):
+    (exemplars / "corrupt.png").write_bytes(b"not an image")
+    manifest = tmp_path / "manifest.csv"
+    manifest.write_text("exemplar,method,options,seed\n"
+                        "in/bread.png,patchwork,\"{\"\"grid_spacing\"\": 12}\",3\n"
+                        "in/corrupt.png,patchwork,,0\n"
+                        "in/metal.png,no-such-method,,0\n"
+                        "in/missing.png,quilt,,0\n"
+                        "in/water.png,quilt,,1\n")
+    summary = texsynth.batch(manifest, tmp_path / "out", size=SIZE, client=client, progress=False)
+    status = {(i["exemplar"], i["method"]): (i["status"], i["error"]) for i in summary.items}
+    assert status["in/bread.png", "patchwork"][0] == "done"
+    assert status["in/water.png", "quilt"][0] == "done"
+    assert status["in/corrupt.png", "patchwork"][0] == "failed" and "corrupt.png" in status["in/corrupt.png", "patchwork"][1]
+    assert "unknown method 'no-such-method'" in status["in/metal.png", "no-such-method"][1]
+    assert "does not exist" in status["in/missing.png", "quilt"][1]
+    bread = next(i for i in summary.items if i["method"] == "patchwork" and i["status"] == "done")
+    assert bread["options"] == {"grid_spacing": 12} and bread["seed_index"] == 3
+    csv_text = (tmp_path / "out" / "summary.csv").read_text()
+    assert "no-such-method" in csv_text and "failed" in csv_text
+    # the same items as a JSON manifest
+    rows = [{"exemplar": "in/bread.png", "method": "patchwork", "options": {"grid_spacing": 12}, "seed": 3}]
+    (tmp_path / "manifest.json").write_text(json.dumps(rows))
+    again = texsynth.batch(tmp_path / "manifest.json", tmp_path / "out", size=SIZE, client=client, progress=False)
+    assert [i["status"] for i in again.items] == ["skipped"] and again.items[0]["seed"] == bread["seed"]
+
+
+def test_an_unreachable_scheduler_fails_fast_naming_the_address(exemplars, tmp_path):
+    start = time.perf_counter()
+    with pytest.raises(ConnectionError, match="tcp://127.0.0.1:9"):
+        texsynth.batch(exemplars, tmp_path / "out", scheduler="tcp://127.0.0.1:9", size=SIZE, progress=False)
+    assert time.perf_counter() - start < 15
+
+
+def test_without_dask_the_error_names_the_extra(monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    with pytest.raises(ImportError, match=r"pip install texsynth\[dask\]"):
+        texsynth.batch(tmp_path, tmp_path / "out")
+
+
+def test_the_command(exemplars, tmp_path, capsys):
+    from texsynth.cli import main
+
+    out = tmp_path / "out"
+    code = main(["batch", str(exemplars), "-o", str(out), "--methods", "patchwork", "--size", "40x32",
+                 "--options", '{"grid_spacing": 12}', "--workers", "2", "--threads", "--no-progress"])
+    assert code == 0, capsys.readouterr()
+    assert "4 done" in capsys.readouterr().out
+    assert load_image(next(out.glob("bread_patchwork_*.png"))).shape[:2] == (32, 40)
+    assert main(["batch", str(exemplars), "-o", str(out), "--scheduler", "tcp://127.0.0.1:9", "--no-progress"]) == 2
+    assert "tcp://127.0.0.1:9" in capsys.readouterr().err
