@@ -62,8 +62,7 @@ from ._kwatra import _check_mask, _check_sizes, _is_auto, _scale_schedule, optim
 __all__ = ["inpaint", "uncrop", "make_tileable"]
 
 #: What the completion functions pass to :func:`~texsynth.optimize_texture` besides the user's options.
-_FIXED = dict(constraint_weight=np.inf, completeness_weight=0.0, copy_limit=None, histogram_matching=True,
-              tileable=False)
+_FIXED = dict(constraint_weight=np.inf, completeness_weight=0.0, copy_limit=None, histogram_matching=True)
 
 
 def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
@@ -90,6 +89,17 @@ def _check_sources(allowed, smallest, name):
             f"{name} leaves no {smallest}x{smallest} block of pixels to copy from; allow a larger sampling area "
             f"or pass smaller neighborhood_sizes"
         )
+
+
+def _complete(exemplar, target, known, allowed, sizes, levels, grey, return_info, tileable=False, **options):
+    """Texture optimization with the ``known`` pixels of ``target`` as hard constraints; those pixels
+    pasted back bit for bit, the exemplar's channel layout restored."""
+    out, info = optimize_texture(exemplar, known.shape, mask=known, target=target, exemplar_mask=allowed,
+                                 neighborhood_sizes=sizes, levels=levels, return_info=True,
+                                 **dict(_FIXED, tileable=tileable), **options)
+    out[known] = target[known]
+    out = out[..., 0] if grey else out
+    return (out, info) if return_info else out
 
 
 def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels="auto", max_iterations=5,
@@ -153,12 +163,8 @@ def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels=
     allowed = ~hole if sample_mask is None else ~hole & (_check_mask(sample_mask, shape, "sample_mask") > 0.5)
     sizes, levels = _schedule(channels, shape, hole, neighborhood_sizes, levels)
     _check_sources(allowed, min(sizes), "sample_mask" if sample_mask is not None else "hole")
-    out, info = optimize_texture(channels, shape, mask=~hole, target=channels, exemplar_mask=allowed,
-                                 neighborhood_sizes=sizes, levels=levels, max_iterations=max_iterations,
-                                 method=method, rng=rng, progress=progress, return_info=True, **_FIXED)
-    out[~hole] = channels[~hole]
-    out = out[..., 0] if grey else out
-    return (out, info) if return_info else out
+    return _complete(channels, channels, ~hole, allowed, sizes, levels, grey, return_info,
+                     max_iterations=max_iterations, method=method, rng=rng, progress=progress)
 
 
 def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_sizes="auto", levels="auto",
@@ -229,12 +235,8 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
     known[top : top + h, left : left + w] = True
     sizes, levels = _schedule(channels, shape, ~known, neighborhood_sizes, levels)
     _check_sources(allowed, min(sizes), "sample_mask")
-    out, info = optimize_texture(channels, shape, mask=known, target=canvas, exemplar_mask=allowed,
-                                 neighborhood_sizes=sizes, levels=levels, max_iterations=max_iterations,
-                                 method=method, rng=rng, progress=progress, return_info=True, **_FIXED)
-    out[known] = canvas[known]
-    out = out[..., 0] if grey else out
-    return (out, info) if return_info else out
+    return _complete(channels, canvas, known, allowed, sizes, levels, grey, return_info,
+                     max_iterations=max_iterations, method=method, rng=rng, progress=progress)
 
 
 def make_tileable(image, *, band="auto", neighborhood_sizes="auto", levels="auto", max_iterations=5,
@@ -312,11 +314,5 @@ def make_tileable(image, *, band="auto", neighborhood_sizes="auto", levels="auto
     cross = np.zeros(shape, bool)
     cross[: 2 * band, : 2 * band] = True
     sizes, levels = _schedule(channels, shape, cross, neighborhood_sizes, levels)
-    allowed = np.ones(shape, bool)
-    fixed = dict(_FIXED, tileable=True)
-    out, info = optimize_texture(channels, shape, mask=known, target=channels, exemplar_mask=allowed,
-                                 neighborhood_sizes=sizes, levels=levels, max_iterations=max_iterations,
-                                 method=method, rng=rng, progress=progress, return_info=True, **fixed)
-    out[known] = channels[known]
-    out = out[..., 0] if grey else out
-    return (out, info) if return_info else out
+    return _complete(channels, channels, known, np.ones(shape, bool), sizes, levels, grey, return_info,
+                     tileable=True, max_iterations=max_iterations, method=method, rng=rng, progress=progress)

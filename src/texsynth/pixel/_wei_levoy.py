@@ -773,8 +773,8 @@ def _coherent_level(lv, run, bar, parent_cells):
         offsets = np.concatenate([_offsets(causal), _offsets(similar & ~causal)])
     flat_out, flat_cells = lv.out.reshape(-1, lv.out.shape[-1]), cells.reshape(-1)
     flat_out[:] = pixels[flat_cells]
-    order, bounds = _wavefronts(height, width, src.size[1] // 2 + 1)
     step = src.size[1] // 2 + 1
+    order, bounds = _wavefronts(height, width, step)
     energy = 0.0
     for t in range(len(bounds) - 1):
         pix = order[bounds[t] : bounds[t + 1]]
