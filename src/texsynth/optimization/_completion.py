@@ -65,13 +65,19 @@ __all__ = ["inpaint", "uncrop", "make_tileable"]
 _FIXED = dict(constraint_weight=np.inf, completeness_weight=0.0, copy_limit=None, histogram_matching=True)
 
 
-def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
-    """Sizes and levels: the default preset's, with levels enough for the coarsest to span the hole."""
-    auto_sizes, auto_levels = _scale_schedule(exemplar, shape)
-    sizes = auto_sizes if _is_auto(neighborhood_sizes) else _check_sizes(neighborhood_sizes)
+def _sizes(exemplar, shape, neighborhood_sizes):
+    """The neighbourhood sizes (the default preset's for "auto"), checked against the image."""
+    sizes = _scale_schedule(exemplar, shape)[0] if _is_auto(neighborhood_sizes) else _check_sizes(neighborhood_sizes)
     if min(sizes) > min(exemplar.shape[:2]):
         raise ValueError(f"the image is {exemplar.shape[0]}x{exemplar.shape[1]} but the smallest neighborhood is "
                          f"{min(sizes)}; pass neighborhood_sizes no larger than {min(exemplar.shape[:2])}")
+    return sizes
+
+
+def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
+    """Sizes and levels: the default preset's, with levels enough for the coarsest to span the hole."""
+    sizes = _sizes(exemplar, shape, neighborhood_sizes)
+    auto_levels = _scale_schedule(exemplar, shape)[1]
     if not _is_auto(levels):
         return sizes, check_positive_int(levels, "levels")
     rows, cols = np.nonzero(hole)
@@ -294,8 +300,7 @@ def make_tileable(image, *, band="auto", neighborhood_sizes="auto", levels="auto
     img = as_image(image, "image")
     channels, grey = with_channels(img)
     h, w = shape = channels.shape[:2]
-    auto_sizes, _ = _scale_schedule(channels, shape)
-    smallest = min(auto_sizes if _is_auto(neighborhood_sizes) else _check_sizes(neighborhood_sizes))
+    smallest = min(_sizes(channels, shape, neighborhood_sizes))
     if isinstance(band, str) and band == "auto":
         band = max(min(h, w) // 8, smallest)
     elif isinstance(band, str):
