@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "texsynth"
-FAMILIES = {"pixel", "patch", "optimization", "statistical", "procedural"}
+FAMILIES = {"pixel", "patch", "optimization", "statistical", "procedural", "surface"}
 TOOLS = {"io", "data", "metrics", "testing"}
 FRONT = {"__init__", "__main__", "cli", "demo", "registry", "_batch"}
 # Ruiters et al. run one Portilla-Simoncelli step per iteration (Section 4.5): documented in

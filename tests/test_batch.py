@@ -1,6 +1,7 @@
 """texsynth.batch and `texsynth batch` (issue 21, the batch half) on a 2-worker LocalCluster."""
 
 import json
+import os
 import sys
 import time
 
@@ -109,6 +110,23 @@ def test_a_corrupt_file_and_an_unknown_method_are_reported_and_the_rest_runs(exe
     assert [i["status"] for i in again.items] == ["skipped"] and again.items[0]["seed"] == bread["seed"]
 
 
+def test_an_item_beyond_the_workers_memory_limit_is_refused_before_it_starts(exemplars, tmp_path):
+    from distributed import Client, LocalCluster
+
+    # 16384^2 colour patchwork needs about 9 GiB: it would run on this machine (20+ GiB free), but
+    # not within a 1.5 GiB worker; the small item beside it runs
+    rows = [{"exemplar": "in/bread.png", "method": "patchwork", "size": "16384x16384", "seed": 0},
+            {"exemplar": "in/bread.png", "method": "patchwork", "seed": 1}]
+    (tmp_path / "manifest.json").write_text(json.dumps(rows))
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, memory_limit="1.5GiB",
+                      dashboard_address=":0") as cluster, Client(cluster) as c:
+        summary = texsynth.batch(tmp_path / "manifest.json", tmp_path / "out", size=SIZE, client=c, progress=False)
+    big, small = summary.items
+    assert small["status"] == "done"
+    assert big["status"] == "failed" and "Dask worker's memory limit (1.50 GiB" in big["error"]
+    assert "size=(16384, 16384) needs about" in big["error"]  # the pre-flight check: refused before it starts
+
+
 def test_an_unreachable_scheduler_fails_fast_naming_the_address(exemplars, tmp_path):
     start = time.perf_counter()
     with pytest.raises(ConnectionError, match="tcp://127.0.0.1:9"):
@@ -133,3 +151,35 @@ def test_the_command(exemplars, tmp_path, capsys):
     assert load_image(next(out.glob("bread_patchwork_*.png"))).shape[:2] == (32, 40)
     assert main(["batch", str(exemplars), "-o", str(out), "--scheduler", "tcp://127.0.0.1:9", "--no-progress"]) == 2
     assert "tcp://127.0.0.1:9" in capsys.readouterr().err
+
+
+def test_a_killed_batch_is_finished_by_running_it_again(exemplars, tmp_path, client):
+    import signal
+    import subprocess
+
+    # 40 items of about 0.1 s each in a separate process, killed (SIGKILL: no clean-up at all) once the
+    # first outputs exist; the same command again computes only the items that were not finished
+    rows = [{"exemplar": f"in/{name}.png", "method": "quilt", "seed": k} for name in NAMES for k in range(10)]
+    manifest = tmp_path / "manifest.json"
+    manifest.write_text(json.dumps(rows))
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "texsynth", "batch", str(manifest), "-o", str(out), "--size", "96x96",
+               "--workers", "1", "--threads", "--no-progress"]
+    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        while proc.poll() is None and len(list(out.glob("*.png"))) < 3:
+            time.sleep(0.02)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    finished = {p.name: p.stat().st_mtime_ns for p in out.glob("*.png")}
+    assert 3 <= len(finished) < len(rows), "the batch ended before it could be killed: give it more items"
+    summary = texsynth.batch(manifest, out, size=96, client=client, progress=False)
+    assert summary.count("skipped") == len(finished) and summary.count("done") == len(rows) - len(finished)
+    assert all((out / name).stat().st_mtime_ns == mtime for name, mtime in finished.items())
+    for item in summary.items[:: 7]:  # every output is complete and equal to the item's own result
+        expected = tmp_path / "expected.png"
+        save_image(expected, texsynth.quilt(load_image(out.parent / item["exemplar"]), (96, 96), rng=item["seed"]),
+                   overwrite=True)
+        np.testing.assert_array_equal(load_image(out / item["output"]), load_image(expected))

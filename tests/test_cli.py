@@ -336,6 +336,40 @@ def test_optimize_with_an_rgba_mask_and_tileable(tmp_path, monkeypatch):
     assert np.array_equal(load_image(out2), result)
 
 
+@pytest.mark.parametrize("name, module, fast", [
+    ("optimize", "optimization", ["--neighborhood-sizes", "8", "--levels", "1", "--max-iterations", "1"]),
+    ("controlled", "pixel", ["--levels", "1"]),
+])
+def test_orientation_and_scale_fields_from_numbers_npy_and_grey_images(tmp_path, monkeypatch, capsys, name,
+                                                                       module, fast):
+    import importlib
+
+    function = "optimize_texture" if name == "optimize" else "synthesize_controlled"
+    calls = _spy(monkeypatch, importlib.import_module(f"texsynth.{module}"), function)
+    ex = save_image(tmp_path / "ex.png", data.load("brick")[:32, :32])
+    angles = np.tile(np.linspace(0, np.pi, 24), (20, 1))
+    np.save(tmp_path / "theta.npy", angles)
+    grey = np.tile(np.linspace(0.0, 1.0, 24), (20, 1))
+    ramp = save_image(tmp_path / "ramp.png", grey, bits=16)
+    args = [name, str(ex), "--size", "24x20", "--seed", "0", *fast]
+    assert run(*args, "-o", str(tmp_path / "a.png"), "--orientation", "0.5", "--scale", "1.2") == 0
+    assert calls[-1]["orientation"] == 0.5 and calls[-1]["scale"] == 1.2
+    assert run(*args, "-o", str(tmp_path / "b.png"), "--orientation", str(tmp_path / "theta.npy"),
+               "--scale", str(ramp)) == 0
+    assert np.array_equal(calls[-1]["orientation"], angles)
+    # grey 0..1 -> scale 0.5..2 geometrically (the documented mapping), to 16-bit rounding
+    assert np.allclose(calls[-1]["scale"], 2.0 ** (2 * grey - 1), atol=1e-4)
+    assert load_image(tmp_path / "b.png").shape == (20, 24, 3)
+    assert run(*args, "-o", str(tmp_path / "c.png"), "--orientation", str(ramp)) == 0
+    assert np.allclose(calls[-1]["orientation"], 2 * np.pi * grey, atol=1e-3)  # grey 0..1 -> 0..2 pi
+    capsys.readouterr()
+    assert run(*args, "-o", str(tmp_path / "d.png"), "--scale", str(tmp_path / "nothing.png")) == 2
+    assert "--scale must be a number, a .npy file or an image file" in capsys.readouterr().err
+    np.save(tmp_path / "small.npy", angles[:5])
+    assert run(*args, "-o", str(tmp_path / "e.png"), "--orientation", str(tmp_path / "small.npy")) == 2
+    assert "orientation has shape (5, 24) but the output size is (20, 24)" in capsys.readouterr().err
+
+
 def test_animate_named_flow_to_gif_and_frame_folder(tmp_path):
     from texsynth.io import load_frames
 
@@ -568,3 +602,40 @@ def test_channels_are_rendered_through_the_map_and_written_as_a_set(tmp_path, ca
     # an existing channel output is refused (nothing written) unless --overwrite
     assert run(*argv) == 0 and run(*argv) == 2
     assert run(*argv, "--overwrite") == 0
+
+
+def test_coordinates_are_saved_and_applied_later(tmp_path, capsys):
+    """--coordinates MAP.npz is written with the output; apply-coordinates renders a channel through it exactly
+    as --channels did. A mixture takes one channel file per input (joined by '+'); seam carving blends."""
+    a, b = data.load("bread")[:24, :24], data.load("wood")[:28, :28]
+    files = [save_image(tmp_path / n, im, bits=16) for n, im in
+             (("a.png", a), ("b.png", b), ("ha.png", a.mean(-1)), ("hb.png", b.mean(-1)))]
+    out, the_map = tmp_path / "mix.png", tmp_path / "mix_map.npz"
+    argv = ["mix", str(files[0]), str(files[1]), "-o", str(out), "--size", "24x20", "--seed", "0", "--levels", "1",
+            "--weights", "ramp", "--channels", f"{files[2]}+{files[3]}", "--coordinates", str(the_map)]
+    assert run(*argv) == 0
+    saved = np.load(the_map)
+    assert saved["coordinates"].shape == (20, 24, 2, 2) and saved["source_index"].shape == (20, 24, 2)
+    assert np.allclose(saved["weights"].sum(-1), 1)
+    later = tmp_path / "later.png"
+    assert run("apply-coordinates", str(the_map), str(files[2]), str(files[3]), "-o", str(later)) == 0
+    assert np.array_equal(load_image(later), load_image(tmp_path / "mix_ha.png"))
+    # the grey channel through the map is the grey of the (16-bit) output, to rounding
+    assert np.abs(load_image(later) - load_image(out).mean(-1)).max() < 2e-4
+    capsys.readouterr()
+    assert run("apply-coordinates", str(the_map), str(files[2]), "-o", str(tmp_path / "x.png")) == 2
+    assert "1 image" in capsys.readouterr().err and not (tmp_path / "x.png").exists()
+    assert run(*argv[:-4], "--channels", str(files[2]), "-o", str(tmp_path / "y.png")) == 2  # one file, 2 inputs
+    assert "join one file per input" in capsys.readouterr().err
+    # seam carving: inserted seams blend, removal copies; the map is applied as --channels did
+    photo = save_image(tmp_path / "photo.png", data.load("brick")[:40, :48])
+    height = save_image(tmp_path / "h.png", data.load("brick")[:40, :48].mean(-1))
+    argv = ["seam-carve", str(photo), "-o", str(tmp_path / "wide.png"), "--size", "60x40", "--channels",
+            str(height), "--coordinates", str(tmp_path / "wide.npz")]
+    assert run(*argv) == 0
+    assert np.load(tmp_path / "wide.npz")["weights"].shape[:2] == (40, 60)
+    assert run("apply-coordinates", str(tmp_path / "wide.npz"), str(height), "-o", str(tmp_path / "h2.png")) == 0
+    assert np.array_equal(load_image(tmp_path / "h2.png"), load_image(tmp_path / "wide_h.png"))
+    assert run(*argv) == 2 and "exists" in capsys.readouterr().err  # the map is an output like the others
+    assert run("quilt", str(photo), "-o", str(tmp_path / "q.png"), "--coordinates", str(tmp_path / "q.npy")) == 2
+    assert ".npz" in capsys.readouterr().err and not (tmp_path / "q.png").exists()

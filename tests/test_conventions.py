@@ -10,7 +10,7 @@ import pytest
 
 DOC = (Path(__file__).resolve().parents[1] / "docs" / "conventions.md").read_text()
 NAMESPACES = ["texsynth", "texsynth.pixel", "texsynth.patch", "texsynth.optimization", "texsynth.statistical",
-              "texsynth.procedural", "texsynth.core.neighborhood", "texsynth.core.pyramid", "texsynth.core.search",
+              "texsynth.procedural", "texsynth.surface", "texsynth.core.neighborhood", "texsynth.core.pyramid", "texsynth.core.search",
               "texsynth.core.em", "texsynth.core.flows", "texsynth.core.tps", "texsynth.core.scale", "texsynth.core.seams", "texsynth.metrics", "texsynth.testing",
               "texsynth.io", "texsynth.data"]
 

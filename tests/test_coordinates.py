@@ -186,8 +186,7 @@ def test_the_mean_term_and_integer_rounding():
 
 
 def test_an_info_without_a_map_is_refused(bread):
-    _, info = texsynth.mix_textures([bread[:24, :24], bread[24:48, 24:48]], 24, levels=1, rng=0,
-                                    return_info=True)
+    _, info = texsynth.synthesize_solid(bread[:24, :24], 8, levels=1, passes=1, rng=0, return_info=True)
     with pytest.raises(ValueError, match="no coordinates"):
         apply_coordinates(bread, info)
 
@@ -211,3 +210,110 @@ def test_an_info_without_a_map_is_refused(bread):
 def test_bad_maps_are_refused_naming_the_parameter_and_the_fix(call, match, bread):
     with pytest.raises((ValueError, TypeError), match=match):
         call(bread)
+
+
+# --------------------------------------------------------------------------- several sources: mix_textures
+@pytest.mark.parametrize("order", ["scanline", "independent"])
+def test_a_mixture_renders_each_channel_from_every_source(order, bread):
+    """Every mixed pixel is p = sum_i a_i p_i (Wei 2002, eq. 1): the map holds each source's p_i and a_i,
+    and apply_coordinates takes one image per source. Sources of different sizes (24 and 30 px)."""
+    a, b = bread[:24, :24], data.load("wood")[:30, :30]
+    ramp = np.tile(np.linspace(0, 1, 32), (28, 1))
+    out, info = texsynth.mix_textures([a, b], (28, 32), weights=[1 - ramp, ramp], levels=2, order=order, rng=0,
+                                      return_info=True)
+    assert np.array_equal(out, texsynth.mix_textures([a, b], (28, 32), weights=[1 - ramp, ramp], levels=2,
+                                                     order=order, rng=0))  # recording changes nothing
+    assert info.coordinates.shape == (28, 32, 2, 2) and info.source_index.shape == (28, 32, 2)
+    assert np.allclose(info.weights.sum(-1), 1) and np.all(np.diff(info.weights, axis=-1) <= 0)
+    assert np.array_equal(np.sort(info.source_index, -1), np.broadcast_to([0, 1], (28, 32, 2)))
+    assert np.abs(apply_coordinates([a, b], info) - out).max() < 1e-12
+    # the ramp's ends are copies of one source: the left column from a, the right from b
+    assert np.all(info.source_index[:, 0, 0] == 0) and np.all(info.source_index[:, -1, 0] == 1)
+    assert np.all(info.weights[:, [0, -1], 1] == 0)
+    # several channels at once (a list of per-source lists, or a dict of them), dtypes kept, normals unit
+    heights = [_luminance(a).astype(np.float32), _luminance(b).astype(np.float32)]
+    normals = [np.rint(_normal_map(h) * 65535).astype(np.uint16) for h in heights]
+    h_out, n_out = apply_coordinates([heights, normals], info, normals=[False, True])
+    assert h_out.dtype == np.float32 and np.abs(h_out - _luminance(out)).max() < 1e-5
+    assert n_out.dtype == np.uint16
+    length = np.linalg.norm(n_out / 65535.0 * 2 - 1, axis=-1)
+    assert np.abs(length - 1).max() < 1e-4
+    assert set(apply_coordinates({"h": heights}, info)) == {"h"}
+
+
+def test_a_mixture_map_needs_one_image_per_source(bread):
+    a, b = bread[:24, :24], bread[24:48, 24:48]
+    _, info = texsynth.mix_textures([a, b], 20, levels=1, rng=0, return_info=True)
+    with pytest.raises(TypeError, match="one per source"):
+        apply_coordinates(a, info)
+    with pytest.raises(ValueError, match="1 image.*2 sources"):
+        apply_coordinates([a], info)
+    with pytest.raises(ValueError, match="outside source 1 of channels.*is 10x10"):
+        apply_coordinates([a, b[:10, :10]], info)
+    with pytest.raises(ValueError, match="dtype"):
+        apply_coordinates([a, b.astype(np.float32)], info)
+    with pytest.raises(ValueError, match="source_index has shape"):
+        apply_coordinates([a, b], info.coordinates, info.weights, source_index=info.source_index[:, :, :1])
+
+
+# --------------------------------------------------------------------------- carve_seams
+def test_seam_carving_removal_is_a_copy_map():
+    photo = data.load("brick")[:48, :64]
+    out, info = texsynth.carve_seams(photo, (40, 50), return_info=True)
+    assert info.coordinates.shape == (40, 50, 2) and info.weights is None
+    assert np.array_equal(info.coordinates, info.source)
+    assert np.array_equal(apply_coordinates(photo, info), out)
+
+
+@pytest.mark.parametrize("size", [(48, 80), (72, 100)])
+def test_seam_carving_insertion_blends_the_pixels_it_averages(size):
+    """An inserted pixel is the mean of two, which may be inserted ones (two insertion steps for 100 > 1.5 x 64
+    columns, then rows): weights sum to 1, the shares of one input pixel are merged (so the slots do not double
+    with every step), and the map renders the output."""
+    photo = data.load("brick")[:48, :64]
+    out, info = texsynth.carve_seams(photo, size, return_info=True)
+    assert info.coordinates.shape[:3] == size + (info.weights.shape[2],) and info.weights.shape[2] >= 2
+    assert np.allclose(info.weights.sum(-1), 1)
+    assert np.abs(apply_coordinates(photo, info) - out).max() < 1e-12
+    assert np.array_equal(info.coordinates[:, :, 0][~info.inserted], info.source[~info.inserted])
+    flat = info.coordinates.reshape(-1, info.weights.shape[2], 2)
+    used = info.weights.reshape(len(flat), -1) > 0
+    codes = [set(map(tuple, c[u])) for c, u in zip(flat, used)]
+    assert all(len(c) == u.sum() for c, u in zip(codes, used))  # no input pixel in two slots of one pixel
+    if size == (72, 100):
+        assert info.weights.shape[2] == 4  # blends of blends, both directions: 4 slots (8 unmerged)
+
+
+def test_seam_carving_object_removal_map():
+    photo = data.load("brick")[:48, :64]
+    mask = np.zeros((48, 64), bool)
+    mask[20:30, 20:26] = True
+    out, info = texsynth.carve_seams(photo, remove_mask=mask, return_info=True)
+    assert out.shape == photo.shape
+    assert np.abs(apply_coordinates(photo, info) - out).max() < 1e-12
+    used = info.coordinates[info.weights > 0]
+    assert not mask[used[:, 0], used[:, 1]].any()  # no output pixel shows a removed one
+
+
+def test_a_map_saved_to_npz_renders_the_same(tmp_path, bread):
+    from texsynth.io import load_coordinates, save_coordinates
+
+    a, b = bread[:24, :24], data.load("wood")[:30, :30]
+    mix, info = texsynth.mix_textures([a, b], 20, levels=1, rng=0, return_info=True)
+    saved = load_coordinates(save_coordinates(tmp_path / "mix.npz", info))
+    assert np.array_equal(saved.source_index, info.source_index) and saved.weights.dtype == info.weights.dtype
+    assert np.array_equal(apply_coordinates([a, b], saved), apply_coordinates([a, b], info))
+    out, info = texsynth.quilt(bread, 48, block=16, rng=0, return_info=True)  # a copy map: no weights saved
+    saved = load_coordinates(save_coordinates(tmp_path / "q.npz", info))
+    assert saved.weights is None and saved.source_index is None
+    assert np.array_equal(apply_coordinates(bread, saved), out)
+    with pytest.raises(FileExistsError):
+        save_coordinates(tmp_path / "q.npz", info)
+    with pytest.raises(ValueError, match=r"\.npz"):
+        save_coordinates(tmp_path / "q.npy", info)
+    with pytest.raises(ValueError, match="no coordinates"):
+        save_coordinates(tmp_path / "s.npz", texsynth.synthesize_solid(bread[:24, :24], 8, levels=1, passes=1,
+                                                                       rng=0, return_info=True)[1])
+    np.savez(tmp_path / "other.npz", image=np.zeros(3))
+    with pytest.raises(ValueError, match="not a source-coordinate map"):
+        load_coordinates(tmp_path / "other.npz")

@@ -16,7 +16,10 @@ TABLE = README[README.index("## Methods"):README.index("## ", README.index("## M
 # public functions that are parts or helpers of a registered method, not methods of their own
 HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_map", "edge_feature_map",
            "linear_blend", "wang_tiles", "wang_tiling", "tile_and_blend_at", "find_textons",
-           "apply_coordinates", "batch"}
+           "apply_coordinates", "batch", "read_mesh", "write_mesh", "render_mesh"}
+# methods on meshes: one command of their own (`texsynth surface MESH EXEMPLAR`, --mode vertex or lapped),
+# since their input and output are meshes, not images
+SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped"}
 
 
 @pytest.mark.parametrize("name", list(METHODS))
@@ -40,8 +43,18 @@ def test_every_method_is_public_documented_and_in_the_readme(name):
 def test_every_public_algorithm_is_registered():
     registered = {m.target.split(":")[1] for m in METHODS.values()}
     for name in texsynth.__all__:
-        if callable(getattr(texsynth, name)) and name not in HELPERS:
+        if callable(getattr(texsynth, name)) and name not in HELPERS and name not in SURFACE:
             assert name in registered, f"texsynth.{name} has no entry in texsynth.registry"
+
+
+@pytest.mark.parametrize("function, mode", SURFACE.items())
+def test_surface_methods_have_their_command_page_and_readme_row(function, mode):
+    assert callable(getattr(texsynth, function))
+    commands = cli.build_parser()._subparsers._group_actions[0].choices
+    assert "surface" in commands and f"{mode}" in commands["surface"].format_help()
+    assert function in (ROOT / "docs" / "methods" / "surfaces.md").read_text()
+    rows = [r for r in TABLE.splitlines() if "`texsynth surface" in r and function in r]
+    assert rows, f"README's methods table has no row for {function} with `texsynth surface`"
 
 
 def test_the_command_and_the_gallery_read_the_registry():

@@ -9,6 +9,7 @@ The algorithms are functions at the top level (``texsynth.optimize_texture``,
 :mod:`texsynth.optimization`   optimization-based: Kwatra, Ruiters
 :mod:`texsynth.statistical`    statistical: Heeger-Bergen, Portilla-Simoncelli, random phase noise, tiling and blending
 :mod:`texsynth.procedural`     procedural: Perlin noise, marble, reaction-diffusion
+:mod:`texsynth.surface`        on surfaces: meshes, their files and previews
 :mod:`texsynth.core`           the shared layer: neighbourhoods, pyramids, search, EM
 =============================  ====================================================
 
@@ -24,7 +25,7 @@ __version__ = "0.1.0"
 
 __getattr__, __dir__, __all__ = attach(
     __name__,
-    submodules=["pixel", "patch", "optimization", "statistical", "procedural", "core",
+    submodules=["pixel", "patch", "optimization", "statistical", "procedural", "surface", "core",
                 "metrics", "testing", "io", "data"],
     names={
         **dict.fromkeys(["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung",
@@ -38,6 +39,8 @@ __getattr__, __dir__, __all__ = attach(
         **dict.fromkeys(["heeger_bergen", "portilla_simoncelli", "ps_statistics", "ps_step",
                          "interpolate_statistics", "random_phase_noise", "tile_and_blend", "tile_and_blend_at"],
                         ".statistical"),
+        **dict.fromkeys(["read_mesh", "write_mesh", "render_mesh", "synthesize_surface", "lapped_textures"],
+                        ".surface"),
         "apply_coordinates": ".core.coordinates",
         "batch": "._batch",
     },

@@ -7,6 +7,7 @@ shadow the public function ``texsynth.batch``.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import hashlib
 import io as _stdio
@@ -172,6 +173,40 @@ def _plan(rows, folder):
     return items
 
 
+WORKER_CONFIG = {
+    # Dask's nannies set MALLOC_TRIM_THRESHOLD_=65536 in their workers, so glibc hands every large numpy
+    # temporary back to the system and page-faults it in again on the next allocation: 213 against 123 ms
+    # for a 512^2 patchwork (benchmarks/bench_batch.py). None leaves glibc's own adaptive threshold.
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+    # the statistical profiler samples the worker's threads every 10 ms, holding the GIL: about 15 ms per item
+    "distributed.worker.profile.enabled": False,
+}
+"""The Dask settings of the local cluster that :func:`batch` starts; use them for your own cluster too
+(``dask.config.set(texsynth._batch.WORKER_CONFIG)`` before it starts)."""
+
+
+def _worker_share():
+    """On a Dask worker with a memory limit: the methods' pre-flight checks allow what is left of it
+    (the limit minus the worker's resident memory), so an item that cannot fit is refused before it
+    starts, with the figures. Elsewhere: the machine's free memory, as always."""
+    from .core._validate import memory_limit
+
+    try:
+        from distributed import get_worker
+
+        worker = get_worker()
+        limit = worker.memory_manager.memory_limit
+    except (ImportError, ValueError, AttributeError):
+        limit = None
+    if not limit:
+        return contextlib.nullcontext()
+    import psutil  # a dependency of distributed
+
+    used = psutil.Process().memory_info().rss
+    return memory_limit(max(0, limit - used), f"this Dask worker's memory limit ({limit / 2**30:.2f} GiB, "
+                                              f"{used / 2**30:.2f} GiB in use)")
+
+
 def run_item(item, folder):
     """Synthesise one item and write its output atomically; returns ``(status, error, seconds)``.
 
@@ -195,7 +230,8 @@ def run_item(item, folder):
                 kwargs[spec.size] = size
             else:
                 args.append(size)
-        result = spec.to_unit(func(*args, **kwargs))
+        with _worker_share():
+            result = spec.to_unit(func(*args, **kwargs))
         bits = min(image_bits(item["path"]), 16) if not str(item["path"]).endswith(".npy") else 16
         save_image(Path(folder) / item["output"], result, overwrite=True, bits=bits)
         return "done", "", time.perf_counter() - start
@@ -237,8 +273,13 @@ def _connect(distributed, client, scheduler, n_workers, processes):
             raise ConnectionError(f"cannot reach the Dask scheduler at {scheduler!r} within {CONNECT_TIMEOUT} s "
                                   f"({type(exc).__name__}); is it running, and is the address right?") from None
     n = n_workers or os.cpu_count() or 1
-    cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
-                                       dashboard_address=":0")
+    import dask
+
+    # WORKER_CONFIG: without Dask's malloc trim threshold and its statistical profiler, an item costs
+    # in a worker what it costs in a plain loop (docs/scaling.md)
+    with dask.config.set(WORKER_CONFIG):
+        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
+                                           dashboard_address=":0")
     return distributed.Client(cluster), [cluster]
 
 

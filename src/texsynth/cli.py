@@ -7,6 +7,9 @@
     texsynth batch INPUT_FOLDER_OR_MANIFEST -o FOLDER [--methods a,b] [--seeds N] [--scheduler tcp://HOST:PORT]
     texsynth METHOD INPUT [INPUT ...] -o OUTPUT [--size WxH] [--seed N] [--bits 8|16|32] [method options]
     texsynth quilt albedo.png -o out.png --channels height.png,rough.png --normal-maps normal.png
+    texsynth quilt albedo.png -o out.png --coordinates out_map.npz
+    texsynth apply-coordinates out_map.npz height.png -o out_height.png [--normal-map]
+    texsynth surface MESH EXEMPLAR -o out.ply [--mode vertex|lapped] [--n-vertices N | --pixel-size S] [--field F]
 
 The methods and how each is exposed come from :mod:`texsynth.registry`; each
 method's options are generated from the keyword-only parameters of its Python
@@ -20,7 +23,9 @@ from (:data:`texsynth.registry.COORDINATE_METHODS`) take ``--channels`` and
 ``--normal-maps``: more images of the input's size (height, roughness, normal
 maps of the same material) rendered through the synthesis's source-coordinate
 map (:func:`texsynth.apply_coordinates`) and written next to the output as
-``OUTPUT-STEM_CHANNEL-STEM.SUFFIX``, all files or none.
+``OUTPUT-STEM_CHANNEL-STEM.SUFFIX``, all files or none. ``--coordinates MAP.npz``
+saves the map itself (:func:`texsynth.io.save_coordinates`) with the output,
+and ``texsynth apply-coordinates`` renders a channel through it later.
 """
 
 from __future__ import annotations
@@ -176,6 +181,13 @@ def _add_method_parser(sub, name, method):
                                  "OUTPUT-STEM_CHANNEL-STEM (each keeps its own bit depth unless --bits is given)")
         parser.add_argument("--normal-maps", metavar="FILES",
                             help="as --channels, for tangent-space normal maps: blended pixels are renormalised")
+        if method.inputs == "images":
+            parser.description += ("\n\nWith several inputs, each --channels/--normal-maps entry is one file per "
+                                   "input joined by '+', in the inputs' order: --channels ha.png+hb.png")
+        parser.add_argument("--coordinates", metavar="MAP.npz",
+                            help="also save the source-coordinate map (coordinates, weights, source_index) to this "
+                                 ".npz file, written with OUTPUT as a set; 'texsynth apply-coordinates MAP.npz "
+                                 "CHANNEL -o OUT' renders a channel through it later")
     params = inspect.signature(func).parameters
     shown = _option_names(method, params)
     help_text = _doc_params(func, shown)
@@ -219,6 +231,10 @@ def _add_method_parser(sub, name, method):
         elif pname in method.maps:
             parser.add_argument(*flags, dest=pname, metavar="PATH",
                                 help=f"grey image file (colour channels averaged, an alpha channel ignored). {desc}")
+        elif pname in method.fields:
+            parser.add_argument(*flags, dest=pname, metavar="VALUE|PATH", default=default,
+                                help=f"a number, a .npy array of the output's size, or a grey image file (grey "
+                                     f"{_FIELD_GREY[pname][1]}). {desc}")
         elif pname in method.files:
             parser.add_argument(*flags, dest=pname, metavar="PATH", help=f"image file. {desc}")
         elif isinstance(default, bool):
@@ -294,6 +310,40 @@ def parse_weights(text, n, shape):
                            f"or, for two inputs, one file; got {text!r}")
     maps = [read_grey_map(path, "--weights") for path in paths]
     return [1.0 - maps[0], maps[0]] if len(paths) == 1 else maps
+
+
+# grey 0..1 of a field image -> the field's values, and the mapping in words
+_FIELD_GREY = {"orientation": (lambda g: 2.0 * 3.141592653589793 * g, "0..1 -> angle 0..2 pi, counter-clockwise"),
+               "scale": (lambda g: 2.0 ** (2.0 * g - 1.0), "0..1 -> scale 0.5..2 geometrically, 0.5 -> 1")}
+
+
+def read_field(text, name):
+    """``--orientation``/``--scale`` text to a field: a number, a ``.npy`` array or a grey image file.
+
+    A number is the field everywhere; a ``.npy`` file holds the values
+    themselves (radians; scale factors) at the output's size; any other path
+    is an image read by :func:`read_grey_map` whose grey ``g`` in [0, 1]
+    maps to ``2 pi g`` radians (orientation) or the scale ``2^(2g - 1)``
+    (0.5 at black, 1 at mid-grey, 2 at white). A callable is API-only.
+
+    >>> read_field("1.5", "scale")
+    1.5
+    """
+    import numpy as np
+
+    option = "--" + name.replace("_", "-")
+    try:
+        return float(text)
+    except ValueError:
+        pass
+    if not Path(text).is_file():
+        raise CommandError(f"{option} must be a number, a .npy file or an image file, got {text!r} (no such file)")
+    if text.lower().endswith(".npy"):
+        try:
+            return np.load(text, allow_pickle=False)
+        except ValueError as error:
+            raise CommandError(f"{option}: could not read {text!r} as a numeric .npy array ({error})") from None
+    return _FIELD_GREY[name][0](read_grey_map(text, option))
 
 
 def read_grey_map(path, option):
@@ -392,22 +442,30 @@ def _output_bits(requested, source, path):
     return min(image_bits(source), _MOST_BITS.get(Path(path).suffix.lower(), 8))
 
 
-def _channel_files(args, output):
-    """``[(channel path, output path, is a normal map)]`` of --channels and --normal-maps."""
+def _channel_files(args, output, n_inputs=1):
+    """``[(channel paths, output path, is a normal map)]`` of --channels and --normal-maps: one path per input
+    (``a.png+b.png`` with several inputs), the output named after the first."""
     out = Path(output)
     pairs = []
     for option, normal in (("channels", False), ("normal_maps", True)):
         text = getattr(args, option, None)
         for part in (text.split(",") if text else []):
-            if not part.strip():
+            paths = [Path(p.strip()) for p in part.split("+")] if n_inputs > 1 else [Path(part.strip())]
+            if not part.strip() or not all(str(p) != "." for p in paths):
                 raise CommandError(f"--{option.replace('_', '-')} has an empty file name in {text!r}; pass "
                                    "comma-separated image files")
-            path = Path(part.strip())
-            pairs.append((path, out.with_name(f"{out.stem}_{path.stem}{out.suffix}"), normal))
+            if len(paths) != n_inputs:
+                raise CommandError(f"--{option.replace('_', '-')} entry {part!r} has {len(paths)} file(s) for "
+                                   f"{n_inputs} inputs; join one file per input with '+', e.g. ha.png+hb.png")
+            pairs.append((paths, out.with_name(f"{out.stem}_{paths[0].stem}{out.suffix}"), normal))
     targets = [out] + [t for _, t, _ in pairs]
     if len({t.resolve() for t in targets}) < len(targets):
         raise CommandError("two --channels files have the same name (or the output's); rename one of them")
     return pairs
+
+
+DEFAULT_CHUNKS = 2048
+"""Block side of ``--chunks`` when a .zarr output asks for blocks without giving their size."""
 
 
 def _write(method, result, output, overwrite, bits=None, extra=None):
@@ -418,6 +476,11 @@ def _write(method, result, output, overwrite, bits=None, extra=None):
     out = Path(output)
     if method.output == "frames":
         save_frames(out, result, overwrite=overwrite)
+        return [out]
+    if hasattr(result, "dask"):  # a lazy image (chunks): block by block, never whole in memory
+        from .io import save_chunked
+
+        save_chunked(out, result, bits=bits, overwrite=overwrite, progress=sys.stderr.isatty())
         return [out]
     if extra:  # the output and the channels rendered through its map: all files or none
         return _write_set({out: result, **{path: image for path, (image, _) in extra.items()}}, overwrite,
@@ -435,7 +498,8 @@ def _write(method, result, output, overwrite, bits=None, extra=None):
 
 def _write_set(files, overwrite, bits=None):
     """Write ``{path: image}`` as a set: every target is checked first, and a failure part-way
-    removes the files this call created (each file is written atomically by save_image).
+    removes the files this call created (each file is written atomically by save_image, or by
+    ``image(path, overwrite)`` when the value is a writer: the --coordinates map).
     ``bits`` is ``{path: bits}`` (None or missing: save_image's default)."""
     from .io import save_image
 
@@ -448,7 +512,10 @@ def _write_set(files, overwrite, bits=None):
     try:
         for path, image in files.items():
             existed = path.exists()
-            save_image(path, image, overwrite=overwrite, bits=bits.get(path))
+            if callable(image):  # a file that is not an image (the --coordinates map): its own writer
+                image(path, overwrite)
+            else:
+                save_image(path, image, overwrite=overwrite, bits=bits.get(path))
             if not existed:
                 created.append(path)
     except BaseException:
@@ -470,23 +537,32 @@ def _run_method(args):
             raise CommandError(f"output {args.output!r} is also an input; choose another output path")
     if out.exists() and not args.overwrite:
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
-    if method.output != "volume":  # refuse a format that cannot be written before the synthesis runs
+    # chunks: written block by block to a Zarr store or a tiled BigTIFF (the methods with a chunks= option)
+    chunked = "chunks" in inspect.signature(func).parameters and (
+        out.suffix.lower() == ".zarr" or getattr(args, "chunks", None) is not None)
+    if chunked and out.suffix.lower() not in {".zarr", ".tif", ".tiff"}:
+        raise CommandError(f"--chunks writes block by block to a .zarr store or a .tif file, got {args.output!r}")
+    if method.output != "volume" and not chunked:  # refuse a format that cannot be written before the synthesis runs
         _check_suffix(out, frames=method.output == "frames")
     requested_bits = getattr(args, "bits", None)
     if requested_bits == 32 and out.suffix.lower() not in {".tif", ".tiff", ".npy"}:
         raise CommandError(f"--bits 32 (float samples) needs a .tif output, got {args.output!r}")
     if requested_bits == 16 and out.suffix.lower() not in {".png", ".tif", ".tiff", ".npy"}:
         raise CommandError(f"--bits 16 needs a .png or .tif output, got {args.output!r}")
-    channel_files = _channel_files(args, args.output)
-    for source, target, _ in channel_files:
-        if source.resolve() in {out, *(Path(p).resolve() for p in paths)} or target.resolve() in {
-                Path(p).resolve() for p in paths + [str(c) for c, _, _ in channel_files]}:
-            raise CommandError(f"--channels file {str(source)!r} is also an input or an output; choose other paths")
+    channel_files = _channel_files(args, args.output, len(paths) if method.inputs == "images" else 1)
+    channel_sources = {Path(c).resolve() for group, _, _ in channel_files for c in group}
+    for group, target, _ in channel_files:
+        for source in group:
+            if source.resolve() in {out, *(Path(p).resolve() for p in paths)} or target.resolve() in {
+                    Path(p).resolve() for p in paths} | channel_sources:
+                raise CommandError(f"--channels file {str(source)!r} is also an input or an output; choose other "
+                                   "paths")
         if target.exists() and not args.overwrite:
-            raise CommandError(f"output {str(target)!r} (of --channels {str(source)!r}) exists; pass --overwrite "
+            raise CommandError(f"output {str(target)!r} (of --channels {str(group[0])!r}) exists; pass --overwrite "
                                "to replace it (nothing was written)")
+    map_file = _coordinates_file(args, out, paths, channel_files)
     inputs = _load_inputs(method, paths)
-    channels = _load_channels(channel_files, inputs[0].shape[:2] if inputs else None)
+    channels = _load_channels(channel_files, [image.shape[:2] for image in inputs])
     if method.inputs == "pair":
         inputs = _match_channels(*inputs)
     params = inspect.signature(func).parameters
@@ -524,6 +600,8 @@ def _run_method(args):
             value = _ramp(size if method.size else inputs[0].shape[:2])
         elif pname in method.maps and isinstance(value, str):
             value = read_grey_map(value, "--" + pname.replace("_", "-"))
+        elif pname in method.fields and isinstance(value, str):
+            value = read_field(value, pname)
         elif pname in method.files and isinstance(value, str):
             value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
         if value is not params[pname].default:
@@ -531,12 +609,15 @@ def _run_method(args):
     for old, convert in getattr(func, "renamed_converters", {}).items():
         if getattr(args, f"_old_{old}", None) is not None:
             kwargs[func.renamed_parameters[old]] = convert(getattr(args, f"_old_{old}"))
+    if chunked:
+        kwargs.setdefault("chunks", DEFAULT_CHUNKS)
+        kwargs.pop("progress", None)  # the writer reports progress, per row of blocks
     if method.size:
         if params[method.size].kind is inspect.Parameter.KEYWORD_ONLY:
             kwargs[method.size] = size
         else:
             positional.append(size)
-    if channels:
+    if channels or map_file:
         kwargs["return_info"] = True
     result = func(*positional, **kwargs)
     info = None
@@ -549,27 +630,58 @@ def _run_method(args):
     if channels:
         from .core.coordinates import apply_coordinates
 
-        images = apply_coordinates([image for image, _ in channels], info,
+        several = getattr(info, "source_index", None) is not None  # one image per source, else the first's
+        images = apply_coordinates([group if several else group[0] for group, _ in channels], info,
                                    normals=[normal for _, normal in channels])
-        extra = {target: (np.clip(image, 0.0, 1.0), _output_bits(requested_bits, src, target))
-                 for (src, target, _), image in zip(channel_files, images)}
+        extra = {target: (np.clip(image, 0.0, 1.0), _output_bits(requested_bits, group[0], target))
+                 for (group, target, _), image in zip(channel_files, images)}
+    if map_file:
+        from .io import save_coordinates
+
+        extra = dict(extra or {})
+        extra[map_file] = (lambda path, overwrite: save_coordinates(path, info, overwrite=overwrite), None)
     return _write(method, result, args.output, args.overwrite, bits, extra)
 
 
-def _load_channels(channel_files, shape):
-    """The --channels images as ``[(image, is a normal map)]``, each of the input's ``shape``."""
+def _coordinates_file(args, out, paths, channel_files):
+    """The ``--coordinates`` target (a .npz that is neither an input nor another output), or None."""
+    text = getattr(args, "coordinates", None)
+    if not text:
+        return None
+    target = Path(text)
+    if target.suffix.lower() != ".npz":
+        raise CommandError(f"--coordinates must be a .npz file, got {text!r}")
+    taken = {out, *(Path(p).resolve() for p in paths)} | {t.resolve() for _, t, _ in channel_files}
+    if target.resolve() in taken:
+        raise CommandError(f"--coordinates {text!r} is also an input or an output; choose another path")
+    if target.exists() and not args.overwrite:
+        raise CommandError(f"output {text!r} (of --coordinates) exists; pass --overwrite to replace it "
+                           "(nothing was written)")
+    return target
+
+
+def _load_channels(channel_files, shapes):
+    """The --channels images as ``[(images, is a normal map)]``, one image per input, each of its input's shape
+    (``shapes`` None: not checked)."""
     from .io import load_image
 
     out = []
-    for path, _, normal in channel_files:
-        image = load_image(path)
-        if shape is not None and image.shape[:2] != tuple(shape):
-            raise CommandError(f"--channels file {str(path)!r} is {image.shape[1]}x{image.shape[0]} but the input is "
-                               f"{shape[1]}x{shape[0]}; pass channels of the input's size")
-        if normal and (image.ndim != 3 or image.shape[-1] < 3):
-            raise CommandError(f"--normal-maps file {str(path)!r} has {1 if image.ndim == 2 else image.shape[-1]} "
-                               "channel(s); a normal map is RGB (x, y, z encoded in [0, 1])")
-        out.append((image, normal))
+    for group, _, normal in channel_files:
+        images = []
+        for path, shape in zip(group, shapes or [None] * len(group)):
+            image = load_image(path)
+            if shape is not None and image.shape[:2] != tuple(shape):
+                raise CommandError(f"--channels file {str(path)!r} is {image.shape[1]}x{image.shape[0]} but its input "
+                                   f"is {shape[1]}x{shape[0]}; pass channels of the input's size")
+            if normal and (image.ndim != 3 or image.shape[-1] < 3):
+                raise CommandError(f"--normal-maps file {str(path)!r} has "
+                                   f"{1 if image.ndim == 2 else image.shape[-1]} channel(s); a normal map is RGB "
+                                   "(x, y, z encoded in [0, 1])")
+            images.append(image)
+        if len({(im.dtype, im.shape[2:]) for im in images}) > 1:
+            raise CommandError(f"--channels files {', '.join(map(str, group))} differ in channels; give every input's "
+                               "file of one channel the same layout (all grey or all RGB)")
+        out.append((images, normal))
     return out
 
 
@@ -596,9 +708,128 @@ def build_parser():
     demo.add_argument("--out", default="texsynth-demo", help="gallery folder (default: texsynth-demo)")
     demo.add_argument("--seed", type=int, default=0, help="random seed")
     _add_batch_parser(sub)
+    _add_apply_coordinates_parser(sub)
+    _add_surface_parser(sub)
     for name, method in METHODS.items():
         _add_method_parser(sub, name, method)
     return parser
+
+
+def _add_apply_coordinates_parser(sub):
+    apply = sub.add_parser("apply-coordinates", help="render a channel (height, normal, roughness) through a map "
+                                                     "saved by METHOD ... --coordinates MAP.npz",
+                           description="Render an image of the exemplar's size through a saved source-coordinate "
+                                       "map (texsynth.apply_coordinates), so that it lines up with the synthesis.")
+    apply.add_argument("map", metavar="MAP.npz", help="the map, saved with --coordinates")
+    apply.add_argument("inputs", nargs="+", metavar="CHANNEL",
+                       help="the channel: an image of the exemplar's size (with a map of several inputs, as from "
+                            "'mix', one file per input in their order)")
+    apply.add_argument("-o", "--output", required=True, help="output image")
+    apply.add_argument("--normal-map", action="store_true",
+                       help="the channel is a tangent-space normal map: blended pixels are renormalised")
+    apply.add_argument("--bits", type=int, choices=(8, 16, 32), default=None,
+                       help="bits per sample of the output: 8, 16 (PNG, TIFF) or 32 (float TIFF); default: the "
+                            "channel file's, as far as the output format allows")
+    apply.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
+
+
+def _run_apply_coordinates(args):
+    import numpy as np
+
+    from .core.coordinates import apply_coordinates
+    from .io import load_coordinates, save_image
+
+    out = Path(args.output)
+    if out.resolve() in {Path(p).resolve() for p in [args.map, *args.inputs]}:
+        raise CommandError(f"output {args.output!r} is also an input; choose another output path")
+    if out.exists() and not args.overwrite:
+        raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
+    _check_suffix(out)
+    saved = load_coordinates(args.map)
+    images = _load_channels([([Path(p) for p in args.inputs], out, args.normal_map)], None)[0][0]
+    several = saved.source_index is not None
+    if not several and len(images) > 1:
+        raise CommandError(f"{args.map!r} maps one exemplar but {len(images)} channel files were given; pass one")
+    rendered = apply_coordinates(images if several else images[0], saved, normals=args.normal_map)
+    bits = _output_bits(args.bits, args.inputs[0], out)
+    save_image(out, np.clip(rendered, 0.0, 1.0), overwrite=args.overwrite, bits=bits)
+    return [out]
+
+
+def _add_surface_parser(sub):
+    surface = sub.add_parser("surface", help="texture a mesh: vertex synthesis (Turk; Wei & Levoy) or lapped "
+                                             "textures (Praun et al.)",
+                             description="Synthesise a texture over a triangle mesh (texsynth.synthesize_surface) "
+                                         "or paste lapped textures (texsynth.lapped_textures); docs/methods/"
+                                         "surfaces.md.")
+    surface.add_argument("mesh", metavar="MESH", help="the surface: .obj or .ply (others with texsynth[mesh])")
+    surface.add_argument("exemplar", metavar="EXEMPLAR", help="the texture image")
+    surface.add_argument("-o", "--output", required=True, help="output mesh (.ply or .obj; a texture goes beside it)")
+    surface.add_argument("--mode", choices=("vertex", "lapped"), default="vertex",
+                         help="vertex: colour retiled vertices (default); lapped: paste patches into a texture atlas")
+    surface.add_argument("--n-vertices", type=int, help="vertex mode: retile to about this many vertices")
+    surface.add_argument("--pixel-size", type=float,
+                         help="surface length of one exemplar pixel; vertex mode: sets the density instead of "
+                              "--n-vertices (neither: the mesh's own vertices); lapped mode: default a quarter of "
+                              "the square root of the area per exemplar side")
+    surface.add_argument("--field", default="smooth",
+                         help="texture orientation: smooth (default), random, latitude or meridian (about the z "
+                              "axis through the mesh's centre), or an .npy file of one (x, y, z) vector per vertex")
+    surface.add_argument("--symmetry", type=int, choices=(1, 2, 4), default=1,
+                         help="rotational symmetry of the texture, for the smooth field (default 1)")
+    surface.add_argument("--levels", type=int, help="vertex mode: hierarchy levels (default 3)")
+    surface.add_argument("--preset", choices=("default", "paper"), default="default", help="vertex mode: defaults")
+    surface.add_argument("--seed", type=int, default=None, help="random seed")
+    surface.add_argument("--preview", help="also write a rendered preview image (PNG)")
+    surface.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
+
+
+def _surface_field(text, mesh):
+    """The --field value: a name, a latitude/meridian callable about the mesh's vertical axis, or a .npy file."""
+    import numpy as np
+
+    center = mesh.vertices.mean(axis=0) * np.array([1.0, 1.0, 0.0])
+
+    def latitude(p):
+        return np.cross([0.0, 0.0, 1.0], p - center)
+
+    if text in ("smooth", "random"):
+        return text
+    if text == "latitude":
+        return latitude
+    if text == "meridian":
+        return lambda p: np.cross(p - center, latitude(p))
+    if not text.endswith(".npy"):
+        raise CommandError(f"--field must be smooth, random, latitude, meridian or an .npy file, got {text!r}")
+    return np.load(text, allow_pickle=False)
+
+
+def _run_surface(args):
+    from .io import load_image, save_image
+    from .surface import lapped_textures, read_mesh, render_mesh, synthesize_surface, write_mesh
+
+    out = Path(args.output)
+    if out.resolve() in {Path(args.mesh).resolve(), Path(args.exemplar).resolve()}:
+        raise CommandError(f"output {args.output!r} is also an input; choose another output path")
+    if out.exists() and not args.overwrite:
+        raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
+    mesh = read_mesh(args.mesh)
+    exemplar = load_image(args.exemplar)
+    field = _surface_field(args.field, mesh)
+    if args.mode == "lapped":
+        if args.n_vertices is not None or args.levels is not None:
+            raise CommandError("--n-vertices and --levels belong to --mode vertex; lapped textures keep the mesh")
+        result = lapped_textures(mesh, exemplar, pixel_size=args.pixel_size, field=field, symmetry=args.symmetry,
+                                 rng=args.seed)
+    else:
+        result = synthesize_surface(mesh, exemplar[..., :3] if exemplar.ndim == 3 and exemplar.shape[2] == 4
+                                    else exemplar, n_vertices=args.n_vertices, pixel_size=args.pixel_size, field=field,
+                                    symmetry=args.symmetry, levels=args.levels, preset=args.preset, rng=args.seed)
+    written = [write_mesh(out, result, overwrite=args.overwrite)]
+    if args.preview:
+        save_image(args.preview, render_mesh(result, 768), overwrite=args.overwrite)
+        written.append(Path(args.preview))
+    return written
 
 
 def _add_batch_parser(sub):
@@ -659,6 +890,8 @@ def main(argv=None):
             width = max((len(n) for n in METHODS), default=4)
             print(f"{'demo':<{width}}  gallery of every method on bundled sample textures")
             print(f"{'batch':<{width}}  many exemplars x methods x seeds into a folder, on Dask (pip install texsynth[dask])")
+            print(f"{'apply-coordinates':<{width}}  render a channel through a map saved with --coordinates")
+            print(f"{'surface':<{width}}  texture a mesh: vertex synthesis or lapped textures")
             for name, method in METHODS.items():
                 print(f"{name:<{width}}  {method.summary}")
             return 0
@@ -670,6 +903,12 @@ def main(argv=None):
             return 0
         if args.command == "batch":
             return _run_batch(args)
+        if args.command == "apply-coordinates":
+            print("wrote " + ", ".join(str(p) for p in _run_apply_coordinates(args)))
+            return 0
+        if args.command == "surface":
+            print("wrote " + ", ".join(str(p) for p in _run_surface(args)))
+            return 0
         for option in _used_options(argv if argv is not None else sys.argv[1:]):
             if option in args._deprecated:
                 print(f"texsynth: warning: {option} is deprecated; use {args._deprecated[option]}", file=sys.stderr)

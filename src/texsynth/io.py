@@ -44,7 +44,9 @@ import numpy as np
 
 from .core._validate import as_array, as_float_array, as_image, check_bool, check_positive_float
 
-__all__ = ["load_image", "save_image", "load_frames", "save_frames", "to_uint", "image_bits"]
+__all__ = ["load_image", "save_image", "save_chunked", "load_frames", "save_frames", "to_uint", "image_bits",
+           "save_coordinates",
+           "load_coordinates"]
 
 _EIGHT_BIT = {".png", ".jpg", ".jpeg", ".gif", ".bmp", ".ppm", ".pgm", ".webp"}
 _SIXTEEN_BIT = {".tif", ".tiff"}
@@ -848,14 +850,177 @@ def _write_frame_folder(path, pixels):
                 f"folder {str(path)!r} holds files save_frames did not write ({', '.join(sorted(foreign)[:3])}"
                 f"{', ...' if len(foreign) > 3 else ''}); choose another folder"
             )
+
+    def write(tmp):
+        for t, frame in enumerate(pixels):
+            iio.imwrite(tmp / f"frame_{t:04d}.png", frame)
+
+    _swap_folder(path, write)
+
+
+# --------------------------------------------------------------------------- #
+# images larger than memory
+# --------------------------------------------------------------------------- #
+_CHUNKED = {".zarr", ".tif", ".tiff"}
+
+
+def _tile_side(side):
+    """A TIFF tile side: a multiple of 16 at most ``side`` (16 at least)."""
+    return max(16, side - side % 16)
+
+
+def _quantize(block, bits):
+    """One block as stored: uint8/uint16 by rounding, or float32 for ``bits=32``."""
+    return block.astype(np.float32) if bits == 32 else to_uint(block, bits)
+
+
+def save_chunked(path, image, *, bits=None, overwrite=False, progress=False):
+    """Write an image larger than memory block by block: a Zarr store or a tiled BigTIFF.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        ``.zarr`` (a Zarr version 3 store: a folder, blocks compressed with
+        Zstandard) or ``.tif``/``.tiff`` (a tiled BigTIFF, Deflate-compressed,
+        that GDAL, QGIS, libvips and tifffile read tile by tile).
+    image : dask.array.Array or array_like
+        Float in [0, 1] (or uint8/uint16), ``(H, W)`` or ``(H, W, C)`` with
+        ``C`` in 1..4: the lazy result of a method's ``chunks=`` option (e.g.
+        :func:`texsynth.patchwork`), or any array (cut into blocks of 1024).
+    bits : {None, 8, 16, 32}
+        Bits per sample; None means 8 for Zarr and 16 for TIFF (as
+        :func:`save_image`); 32 stores float32.
+    overwrite : bool
+        Replace an existing store or file.
+    progress : bool or callable
+        Report progress per row of blocks (True: tqdm bar; a callable receives
+        ``(step, total, info)``).
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+
+    Raises
+    ------
+    ValueError
+        For another suffix, an image that is not ``(H, W[, C])``, values
+        outside [0, 1] (found in the block that holds them; nothing is left
+        behind), or a ``bits`` outside 8, 16, 32.
+    FileExistsError
+        If ``path`` exists and ``overwrite`` is False.
+    ImportError
+        Without Dask, or without Zarr for a ``.zarr`` path
+        (``pip install 'texsynth[dask]'`` installs both).
+
+    Notes
+    -----
+    The image is computed one row of blocks at a time (the blocks of a row in
+    parallel on Dask's scheduler: threads by default, or the cluster of an
+    active ``dask.distributed.Client``), each block converted to ``bits`` and
+    written before the next row starts, so memory holds one row of blocks.
+    The store or file is written under a hidden temporary name beside
+    ``path`` and renamed when complete, as :func:`save_image` does. A TIFF
+    tile is the block rounded down to a multiple of 16 pixels (the format's
+    rule; the array is re-chunked to it if needed).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from texsynth.procedural import turbulence
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     print(save_chunked(d + "/t.zarr", turbulence((300, 200), chunks=128, rng=0) / 2).name)
+    t.zarr
+    """
+    from .core.chunked import require_dask
+
+    path = _as_path(path)
+    overwrite = check_bool(overwrite, "overwrite")
+    bits = _check_bits(bits, allow_none=True, allowed=(8, 16, 32))
+    suffix = path.suffix.lower()
+    if suffix not in _CHUNKED:
+        raise ValueError(f"path suffix {suffix!r} is not a format written block by block; use '.zarr' or '.tif'")
+    if bits is None:
+        bits = 8 if suffix == ".zarr" else 16
+    da = require_dask("save_chunked")
+    if not isinstance(image, da.Array):
+        image = da.from_array(as_array(image, "image"), chunks=(1024, 1024) + (-1,) * (np.ndim(image) - 2))
+    if image.ndim not in (2, 3) or (image.ndim == 3 and not 1 <= image.shape[-1] <= 4) or 0 in image.shape:
+        raise ValueError(f"image must be (H, W) or (H, W, C) with C in 1..4, got shape {image.shape}")
+    if image.ndim == 3 and image.chunks[2] != (image.shape[2],):
+        image = image.rechunk({2: -1})
+    if suffix != ".zarr":
+        tile = (_tile_side(image.chunks[0][0]), _tile_side(image.chunks[1][0]))
+        if tile != (image.chunks[0][0], image.chunks[1][0]):
+            image = image.rechunk(tile + image.chunks[2:])
+    stored = image.map_blocks(_quantize, bits, dtype=np.float32 if bits == 32 else f"uint{bits}")
+    _prepare_target(path, overwrite, folder=suffix == ".zarr")
+    if suffix == ".zarr":
+        try:
+            import zarr
+        except ImportError:  # pragma: no cover - zarr is in the dask extra
+            raise ImportError("writing .zarr needs Zarr: pip install 'texsynth[dask]'") from None
+        _swap_folder(path, lambda tmp: _write_zarr(zarr, tmp, stored, progress))
+    else:
+        _atomic_write(path, lambda tmp: _write_tiff(tmp, stored, progress))
+    return path
+
+
+def _block_rows(stored, progress):
+    """Yield ``(row start, blocks)`` per row of blocks, each row computed at once (its blocks in parallel)."""
+    import dask
+
+    from .core._progress import Progress
+
+    r0 = 0
+    with Progress(progress, len(stored.chunks[0]), "writing") as bar:
+        for i, rows in enumerate(stored.chunks[0]):
+            yield r0, dask.compute(*[stored.blocks[i, j] for j in range(len(stored.chunks[1]))])
+            r0 += rows
+            bar.advance()
+
+
+def _write_zarr(zarr, folder, stored, progress):
+    block = tuple(c[0] for c in stored.chunks)
+    array = zarr.create_array(store=str(folder), shape=stored.shape, chunks=block, dtype=stored.dtype,
+                              zarr_format=3, overwrite=True)
+    for r0, blocks in _block_rows(stored, progress):
+        c0 = 0
+        for block in blocks:
+            array[r0 : r0 + block.shape[0], c0 : c0 + block.shape[1]] = block
+            c0 += block.shape[1]
+
+
+def _write_tiff(tmp, stored, progress):
+    import tifffile
+
+    th, tw = stored.chunks[0][0], stored.chunks[1][0]
+
+    def tiles():  # row by row, each tile padded to the whole tile size at the right and bottom edges
+        for _, blocks in _block_rows(stored, progress):
+            for block in blocks:
+                pad = [(0, th - block.shape[0]), (0, tw - block.shape[1])] + [(0, 0)] * (block.ndim - 2)
+                yield np.pad(block, pad) if any(p[1] for p in pad) else block
+
+    channels = 1 if stored.ndim == 2 else stored.shape[2]
+    tifffile.imwrite(tmp, tiles(), shape=stored.shape, dtype=stored.dtype, tile=(th, tw), bigtiff=True,
+                     photometric="rgb" if channels >= 3 else "minisblack", compression="zlib",
+                     extrasamples=("unassalpha",) if channels in (2, 4) else None)
+
+
+def _swap_folder(path, write):
+    """Call ``write(tmp)`` on a new hidden folder beside ``path``, then swap it in for ``path``.
+
+    The new folder gets the permissions the umask gives, or the mode of the folder it replaces;
+    the temporary folder is removed if anything fails or the process is interrupted.
+    """
     with _CleanUpOnSigterm():
         tmp = old = None
         try:
             tmp = _new_temp_dir(path)
             if path.is_dir():
                 os.chmod(tmp, stat.S_IMODE(path.stat().st_mode))
-            for t, frame in enumerate(pixels):
-                iio.imwrite(tmp / f"frame_{t:04d}.png", frame)
+            write(tmp)
             if path.exists():
                 old = Path(tempfile.mkdtemp(prefix=f".{path.name}-old-", dir=path.parent))
                 os.replace(path, old / path.name)
@@ -870,3 +1035,103 @@ def _write_frame_folder(path, pixels):
         finally:
             if old is not None:
                 shutil.rmtree(old, ignore_errors=True)
+
+
+# --------------------------------------------------------------------------- #
+# source-coordinate maps
+# --------------------------------------------------------------------------- #
+_MAP_ARRAYS = ("coordinates", "weights", "source_index")
+
+
+def save_coordinates(path, coordinates, weights=None, *, source_index=None, overwrite=False):
+    """Write a source-coordinate map atomically as a ``.npz`` file, to re-render channels later.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.npz`` file.
+    coordinates : array_like or info
+        The map (``docs/conventions.md``), or an info of a synthesis, whose
+        ``coordinates``, ``weights`` and ``source_index`` are saved.
+    weights, source_index : array_like, optional
+        As in :func:`texsynth.apply_coordinates` (taken from the info when
+        ``coordinates`` is one).
+    overwrite : bool
+        Replace an existing file.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a map :func:`texsynth.apply_coordinates` would refuse, a suffix
+        other than ``.npz``, or an existing file without ``overwrite``.
+
+    Examples
+    --------
+    >>> import tempfile, texsynth
+    >>> from texsynth import data
+    >>> out, info = texsynth.quilt(data.load("bread")[:48, :48], 64, block=16, rng=0, return_info=True)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     saved = load_coordinates(save_coordinates(d + "/map.npz", info))
+    >>> bool(np.array_equal(texsynth.apply_coordinates(data.load("bread")[:48, :48], saved), out))
+    True
+    """
+    from .core.coordinates import _check_map, _check_sources
+
+    path = _as_path(path)
+    if path.suffix.lower() != ".npz":
+        raise ValueError(f"a source-coordinate map is saved as .npz, got {str(path)!r}; pass a path ending in .npz")
+    if hasattr(coordinates, "coordinates"):  # an info of a synthesis
+        info = coordinates
+        weights = getattr(info, "weights", None) if weights is None else weights
+        source_index = getattr(info, "source_index", None) if source_index is None else source_index
+        coordinates = info.coordinates
+        if coordinates is None:
+            raise ValueError(f"this {type(info).__name__} has no coordinates; see its docstring for the options "
+                             "that record them")
+    coords, w = _check_map(coordinates, weights)
+    _check_sources(source_index, coords)
+    arrays = {"coordinates": as_array(coordinates, "coordinates")}
+    if w is not None:
+        arrays["weights"] = as_array(weights, "weights")
+    if source_index is not None:
+        arrays["source_index"] = as_array(source_index, "source_index")
+    check_bool(overwrite, "overwrite")
+    _prepare_target(path, overwrite)
+
+    def write(tmp):
+        with open(tmp, "wb") as f:  # a file object: np.savez would append ".npz" to another name
+            np.savez_compressed(f, **arrays)
+
+    _atomic_write(path, write)
+    return path
+
+
+def load_coordinates(path):
+    """Read a map written by :func:`save_coordinates`.
+
+    Returns
+    -------
+    types.SimpleNamespace
+        ``coordinates``, ``weights`` and ``source_index`` (the last two None
+        when not saved): pass it to :func:`texsynth.apply_coordinates` as
+        the map.
+
+    Raises
+    ------
+    ValueError
+        If the file is not a map (missing ``coordinates``, other arrays).
+    """
+    from types import SimpleNamespace
+
+    path = _as_path(path)
+    with np.load(path, allow_pickle=False) as data:
+        unknown = sorted(set(data.files) - set(_MAP_ARRAYS))
+        if "coordinates" not in data.files or unknown:
+            raise ValueError(f"{str(path)!r} is not a source-coordinate map (it holds {sorted(data.files)}); pass a "
+                             "file written by texsynth.io.save_coordinates or texsynth ... --coordinates")
+        return SimpleNamespace(**{name: (data[name] if name in data.files else None) for name in _MAP_ARRAYS})

@@ -76,6 +76,12 @@ class Method:
         ignored), e.g. masks.
     map_pairs : tuple of str
         Parameters that take two binary maps, given as ``--NAME FILE1 FILE2``.
+    fields : tuple of str
+        Orientation and scale fields over the output (``orientation`` in
+        radians, ``scale`` factors): on the command line a number, a ``.npy``
+        array of the output's size, or a grey image file mapped by
+        :func:`texsynth.cli.read_field` (grey 0..1 -> 0..2 pi for
+        ``orientation``, 0.5..2 geometrically for ``scale``).
     spatial : str or None
         Parameter that is a number or a map of numbers at the output size.
         Besides ``--NAME`` it gets ``--NAME-map FILE`` (a grey image of
@@ -106,6 +112,7 @@ class Method:
     mixing: str | None = None
     maps: tuple = ()
     map_pairs: tuple = ()
+    fields: tuple = ()
     spatial: str | None = None
     demos: tuple = ()
 
@@ -175,6 +182,44 @@ def _quilt_transfer(exemplar, seed):
     from .patch import quilt_transfer
 
     return quilt_transfer(exemplar, resize(skdata.camera(), (192, 192), anti_aliasing=True), block=16, rng=seed)
+
+
+def _wang_tileable(exemplar, seed):
+    import numpy as np
+
+    from .patch import wang_texture
+
+    return np.tile(wang_texture(exemplar, (120, 120), tile=40, tileable=True, rng=seed), (2, 2, 1))
+
+
+def _quilt_channels(exemplar, seed):
+    import numpy as np
+    from scipy import ndimage
+
+    from .core.coordinates import apply_coordinates
+    from .patch import quilt
+
+    height = -ndimage.gaussian_filter(exemplar.mean(-1), 0.7)  # a height channel of the same material
+    height = (height - height.min()) / np.ptp(height)
+    out, info = quilt(exemplar, (128, 128), block=24, rng=seed, return_info=True)
+    rendered = apply_coordinates(height, info)  # the height through the albedo's source-coordinate map
+    return _side_by_side([out, np.repeat(rendered[..., None], 3, -1)])
+
+
+def _style_transfer(exemplar, seed):
+    import numpy as np
+    from skimage import data as skdata
+    from skimage.transform import resize
+
+    from .optimization import optimize_texture
+
+    photo = resize(skdata.camera() / 255.0, (96, 96), anti_aliasing=True)
+    texture = exemplar[:64, :64]
+    lum = texture @ np.array([0.2125, 0.7154, 0.0721])
+    # Hertzmann et al.'s luminance remapping (Sec. 3.4): the texture's luminance to the photo's mean and spread
+    guide = np.clip((lum - lum.mean()) / lum.std() * photo.std() + photo.mean(), 0.0, 1.0)
+    out = optimize_texture(texture, 96, exemplar_guide=guide, output_guide=photo, guide_weight=4.0, rng=seed)
+    return _side_by_side([np.repeat(photo[..., None], 3, -1), out])
 
 
 def _animate(exemplar, seed):
@@ -327,10 +372,10 @@ METHODS: dict[str, Method] = {
                 demos=[("solid_bread", "Wei solid texture from one 2-D view: three faces of a 32^3 cube (x, y and "
                         "z slices)", "bread", _solid)]),
     "controlled": _m("pixel:synthesize_controlled",
-                     "Zhang et al. 2003: texton masks keep elements whole; --orientation RAD and --scale S turn and "
-                     "grow them; --exemplar-b B with --blend X | --blend-map M | --transition varies one into "
-                     "the other", _ZHANG, "texton", files=("exemplar_b",), maps=("blend",), ramps=("blend",),
-                     spatial="blend",
+                     "Zhang et al. 2003: texton masks keep elements whole; --orientation and --scale (a number, "
+                     "a .npy field or a grey image) turn and grow them; --exemplar-b B with --blend X | --blend-map "
+                     "M | --transition varies one into the other", _ZHANG, "texton", files=("exemplar_b",),
+                     maps=("blend",), ramps=("blend",), fields=("orientation", "scale"), spatial="blend",
                      demos=[("controlled_vortex_reptile", "Zhang et al. texton-mask synthesis with a vortex "
                              "orientation field and a scale growing from 0.8 (left) to 2.0 (right): the scales "
                              "turn along circles and grow, whole", "reptile", _controlled)]),
@@ -342,15 +387,20 @@ METHODS: dict[str, Method] = {
                               "some copied whole from the exemplar", "text",
                               _call("pixel:efros_leung", (96, 96), crop=64, neighborhood_size=15))]),
     "optimize": _m("optimization:optimize_texture",
-                   "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling", _KWATRA,
+                   "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling; "
+                   "--orientation/--scale fields", _KWATRA,
                    "optimization", files=("target", "init"), maps=("mask", "exemplar_mask", "exemplar_guide", "output_guide"),
+                   fields=("orientation", "scale"),
                    demos=[("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
                            "bread", _call("optimization:optimize_texture", (128, 128))),
                           ("optimize_text_complete", "Kwatra texture optimization with the completeness term of the "
                            "bidirectional similarity and a copy limit (completeness_weight=1, copy_limit=0.2): all "
                            "of the 96x96 exemplar, in pieces of at most a third of it", "text",
                            _call("optimization:optimize_texture", (144, 144), crop=96, completeness_weight=1.0,
-                                 copy_limit=0.2))]),
+                                 copy_limit=0.2)),
+                          ("style_transfer_water", "Style transfer as guided synthesis (Hertzmann et al. 2001, "
+                           "doi:10.1145/383259.383295): the photograph's luminance is the output guide, the "
+                           "water's (remapped) luminance the exemplar guide", "water", _style_transfer)]),
     "animate": _m("optimization:animate_texture",
                   "Kwatra 2005: flow-guided animation, e.g. --flows sink:1.5 --n-frames 16 --size 128",
                   f"{_KWATRA}, Section 4.1", "optimization", output="frames", size=None, flow="flows",
@@ -397,7 +447,11 @@ METHODS: dict[str, Method] = {
                 demos=[("quilt_brick", "Image quilting (blocks of 19 px, overlap 3, tolerance 0.1)", "brick",
                         _call("patch:quilt", (256, 256))),
                        ("quilt_text", "Image quilting on text (blocks of 32 px): lines straight, most letters whole",
-                        "text", _call("patch:quilt", (256, 256), crop=128, block=32))]),
+                        "text", _call("patch:quilt", (256, 256), crop=128, block=32)),
+                       ("quilt_channels_bread", "One synthesis, two channels: the quilted albedo and a height map "
+                        "(the bread's blurred, inverted luminance) rendered through its source-coordinate map "
+                        "(texsynth.apply_coordinates): every crumb's height under its colour", "bread",
+                        _quilt_channels)]),
     "quilt-transfer": _m("patch:quilt_transfer", "Efros-Freeman 2001: texture transfer onto a pattern image "
                          "(TEXTURE PATTERN)", f"{_EFROS_FREEMAN}, Section 3", "quilting", inputs="pair", size=None,
                          skip=("correspondence",),
@@ -418,7 +472,9 @@ METHODS: dict[str, Method] = {
     "wang-tiles": _m("patch:wang_texture", "Cohen et al. 2003: Wang tiles quilted from diamonds, tiled at random "
                      "to any --size (--tile, --colors)", _COHEN, "wang_tiles",
                      demos=[("wang_tiles_bread", "Wang tiles: 8 tiles of 40 px (2 colours per direction) tiled at "
-                             "random", "bread", _call("patch:wang_texture", (240, 240), tile=40))]),
+                             "random", "bread", _call("patch:wang_texture", (240, 240), tile=40)),
+                            ("wang_tiles_tileable_bread", "Wang tiles, tileable=True: a 120 px toroidal tiling shown "
+                             "tiled 2x2 (no seam where the copies meet)", "bread", _wang_tileable)]),
     "patch-sampling": _m("patch:patch_sampling", "Liang et al. 2001: patch-based sampling, boundary zones feathered "
                          "(tileable)", _LIANG, "patch_sampling",
                          demos=[("patch_sampling_bread", "Patch-based sampling (patches of 25 px, zones of 4 px, "
@@ -459,8 +515,8 @@ METHODS: dict[str, Method] = {
 
 #: Methods whose ``info.coordinates`` is a source-coordinate map (``texsynth.apply_coordinates``):
 #: the command line offers them ``--channels`` (extra channels rendered through the synthesis).
-COORDINATE_METHODS = ("pixels", "efros-leung", "optimize", "patchwork", "quilt", "quilt-transfer", "graphcut",
-                      "wang-tiles", "patch-sampling")
+COORDINATE_METHODS = ("pixels", "mix", "efros-leung", "optimize", "patchwork", "quilt", "quilt-transfer", "graphcut",
+                      "wang-tiles", "patch-sampling", "seam-carve")
 
 
 def demos():

@@ -16,6 +16,8 @@
                                    and grid min-cuts with seam nodes
 :mod:`texsynth.core.coordinates`   source-coordinate maps: other channels (normals, height)
                                    rendered through a synthesis
+:mod:`texsynth.core.fields`        orientation and scale fields over an output, bilinear
+                                   sampling in local frames and its adjoint (splatting)
 =============================  ==========================================================
 
 The core imports no algorithm family; the families import the core (see
@@ -24,4 +26,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields"])

@@ -18,6 +18,8 @@ Conventions (see ``docs/conventions.md``):
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import numbers
 import os
 import reprlib
@@ -39,6 +41,7 @@ __all__ = [
     "check_bool",
     "check_memory",
     "available_memory",
+    "memory_limit",
     "max_threads",
 ]
 
@@ -309,9 +312,32 @@ def check_bool(value, name):
     raise TypeError(f"{name} must be True or False, got {type(value).__name__} {reprlib.repr(value)}")
 
 
+_MEMORY_LIMIT = contextvars.ContextVar("texsynth_memory_limit", default=None)
+
+
+@contextlib.contextmanager
+def memory_limit(nbytes, holder):
+    """Within the block, :func:`check_memory` allows at most ``nbytes`` (a Dask worker's share:
+    ``holder`` names it in the messages), or what the machine has free if that is less."""
+    token = _MEMORY_LIMIT.set((float(nbytes), holder))
+    try:
+        yield
+    finally:
+        _MEMORY_LIMIT.reset(token)
+
+
 def available_memory():
     """Bytes of memory this process may still take: Linux's MemAvailable (else the physical memory),
-    or less under an address-space limit (``ulimit -v``, ``resource.RLIMIT_AS``). None if unknown."""
+    or less under an address-space limit (``ulimit -v``, ``resource.RLIMIT_AS``) or a
+    :func:`memory_limit`. None if unknown."""
+    free = _machine_memory()
+    limit = _MEMORY_LIMIT.get()
+    if limit is not None and (free is None or limit[0] < free):
+        return limit[0]
+    return free
+
+
+def _machine_memory():
     free = None
     try:
         with open("/proc/meminfo") as f:
@@ -368,12 +394,14 @@ def check_memory(nbytes, value, name="size", what="the output", also=None):
     ValueError: size=(10000000, 10000000) needs about 931322.6 GiB for the output, more than the ... GiB ...
     """
     free = available_memory()
+    limit = _MEMORY_LIMIT.get()
+    holder = limit[1] if limit is not None and free == limit[0] else "memory available"
     if free is not None and nbytes > free:
         names = [name] + list(also or {})
         given = ", ".join(f"{k}={v}" for k, v in [(name, value), *(also or {}).items()])
         raise ValueError(
             f"{given} {'need' if also else 'needs'} about {_gib(nbytes)} for {what}, more than the {_gib(free)} of "
-            f"memory available; pass a smaller {' or '.join(names)}"
+            f"{holder}; pass a smaller {' or '.join(names)}"
         )
 
 

@@ -102,6 +102,63 @@ def _as_channel(image, name):
     return arr
 
 
+def _check_sources(source_index, coords):
+    """The map's source index per slot, ``(H, W, K)`` int, or None (one exemplar)."""
+    if source_index is None:
+        return None
+    src = as_array(source_index, "source_index")
+    if not np.issubdtype(src.dtype, np.integer):
+        raise TypeError(f"source_index must be integers (the source of each slot), got dtype {src.dtype}; pass "
+                        "info.source_index (or the info itself)")
+    if coords.shape[2] == 1 and src.ndim == 2:
+        src = src[..., None]
+    if src.shape != coords.shape[:3]:
+        raise ValueError(f"source_index has shape {src.shape} but coordinates {coords.shape} need one of shape "
+                         f"{coords.shape[:3]}; pass the source_index that came with the coordinates")
+    if src.min() < 0:
+        raise ValueError(f"source_index has negative values (min {int(src.min())}); pass info.source_index")
+    return src
+
+
+def _split_channels(channels, several_sources):
+    """``(keys, items)``: keys None for one channel, else list positions or dict keys; with several
+    sources each item is that channel's list of images, one per source."""
+    if isinstance(channels, dict):
+        keys, items = list(channels), list(channels.values())
+    elif isinstance(channels, (list, tuple)) and (not several_sources or (
+            channels and isinstance(channels[0], (list, tuple)))):
+        keys, items = list(range(len(channels))), list(channels)
+    else:
+        return None, [channels]
+    if not items:
+        raise ValueError("channels is an empty list; pass one image or a list of images of the exemplar's size")
+    return keys, items
+
+
+def _part_names(name, src):
+    return [name] if src is None else [f"{name}[{i}]" for i in range(int(src.max()) + 1)]
+
+
+def _as_parts(channel, name, src):
+    """One channel as its list of images: the image itself, or (a map with sources) one per source."""
+    if src is None:
+        return [_as_channel(channel, name)]
+    if not isinstance(channel, (list, tuple)):
+        raise TypeError(f"{name} must be a list of images, one per source of the map (e.g. [height_a, "
+                        f"height_b] for mix_textures([albedo_a, albedo_b], ...)), got {type(channel).__name__}")
+    needed = int(src.max()) + 1
+    if len(channel) < needed:
+        raise ValueError(f"{name} has {len(channel)} image(s) but the map uses {needed} sources; pass one image "
+                         "per source, in the order of the synthesis's sources")
+    parts = [_as_channel(c, n) for c, n in zip(channel, _part_names(name, src))]
+    for p, n in zip(parts[1:], _part_names(name, src)[1:]):
+        if p.dtype != parts[0].dtype or p.shape[2:] != parts[0].shape[2:]:
+            raise ValueError(f"{n} has dtype {p.dtype} and {p.shape[2:] or 'no'} channels but {name}[0] has "
+                             f"{parts[0].dtype} and {parts[0].shape[2:] or 'no'}; convert the sources' images of "
+                             "one channel to one layout")
+    return parts
+
+
 def _normal_flags(normals, keys):
     if isinstance(normals, (bool, np.bool_)):
         return dict.fromkeys(keys, bool(normals))
@@ -125,12 +182,14 @@ def _white(kind):
     return float(np.iinfo(kind).max) if np.issubdtype(kind, np.integer) else 1.0
 
 
-def _render(channel, flats, weights, blended, normal, name):
-    """One channel through the flat indices (one contiguous ``(H, W)`` array per slot) and the weights
+def _render(parts, flats, weights, blended, normal, name):
+    """One channel (its image per source: one unless the map has sources) through the flat indices (one
+    contiguous ``(H, W)`` array per slot, into the sources' pixels one after the other) and the weights
     (None for copies; else a cache: slot 0 dense, the others as (flat pixels, weights) where nonzero,
     converted once per working dtype)."""
-    h, w = channel.shape[:2]
-    table = channel.reshape(h * w, -1)
+    tables = [p.reshape(p.shape[0] * p.shape[1], -1) for p in parts]
+    table = tables[0] if len(tables) == 1 else np.concatenate(tables)
+    channel = parts[0]
     shape = flats[0].shape + channel.shape[2:]
     if normal and table.shape[1] < 3:
         raise ValueError(f"{name} is flagged as a normal map but has {table.shape[1]} channel(s); a normal map "
@@ -174,7 +233,7 @@ def _render(channel, flats, weights, blended, normal, name):
     return out.reshape(shape)
 
 
-def apply_coordinates(channels, coordinates, weights=None, *, normals=False):
+def apply_coordinates(channels, coordinates, weights=None, *, source_index=None, normals=False):
     """Render images of the exemplar's size through a synthesis's source-coordinate map.
 
     One synthesis, a consistent set of channels: synthesise the albedo with
@@ -197,6 +256,14 @@ def apply_coordinates(channels, coordinates, weights=None, *, normals=False):
     weights : array_like, optional
         ``(H, W, K)`` blend weights of the ``K`` sources (largest first), or
         None for copies. Taken from the info when ``coordinates`` is one.
+    source_index : array_like of int, optional
+        ``(H, W, K)``: which exemplar each slot's coordinates point into,
+        for syntheses from several exemplars (:func:`texsynth.mix_textures`
+        records ``info.source_index``; taken from the info when
+        ``coordinates`` is one). Each channel is then a list of images, one per exemplar
+        in the synthesis's order, each of its exemplar's size and all of
+        one dtype and channel count: ``[height_a, height_b]``; several
+        channels are a list of such lists or a dict of them.
     normals : bool, or a list or dict of bool
         Which channels are tangent-space normal maps (``x, y, z`` encoded in
         [0, 1], or 0..255 / 0..65535): their blended pixels are decoded to
@@ -216,14 +283,17 @@ def apply_coordinates(channels, coordinates, weights=None, *, normals=False):
     ------
     ValueError
         If the map has the wrong shape, points outside the channels (which
-        must all have one height and width), or the weights do not match
-        it; if a channel flagged as normals has fewer than 3 channels.
+        must all have one height and width), or the weights or sources do
+        not match it; if a channel flagged as normals has fewer than 3
+        channels; if a channel has fewer images than the map has sources.
     TypeError
-        For non-integer coordinates or a non-numeric channel.
+        For a non-integer map, a non-numeric channel, or a
+        single image where a map with sources needs one per source.
 
     Notes
     -----
-    Output pixel ``x`` with sources ``c_k(x)`` and weights ``w_k(x)`` is
+    Output pixel ``x`` with sources ``c_k(x)`` (in exemplar ``s_k(x)`` when
+    the map has a ``source_index``) and weights ``w_k(x)`` is
     ``O(x) = sum_k w_k(x) I(c_k(x)) + (1 - sum_k w_k(x)) mean(I)``: a plain
     copy when there is one source of weight 1, a convex blend when the
     weights sum to 1 (the mean term vanishes), and patchwork's
@@ -248,38 +318,56 @@ def apply_coordinates(channels, coordinates, weights=None, *, normals=False):
     True
     >>> apply_coordinates([albedo, height], info)[1].shape
     (96, 96)
+
+    A mixture of two materials renders each channel from both:
+
+    >>> wood = data.load("wood")[:48, :48]
+    >>> mix, info = texsynth.mix_textures([albedo, wood], 32, levels=2, rng=0, return_info=True)
+    >>> info.coordinates.shape, info.source_index.shape
+    ((32, 32, 2, 2), (32, 32, 2))
+    >>> bool(np.allclose(apply_coordinates([albedo, wood], info), mix))
+    True
     """
     if hasattr(coordinates, "coordinates"):  # an info of a synthesis
         info = coordinates
         if weights is None:
             weights = getattr(info, "weights", None)
+        if source_index is None:
+            source_index = getattr(info, "source_index", None)
         coordinates = info.coordinates
         if coordinates is None:
             raise ValueError(f"this {type(info).__name__} has no coordinates (coordinates is None); see its "
                              "docstring for the options that record them")
     coords, w = _check_map(coordinates, weights)
-    if isinstance(channels, dict):
-        keys, items = list(channels), list(channels.values())
-    elif isinstance(channels, (list, tuple)):
-        keys, items = list(range(len(channels))), list(channels)
-        if not items:
-            raise ValueError("channels is an empty list; pass one image or a list of images of the exemplar's size")
-    else:
-        keys, items = None, [channels]
+    src = _check_sources(source_index, coords)
+    keys, items = _split_channels(channels, src is not None)
     names = ["channels"] if keys is None else [f"channels[{k!r}]" for k in keys]
-    arrays = [_as_channel(c, n) for c, n in zip(items, names)]
-    shape = arrays[0].shape[:2]
-    for a, n in zip(arrays[1:], names[1:]):
-        if a.shape[:2] != shape:
-            raise ValueError(f"{n} is {a.shape[0]}x{a.shape[1]} but {names[0]} is {shape[0]}x{shape[1]}; every "
-                             "channel must have the exemplar's size")
+    parts = [_as_parts(c, n, src) for c, n in zip(items, names)]  # per channel, its image per source
+    shapes = [p.shape[:2] for p in parts[0]]
+    for channel, n in zip(parts[1:], names[1:]):
+        for p, shape, part in zip(channel, shapes, _part_names(n, src)):
+            if p.shape[:2] != shape:
+                raise ValueError(f"{part} is {p.shape[0]}x{p.shape[1]} but {_part_names(names[0], src)[0]} is "
+                                 f"{shape[0]}x{shape[1]}; every channel must have the size of its exemplar")
     flags = _normal_flags(normals, keys if keys is not None else [None])
-    _check_bounds(coords, shape, names[0] if keys is None else "the channels")
+    where = names[0] if keys is None else "the channels"
+    if src is None:
+        _check_bounds(coords, shapes[0], where)
+    else:
+        for i, shape in enumerate(shapes):
+            if np.any(src == i):
+                _check_bounds(coords[src == i], shape, f"source {i} of {where}")
     out_pixels = float(coords.shape[0]) * coords.shape[1]
-    check_memory(out_pixels * (8 * coords.shape[2] + sum(8 * (a.shape[2] if a.ndim == 3 else 1) for a in arrays)),
+    check_memory(out_pixels * (8 * coords.shape[2] + sum(8 * (c[0].shape[2] if c[0].ndim == 3 else 1)
+                                                         for c in parts)),
                  coords.shape[:2], "coordinates", "the rendered channels")
-    # flat exemplar indices, one contiguous (H, W) array per slot, computed once for all channels
-    flats = [coords[:, :, k, 0].astype(np.intp) * shape[1] + coords[:, :, k, 1] for k in range(coords.shape[2])]
+    # flat indices into the sources' pixels one after the other, one contiguous (H, W) array per slot,
+    # computed once for all channels
+    widths = np.array([shape[1] for shape in shapes], np.intp)
+    starts = np.concatenate([[0], np.cumsum([shape[0] * shape[1] for shape in shapes])[:-1]]).astype(np.intp)
+    slot = (lambda k: 0) if src is None else (lambda k: src[:, :, k])
+    flats = [starts[slot(k)] + coords[:, :, k, 0].astype(np.intp) * widths[slot(k)] + coords[:, :, k, 1]
+             for k in range(coords.shape[2])]
     blended = cache = None
     if w is not None:  # slot 0 dense; the others kept where they weigh (a few pixels of most maps)
         first = w[:, :, 0].astype(np.float64)
@@ -293,8 +381,8 @@ def apply_coordinates(channels, coordinates, weights=None, *, normals=False):
             blended.reshape(-1)[at] = True
         cache["total"] = total
         cache["convex"] = cache["convex"] and bool(np.abs(total - 1).max() <= 1e-6)
-    rendered = [_render(a, flats, cache, blended, flags[k], n)
-                for a, n, k in zip(arrays, names, keys if keys is not None else [None])]
+    rendered = [_render(c, flats, cache, blended, flags[k], n)
+                for c, n, k in zip(parts, names, keys if keys is not None else [None])]
     if keys is None:
         return rendered[0]
     if isinstance(channels, dict):

@@ -33,6 +33,12 @@ leaves a hole this is hole filling. Section 4.1 animates a texture along a
 flow (eq. 3), frame by frame, with the previous frame warped along the flow
 as the soft-constraint target (:func:`animate_texture`).
 
+Not in the paper: orientation and scale fields (the local frames of Zhang et
+al. 2003, :mod:`texsynth.core.fields`) turn and magnify the texture locally:
+the M-step samples every ``x_p`` on a grid turned and scaled around its
+centre, the E-step splats ``z_p`` back there (:class:`_Warp`; the Notes of
+:func:`optimize_texture`).
+
 What the implementation guarantees
 ----------------------------------
 The energy actually minimised is the robust texture energy
@@ -86,6 +92,7 @@ from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_float_array, as_image, as_rng, as_size, check_bool, check_in_range, check_memory,
                               check_positive_float, check_positive_int, restore_channels, with_channels)
 from ..core.em import expectation_maximization, irls_weights
+from ..core.fields import as_field, frames, level_field, sample, scatter, taps
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
@@ -135,6 +142,11 @@ _FIELD_ITERATIONS_FIRST = 4
 _FIELD_ITERATIONS = 1
 # E-step: neighbourhood values added into the output at a time (32 MB of float64)
 _E_STEP_VALUES = 2**22
+# Fields: the bilinear taps of a stage's rotated neighbourhoods are kept while they take at most this
+# many bytes (256^2 outputs: about 80 MB), else computed at every use
+_WARP_CACHE_BYTES = 2**28
+# Guides with at most this many distinct values (vectors) are label maps: histogram matching per label
+_MAX_LABELS = 32
 # Conjugate gradients of the gradient-energy E-step: relative residual and cap.
 _CG_RTOL = 1e-10
 _CG_MAXITER = 500
@@ -333,6 +345,7 @@ class _Options:
     histogram: bool = False  # histogram_matching: the output's colour histograms matched after every E-step
     paper: bool = False  # preset "paper": the index M-step, as the paper searches a tree over the exemplar
     coarse_copy_limit: bool = False  # the copy limit at every level but the finest
+    fields: bool = False  # orientation / scale fields: rotated, scaled neighbourhoods (the index M-step)
 
     @property
     def frame(self):
@@ -463,6 +476,70 @@ class _Exemplar:
         return np.where(idx >= 0, idx, fallback)
 
 
+# --------------------------------------------------------------------------- fields
+class _Warp:
+    """The rotated and scaled neighbourhoods ``x_p`` of one stage (orientation and scale fields).
+
+    Neighbourhood ``p`` is read on the grid ``p + A(p) d``, ``A = S R(theta)``
+    (:func:`texsynth.core.fields.frames`, as in Zhang et al. 2003), ``d`` the
+    offsets of a ``w x w`` patch from its centre pixel ``w // 2``: the
+    bilinear samples of the output there are the neighbourhood compared
+    with the exemplar's plain ``z_p`` in the M-step, and the E-step adds the
+    values of ``z_p`` back at the same positions with the same bilinear
+    weights (:func:`texsynth.core.fields.splat`, the adjoint of the
+    sampling). So a ``z_p`` appears in the output turned by ``theta(p)`` and
+    magnified by ``S(p)``.
+    """
+
+    def __init__(self, centers, w, theta, scale, shape, mode):
+        self.a, self.inverse = frames(theta[centers[:, 0], centers[:, 1]], scale[centers[:, 0], centers[:, 1]])
+        i = np.arange(w, dtype=np.float64) - w // 2
+        self.d = np.stack(np.meshgrid(i, i, indexing="ij"), -1).reshape(-1, 2)
+        self.centers, self.w, self.shape, self.wrap = centers, w, tuple(shape), mode == "wrap"
+        self.row = np.full(self.shape, -1, np.int64)  # centre -> its row in ``centers``
+        self.row[centers[:, 0], centers[:, 1]] = np.arange(len(centers))
+        self.cache = None  # the taps of every sample, computed once per stage where they fit the budget
+        if len(centers) * w * w * 4 * 16 <= _WARP_CACHE_BYTES:
+            self.cache = self._taps(centers)
+
+    def _taps(self, at):
+        """Flat pixel indices and bilinear weights ``(n, w * w, 4)`` of the samples of the neighbourhoods at ``at``."""
+        if self.cache is not None:
+            rows = self.row[at[:, 0], at[:, 1]]
+            return self.cache[0][rows], self.cache[1][rows]
+        return taps(self.positions(at), self.shape[0], self.shape[1], self.wrap)
+
+    def positions(self, at):
+        """``(n, w * w, 2)``: where the neighbourhoods centred at ``at`` (centres of the stage) read the output."""
+        rows = self.row[at[:, 0], at[:, 1]]
+        a, c, (dr, dc) = self.a[rows, :, :, None], self.centers[rows], self.d.T
+        return np.stack([c[:, :1] + a[:, 0, 0] * dr + a[:, 0, 1] * dc, c[:, 1:] + a[:, 1, 0] * dr + a[:, 1, 1] * dc], -1)
+
+    def extract(self, x, at):
+        """The neighbourhoods ``(n, w, w, C)`` of ``x`` centred at ``at``, bilinear samples in their frames
+        (a few thousand neighbourhoods at a time: the taps take eight times the samples' memory)."""
+        out = np.empty((len(at), self.w, self.w, x.shape[-1]), x.dtype)
+        step = max(1, _E_STEP_VALUES // out[0].size)
+        for a in range(0, len(at), step):
+            part = slice(a, a + step)
+            out[part] = sample(x, *self._taps(at[part]))[0].reshape(out[part].shape)
+        return out
+
+    def add(self, sums, patches, at, patch_weights, pixel_weights):
+        """Add ``patches`` ``(n, w, w, C)`` centred at ``at`` into ``sums = [values, weights]``."""
+        n, c = len(at), patches.shape[-1]
+        weights = np.asarray(patch_weights, np.float64)[:, None] * pixel_weights.reshape(1, -1)
+        index, tap = self._taps(at)
+        v, t = scatter(patches.reshape(n, -1, c), index, tap * weights[..., None], self.shape)
+        sums[0] += v
+        sums[1] += t
+
+
+def _neighbourhoods(x, at, w, mode, warp):
+    """The output neighbourhoods centred at ``at``: plain patches, or sampled in the fields' frames."""
+    return extract(x, at, w, mode=mode) if warp is None else warp.extract(x, at)
+
+
 # --------------------------------------------------------------------------- E-step
 def _dx(u, wrap):
     return np.roll(u, -1, axis=1) - u if wrap else u[:, 1:] - u[:, :-1]
@@ -587,13 +664,15 @@ def _grid_parts(centers, budget):
     return [slice(a, a + step) for a in range(0, len(centers), step)]
 
 
-def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, votes=None):
+def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, votes=None, warp=None):
     """x <- argmin_x sum_p ω_p ρ_p(x) + λ E_c(x): eq. 1 (and eq. 2) minimised over x.
 
     The ``z_p`` of the grid ``centers`` are added a few grid rows at a time
     (memory grows with the output, not with the overlap); ``votes``
     ``(indices, centres, weights)`` are more neighbourhoods averaged in (the
-    completeness term's ``q_j`` at ``p(j)``).
+    completeness term's ``q_j`` at ``p(j)``). With a :class:`_Warp` (fields,
+    ``μ = 0``) every ``z_p`` is splatted at its rotated, scaled positions;
+    pixels that no sample reaches keep their value in ``x0``.
     """
     g = ex.g if g is None else g
     w, channels = ex.size, ex.image.shape[-1]
@@ -601,20 +680,30 @@ def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, v
     h_, w_ = shape
     gxw, gyw = _difference_weights(g)
     shift = w // 2 - (w - 1) // 2  # centre of a (w-1)-wide difference patch, anchored at its left pixel
-    values = PatchSum(shape, channels, mode=mode)
+    values = PatchSum(shape, channels, mode=mode) if warp is None else [np.zeros(tuple(shape) + (channels,)),
+                                                                        np.zeros(tuple(shape))]
     if mu > 0:  # gradient energy: accumulate the patches' differences like the patches themselves
         dx = PatchSum((h_, w_ if wrap else w_ - 1), channels, mode=mode)
         dy = PatchSum((h_ if wrap else h_ - 1, w_), channels, mode=mode)
     parts = [(zidx[p], centers[p], omega[p]) for p in _grid_parts(centers, _E_STEP_VALUES // (w * w * channels))]
     for zi, at, om in parts + ([] if votes is None else [votes]):
         z = ex.patches(zi)
+        if warp is not None:
+            warp.add(values, z, at, om, g)
+            continue
         values.add(z, at, patch_weights=om, pixel_weights=g)
         if mu > 0:
             dx.add(z[:, :, 1:] - z[:, :, :-1], at - [0, shift], patch_weights=om, pixel_weights=gxw)
             dy.add(z[:, 1:] - z[:, :-1], at - [shift, 0], patch_weights=om, pixel_weights=gyw)
-    mean, wd = values.average()
-    data_w = wd.copy()
-    rhs = wd[..., None] * mean
+    if warp is None:
+        mean, wd = values.average()
+        data_w = wd.copy()
+        rhs = wd[..., None] * mean
+    else:  # the splatted sums; a pixel no sample reaches keeps its value (weight 1 on x0)
+        rhs, data_w = values
+        uncovered = data_w <= 0
+        rhs[uncovered] = x0[uncovered]
+        data_w[uncovered] = 1.0
     hard = constraint is not None and np.isinf(constraint[2])
     if constraint is not None and not hard:  # eq. 2: the weighted average with the targets (Section 4)
         m, t, lam = constraint
@@ -743,15 +832,15 @@ class _Completeness:
         self.jidx = np.flatnonzero(on_grid)
         self.scale = weight * len(centers) / max(1, len(self.jidx))
 
-    def search(self, ex, x, centers, mode, current, method, rng):
+    def search(self, ex, x, centers, mode, current, method, rng, warp=None):
         """``p(j)`` (output centres) of every ``q_j`` among ``centers``, never farther than ``current``, and ``ρ_j``."""
         feats = _features(ex.patches(self.jidx), ex.mu).astype(np.float64, copy=False)
-        q = _features(extract(x, centers, ex.size, mode=mode), ex.mu)
+        q = _features(_neighbourhoods(x, centers, ex.size, mode, warp), ex.mu)
         index = PatchIndex(q.astype(np.float32), weights=ex.weights, method=method, rng=rng)
         found = centers[index.query(feats.astype(np.float32), k=1)[0][:, 0]]
-        rho = _rho_at(ex, x, found, mode, self.jidx)
+        rho = _rho_at(ex, x, found, mode, self.jidx, warp)
         if current is not None:
-            keep = _rho_at(ex, x, current, mode, self.jidx)
+            keep = _rho_at(ex, x, current, mode, self.jidx, warp)
             better = rho < keep
             found = np.where(better[:, None], found, current)
             rho = np.where(better, rho, keep)
@@ -788,18 +877,19 @@ def _unwrap(at, shape, w, pad):
     return out
 
 
-def _rho_at(ex, x, at, mode, zidx):
+def _rho_at(ex, x, at, mode, zidx, warp=None):
     """``ρ`` between the output neighbourhoods centred at ``at`` and the exemplar's ``zidx``, in parts."""
     out = np.empty(len(at))
     step = max(1, _E_STEP_VALUES // ex.weights.shape[0])
     for a in range(0, len(at), step):
         p = slice(a, a + step)
-        q = _features(extract(x, at[p], ex.size, mode=mode), ex.mu)
+        q = _features(_neighbourhoods(x, at[p], ex.size, mode, warp), ex.mu)
         out[p] = sq_distances(q, _features(ex.patches(zidx[p]), ex.mu), ex.weights)
     return out
 
 
-def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, occurrence=None):
+def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, occurrence=None, warp=None,
+            iterations=0, rng=None):
     """z_p <- nearest exemplar neighbourhood of x_p (modified by Algorithm 2 under constraints).
 
     Returns the new indices and ``ρ_p`` of every (x_p, z_p) pair in float64.
@@ -820,8 +910,18 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
     by ``ρ + penalty`` instead: the index's ``_OCCURRENCE_CANDIDATES`` nearest
     and the coherent candidates of every neighbourhood (searched or not,
     since the penalty changes as the others move).
+
+    With a :class:`_Warp` (orientation and scale fields) ``x_p`` is the
+    neighbourhood sampled in its frame, and the coherent candidates follow
+    the frames. With ``iterations > 0`` (fields on a large stage) no index
+    is built: PatchMatch runs on the stack of sampled ``x_p`` instead, from
+    the current ``z_p``: each iteration ranks, for every searched
+    neighbourhood at once, the coherent candidates of its four grid
+    neighbours (propagation, in the frames) and one random exemplar
+    neighbourhood within radii halving from the exemplar's size down to one
+    pixel around its current ``z_p`` (random search), keeping the nearest.
     """
-    q = _features(extract(x, centers, ex.size, mode=mode), ex.mu).astype(np.float64, copy=False)
+    q = _features(_neighbourhoods(x, centers, ex.size, mode, warp), ex.mu).astype(np.float64, copy=False)
     n = len(centers)
     stale = np.ones(n, dtype=bool)
     if memo is not None and zidx is not None and tolerance > 0:
@@ -855,7 +955,12 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
         rows = rows[better]
         new[rows], rho[rows], score[rows] = cand[better], r[better], s[better]
 
-    if free.size:
+    if free.size and iterations:  # PatchMatch over the stack of sampled neighbourhoods
+        for _ in range(iterations):
+            for c in (_coherent_candidates(ex, centers, new, warp.inverse) + _random_candidates(ex, new, rng)):
+                rows = free[c[free] != new[free]]  # a candidate equal to the current z_p cannot beat it
+                rank(rows, c[rows])
+    elif free.size:
         k = 1 if pen is None else min(_OCCURRENCE_CANDIDATES, len(ex))
         found = ex.index.query(q[free].astype(np.float32), k=k)[0]
         for j in range(k):
@@ -864,7 +969,7 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
         # coherent candidates (Ashikhmin 2001): the z of the 4 grid neighbours shifted by the
         # offset to them, ranked like the index's answers
         rows = np.flatnonzero(~constrained)
-        for c in _coherent_candidates(ex, centers, new):
+        for c in _coherent_candidates(ex, centers, new, None if warp is None else warp.inverse):
             rank(rows, c[rows])
     if sel.size:
         new, rho = _m_step_constrained(ex, x, centers, mode, zidx, constraint, q, mp, sel, new, rho)
@@ -991,15 +1096,31 @@ def _m_step_frame(ex, x, centers, mode, zidx, constraint, prior, search):
     return new, sq_distances(ex.feats[new], q, weights).astype(np.float64)
 
 
-def _coherent_candidates(ex, centers, zidx):
-    """For each centre, the ``z`` of its 4 grid neighbours shifted back by the offset to them."""
+def _random_candidates(ex, zidx, rng):
+    """PatchMatch's random search (Barnes et al. 2009): per ``z``, one neighbourhood at a uniform offset within
+    each radius ``R, R/2, ..., 1`` (``R`` the exemplar's larger side) of its corner."""
+    out = []
+    radius = max(ex.view.shape[:2])
+    while radius >= 1:
+        corner = ex.corner[zidx] + rng.integers(-radius, radius + 1, size=(len(zidx), 2))
+        out.append(ex.lookup(corner, zidx))
+        radius //= 2
+    return out
+
+
+def _coherent_candidates(ex, centers, zidx, inverse=None):
+    """For each centre, the ``z`` of its 4 grid neighbours shifted back by the offset to them (with the fields'
+    ``inverse`` frames ``A^{-1}`` per centre: by that offset in the exemplar's frame, ``A^{-1} e``)."""
     shape = (len(np.unique(centers[:, 0])), len(np.unique(centers[:, 1])), 2)
     c, z = centers.reshape(shape), ex.corner[zidx].reshape(shape)
     out = []
     for axis in (0, 1):
         for step in (-1, 1):
-            corner = np.roll(z, step, axis=axis) - (np.roll(c, step, axis=axis) - c)
-            out.append(ex.lookup(corner.reshape(-1, 2), zidx))
+            e = (np.roll(c, step, axis=axis) - c).reshape(-1, 2)
+            if inverse is not None:
+                e = np.einsum("nij,nj->ni", inverse, e)
+            corner = np.roll(z, step, axis=axis).reshape(-1, 2) - e
+            out.append(ex.lookup(corner, zidx))
     return out
 
 
@@ -1017,12 +1138,15 @@ def _source_map(centers, sources, shape):
     return (sources[k] + q - centers[k]).astype(np.float64)
 
 
-def _dominant_sources(ex, centers, zidx, omega, shape, mode):
+def _dominant_sources(ex, centers, zidx, omega, shape, mode, warp=None):
     """``(H, W, 2)``: at every pixel, the exemplar pixel of the ``z_p`` of largest ``ω_p g(x - p)``.
 
     For one offset inside the neighbourhood, distinct centres give distinct pixels, so the largest
-    weight is kept by plain assignment, offset by offset.
+    weight is kept by plain assignment, offset by offset. With fields (:class:`_Warp`) the weight is
+    ``ω_p g(d)`` times the bilinear weight of the sample on the pixel.
     """
+    if warp is not None:
+        return _dominant_warped(ex, zidx, omega, shape, warp)
     w = ex.size
     corner_out = centers - w // 2  # the E-step's patch placement (PatchSum: centred at the centre)
     corner_ex = ex.corner[zidx]
@@ -1044,6 +1168,25 @@ def _dominant_sources(ex, centers, zidx, omega, shape, mode):
     return out
 
 
+def _dominant_warped(ex, zidx, omega, shape, warp):
+    """:func:`_dominant_sources` of rotated, scaled neighbourhoods: each sample ``p + A(p) d`` gives its
+    exemplar pixel ``z_p(d)`` to its four bilinear taps, weighted ``ω_p g(d)`` times the tap's weight."""
+    w = ex.size
+    corner_ex = ex.corner[zidx]
+    best = np.full(shape[0] * shape[1], -np.inf)
+    out = np.zeros((shape[0] * shape[1], 2), np.int64)
+    for k, d in enumerate(warp.d):
+        index, tap = taps(warp.centers + warp.a @ d, shape[0], shape[1], warp.wrap)
+        value = ((omega * ex.g.flat[k])[:, None] * tap).reshape(-1)
+        src = np.repeat(corner_ex + divmod(k, w), 4, axis=0)
+        order = np.argsort(value, kind="stable")  # ascending: of repeated pixels the largest is assigned last
+        index, value, src = index.reshape(-1)[order], value[order], src[order]
+        better = value > best[index]
+        best[index[better]] = value[better]
+        out[index[better]] = src[better]
+    return out.reshape(tuple(shape) + (2,))
+
+
 def _energy(rho, r, eps2, x, constraint):
     """E = sum_p (ρ_p + ε²)^{r/2} + λ E_c(x): the robust eq. 1 plus eq. 2."""
     e = float(np.sum((rho + eps2) ** (r / 2.0)))
@@ -1053,15 +1196,55 @@ def _energy(rho, r, eps2, x, constraint):
     return e
 
 
+def _nearest_label(guide, labels):
+    """``(H, W)`` index of the label vector nearest to every pixel's guide channels ``(H, W, G)``."""
+    return ((guide[..., None, :] - labels) ** 2).sum(-1).argmin(-1)
+
+
+def _histogram_groups(ex, n_colours, free, shape, guide=None, labels=None):
+    """What histogram matching matches after every E-step: ``(where, targets)`` pairs.
+
+    ``where`` selects output pixels (None: all of them) and ``targets`` holds, per colour channel, the
+    sorted values they get (exact quantile assignment, :mod:`texsynth.core.histogram`). Without labels:
+    one pair, the pixels ``free`` of constraints (None: every pixel) against every exemplar pixel that
+    may be copied. With label guides (``labels``, the label vectors scaled as the guide channels): one
+    pair per label, its output pixels against the exemplar pixels of the same label, each pixel's label
+    being the label vector nearest to its guide channels at this level (the pyramid blurs them); a
+    label the exemplar level does not show takes every exemplar pixel. Matching every output pixel to the
+    whole exemplar would shift the colours wherever the output's labels cover other proportions than
+    the exemplar's. The guide channels are given, not matched.
+    """
+    allowed = ex.valid > 0.5
+    parts = [(free, allowed)]
+    if labels is not None:
+        out_label, ex_label = _nearest_label(guide, labels), _nearest_label(ex.image[..., n_colours:], labels)
+        parts = []
+        for label in range(len(labels)):
+            where = out_label == label if free is None else (out_label == label) & free
+            own = allowed & (ex_label == label)
+            parts.append((where, own if own.any() else allowed))
+    groups = []
+    for where, source in parts:
+        count = shape[0] * shape[1] if where is None else int(where.sum())
+        if count:
+            pixels = ex.image[source]  # (pixels, C)
+            groups.append((where, [quantile_targets(np.sort(pixels[:, c]), count).astype(ex.image.dtype)
+                                   for c in range(n_colours)]))
+    return groups
+
+
 # --------------------------------------------------------------------------- one stage
-def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, guide=None):
+def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, guide=None, fields=None, labels=None):
     """Algorithm 1 (or 2) at one level with one neighbourhood size; ``guide`` ``(H, W, G)``: the output
-    guide at this level, the last ``G`` channels of ``x`` and of the exemplar (given, never synthesised)."""
+    guide at this level, the last ``G`` channels of ``x`` and of the exemplar (given, never synthesised);
+    ``labels`` ``(L, G)``: the label vectors when the guides are label maps (:func:`_histogram_groups`);
+    ``fields`` ``(theta, scale)``: the orientation and scale fields at this level (:class:`_Warp`)."""
     t0 = time.perf_counter()
     w = ex.size
     spacing = opts.grid(w)
     mode = opts.mode
     centers = grid_centers(shape, w, spacing, mode=mode)
+    warp = None if fields is None else _Warp(centers, w, *fields, shape, mode)
     stage = StageInfo(level=level, size=w, shape=tuple(shape), spacing=spacing, neighborhoods=len(centers),
                       exemplar_neighborhoods=len(ex), first=len(record["energy"]))
     nn = 0.0
@@ -1074,6 +1257,8 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
     # hard constraints (λ = ∞) are in x_p already: the M-step is the plain nearest neighbour
     searched = None if constraint is not None and np.isinf(constraint[2]) else constraint
     use_field = opts.field(searched, ex, len(centers))
+    stack = use_field and warp is not None  # fields: PatchMatch on the sampled neighbourhoods (_m_step)
+    use_field = use_field and not stack
     memo = _SearchMemo(n=len(centers), dim=None if use_field else ex.weights.shape[0])
     weight, limit = opts.occurrence, opts.copy_limit
     occurrence = None
@@ -1086,7 +1271,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
         completeness = _Completeness(ex, centers, opts.completeness, spacing)
     n = len(centers)
     carried = None
-    if use_field and x is not None:  # the last stage's field, or random neighbourhoods after a given image
+    if (use_field or stack) and x is not None:  # the last stage's field, or random neighbourhoods after a given image
         carried = rng.integers(len(ex), size=n)
         if record["stages"]:
             carried = ex.lookup(_carried_field(record, level, centers) - w // 2, carried)
@@ -1113,7 +1298,11 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
             if occurrence is not None and zidx is not None:
                 occurrence.update(ex, zidx)
                 occ = occurrence
-            return _m_step(ex, x, centers, mode, zidx, searched, memo, _RESEARCH_TOLERANCE, occ)
+            if not stack:
+                return _m_step(ex, x, centers, mode, zidx, searched, memo, _RESEARCH_TOLERANCE, occ, warp)
+            its = _FIELD_ITERATIONS_FIRST if stage.m_steps == 1 else _FIELD_ITERATIONS
+            return _m_step(ex, x, centers, mode, carried if zidx is None else zidx, searched, memo,
+                           _RESEARCH_TOLERANCE, occ, warp, its, rng)
         # searched once per stage (PatchMatch from the prior, or the index); later iterations rank
         # coherent candidates
         memo.searched += len(centers) if zidx is None else 0
@@ -1136,14 +1325,11 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
         x[..., n_colours:] = guide
     current = x if x is not None else np.zeros(tuple(shape) + (ex.image.shape[-1],), ex.image.dtype)
 
-    colours, free = None, None
+    groups = []
     if opts.histogram and searched is None and coords is None:  # no constraint, or hard ones
         # with hard constraints only the pixels nothing constrains are matched (uncrop, hole filling)
         free = None if constraint is None else constraint[0] < 1e-6
-        count = shape[0] * shape[1] if free is None else int(free.sum())
-        allowed = ex.image[ex.valid > 0.5]  # (pixels, C): the exemplar pixels that may be copied
-        colours = [quantile_targets(np.sort(allowed[:, c]), count).astype(ex.image.dtype)
-                   for c in range(n_colours)] if count else None  # the guide channels are given, not matched
+        groups = _histogram_groups(ex, n_colours, free, shape, guide, labels)
 
     def e_step(state, omega, it):
         nonlocal current
@@ -1157,13 +1343,14 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
                 vote_w = vote_w * (occurrence.copy_penalty(ex, completeness.jidx, pj) == 0)
             votes = (completeness.jidx, pj, vote_w)
         g = g0 if it == 0 and g0 is not None else ga  # bootstrap assembly, frame assembly or ex.g
-        current = _e_step(ex, zidx, centers, shape, omega[:n], mode, mu, constraint, current, g=g, votes=votes)
-        if colours is not None and free is None:  # the exemplar's colour histograms, against the E-step's wash-out
-            current = np.stack([match_to_targets(current[..., c], t, False)[0] for c, t in enumerate(colours)]
-                               + ([] if guide is None else list(np.moveaxis(guide, -1, 0))), -1)
-        elif colours is not None:
-            for c, t in enumerate(colours):
-                current[..., c][free] = match_to_targets(current[..., c][free], t, False)[0]
+        current = _e_step(ex, zidx, centers, shape, omega[:n], mode, mu, constraint, current, g=g, votes=votes,
+                          warp=warp)
+        for where, targets in groups:  # the exemplar's colour histograms, against the E-step's wash-out
+            for c, t in enumerate(targets):
+                if where is None:
+                    current[..., c] = match_to_targets(current[..., c], t, False)[0]
+                else:
+                    current[..., c][where] = match_to_targets(current[..., c][where], t, False)[0]
         if guide is not None:  # the output's guide channels are given: reset after every E-step
             current[..., n_colours:] = guide
         return current
@@ -1179,7 +1366,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
             if use_field:
                 new_pj, rho_j = completeness.search_field(ex, x, mode, pj, _FIELD_ITERATIONS_FIRST, rng)
             else:
-                new_pj, rho_j = completeness.search(ex, x, centers, mode, pj, opts.index_method, rng)
+                new_pj, rho_j = completeness.search(ex, x, centers, mode, pj, opts.index_method, rng, warp)
             changed = changed or not np.array_equal(new_pj, pj)
             pj, rho = new_pj, np.concatenate([rho, rho_j])
         nn += time.perf_counter() - t1
@@ -1212,7 +1399,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
         on_iteration=report,
     )
     # for the source-coordinate map (computed once, after the last stage): what the last E-step weighs
-    record["dominant"] = (level, ex, centers, zidx, irls_weights(rho[:n], r, eps2), tuple(shape), mode)
+    record["dominant"] = (level, ex, centers, zidx, irls_weights(rho[:n], r, eps2), tuple(shape), mode, warp)
     stage.seconds = time.perf_counter() - t0
     stage.nn_seconds = nn
     stage.searches = memo.searched
@@ -1279,15 +1466,17 @@ class _Problem:
     constraint: tuple | None = None  # (mask, target, lambda) of eq. 2
     x_init: np.ndarray | None = None
     guide: np.ndarray | None = None  # (H, W, G) output guide, scaled; ex then holds the exemplar guide's G last channels
+    fields: tuple | None = None  # (theta, scale), (H, W) each: the orientation and scale fields
+    labels: np.ndarray | None = None  # (L, G) label vectors (scaled) when the guides are label maps
 
 
 def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
                    falloff=True, method="auto", occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0,
-                   histogram_matching=False, paper=False, coarse_copy_limit=False):
+                   histogram_matching=False, paper=False, coarse_copy_limit=False, fields=False):
     """The scalar options of :func:`optimize_texture`, checked, as an :class:`_Options`."""
     return _Options(
         histogram=check_bool(histogram_matching, "histogram_matching"), paper=paper,
-        coarse_copy_limit=coarse_copy_limit,
+        coarse_copy_limit=coarse_copy_limit, fields=fields,
         r=check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True),
         mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True, maximum=_MAX_WEIGHT),
         spacing=check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True),
@@ -1360,8 +1549,9 @@ def _with_margin(problem, margin):
         constraint = (np.pad(m, pad), np.pad(t, pad + ((0, 0),), mode="edge"), lam)
     x_init = None if problem.x_init is None else np.pad(problem.x_init, pad + ((0, 0),), mode="edge")
     guide = None if problem.guide is None else np.pad(problem.guide, pad + ((0, 0),), mode="edge")
+    fields = None if problem.fields is None else tuple(np.pad(f, pad, mode="edge") for f in problem.fields)
     shape = (problem.shape[0] + margin, problem.shape[1] + margin)
-    return dataclasses.replace(problem, shape=shape, constraint=constraint, x_init=x_init, guide=guide)
+    return dataclasses.replace(problem, shape=shape, constraint=constraint, x_init=x_init, guide=guide, fields=fields)
 
 
 def _check_memory(shape, channels, opts, frames=1):
@@ -1372,7 +1562,7 @@ def _check_memory(shape, channels, opts, frames=1):
     dozen image-sized arrays remain (measured: 0.5 GiB at 1024^2); the gradient energy triples it;
     an animation keeps every frame."""
     pixels = float(shape[0]) * shape[1] * channels * 8
-    field = opts.mu == 0 and not opts.paper and opts.method in ("auto", "patchmatch")
+    field = opts.mu == 0 and not opts.paper and not opts.fields and opts.method in ("auto", "patchmatch")
     per_pixel = 24 if field else 4 / opts.spacing**2 + 12
     need = pixels * per_pixel * (3 if opts.mu > 0 else 1) + pixels * 2 * frames
     check_memory(need, tuple(shape), also={"n_frames": frames} if frames > 1 else None)
@@ -1488,6 +1678,12 @@ def _with_guides(problem, exemplar_guide, output_guide, guide_weight):
         return problem
     dtype = problem.ex.dtype
     s = np.sqrt(weight)
+    labels = np.unique(ge.reshape(-1, ge.shape[-1]), axis=0)
+    used = np.unique(go.reshape(-1, go.shape[-1]), axis=0)
+    if len(labels) > _MAX_LABELS or len(used) > _MAX_LABELS or not all((labels == u).all(-1).any() for u in used):
+        labels = None  # continuous guides (or output values the exemplar lacks): one histogram for all
+    else:
+        labels = (labels * s).astype(dtype)
     ge, go = (ge * s).astype(dtype), (go * s).astype(dtype)
     ex = np.concatenate([problem.ex, ge], axis=-1)
     constraint = problem.constraint
@@ -1495,7 +1691,22 @@ def _with_guides(problem, exemplar_guide, output_guide, guide_weight):
         m, t, lam = constraint
         constraint = (m, np.concatenate([t, go], axis=-1), lam)
     x_init = None if problem.x_init is None else np.concatenate([problem.x_init, go], axis=-1)
-    return dataclasses.replace(problem, ex=ex, constraint=constraint, x_init=x_init, guide=go)
+    return dataclasses.replace(problem, ex=ex, constraint=constraint, x_init=x_init, guide=go, labels=labels)
+
+
+def _with_fields(problem, orientation, scale):
+    """The orientation and scale fields (Zhang et al. 2003's local frames) over the output, checked."""
+    theta = as_field(orientation, problem.shape, "orientation")
+    factor = as_field(scale, problem.shape, "scale", positive=True)
+    if theta is None and factor is None:
+        return problem
+    if problem.constraint is not None and np.isfinite(problem.constraint[2]):
+        raise ValueError("orientation and scale fields do not combine with soft constraints (target with a finite "
+                         "constraint_weight: Algorithm 2 ranks plain neighbourhoods); pass "
+                         "constraint_weight=float('inf') (hard constraints) or no fields")
+    theta = np.zeros(problem.shape) if theta is None else theta
+    factor = np.ones(problem.shape) if factor is None else factor
+    return dataclasses.replace(problem, fields=(theta, factor))
 
 
 def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
@@ -1528,7 +1739,8 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
                      gradient_weight=0.0, mask=None, target=None, constraint_weight=1.0, exemplar_mask=None,
                      tileable=False, init=None, falloff=True, occurrence_weight=0.0, copy_limit="auto",
                      completeness_weight="auto", histogram_matching="auto", method="auto", exemplar_guide=None,
-                     output_guide=None, guide_weight=1.0, rng=None, progress=False, return_info=False):
+                     output_guide=None, guide_weight=1.0, orientation=None, scale=None, rng=None, progress=False,
+                     return_info=False):
     """Synthesise a texture by texture optimization (Kwatra et al. 2005).
 
     Minimises the texture energy (eq. 1) of the output over its
@@ -1672,8 +1884,13 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         flat region; restoring the histogram breaks that loop. Not applied
         with soft constraints (``target``); with hard ones
         (``constraint_weight=inf``) only the unconstrained pixels are
-        matched. The energy may then rise within a stage. ``"auto"``: True
-        (preset ``"default"``), False (``"paper"``).
+        matched. With label guides (``exemplar_guide``/``output_guide`` of
+        at most 32 distinct values, every output value also in the
+        exemplar's) each output label region is matched to the exemplar
+        pixels of the same label, so regions covering other proportions
+        than in the exemplar keep their own colours; other guides: the
+        whole exemplar. The energy may then rise within a stage.
+        ``"auto"``: True (preset ``"default"``), False (``"paper"``).
     method : {"auto", "patchmatch", "exact", "kdtree", "tsvq"}
         Nearest-neighbour backend of the M-step (:mod:`texsynth.core.search`),
         chosen per (level, size) stage. ``"patchmatch"``: PatchMatch (Barnes
@@ -1707,6 +1924,21 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         1): a guide difference of 1 costs as much as a colour difference of
         ``sqrt(guide_weight)`` in one channel, in the colours' [0, 1] units.
         0 ignores the guides (the unguided result, bit for bit).
+    orientation : None, float, array_like or callable
+        Orientation field ``theta``: the angle in radians, counter-clockwise
+        as the image is shown, by which the texture is turned at each output
+        pixel (as in :func:`~texsynth.synthesize_controlled`): a number, an
+        ``(H, W)`` array, or a callable ``orientation(rows, cols)`` of float
+        arrays of output pixel coordinates. None (default): not turned, and
+        the synthesis is exactly the one without fields.
+    scale : None, float, array_like or callable
+        Scale field ``S``: magnification of the texture at each output pixel
+        (2: elements twice as large), same forms; finite, in [0.001, 1000].
+        With either field every output neighbourhood ``x_p`` is sampled on
+        a grid turned and scaled around its centre (see Notes); the M-step
+        then uses the index (PatchMatch compares unrotated patches), and
+        ``gradient_weight > 0`` and soft constraints are refused. Fields
+        wrap with ``tileable=True``.
     rng : None, int or numpy.random.Generator
         Seeds the random initial neighbourhoods (and approximate indexes).
     progress : bool or callable
@@ -1734,7 +1966,9 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         ``occurrence_weight < 0``, ``completeness_weight < 0``, ``copy_limit`` outside
         (0, 1], one guide without the other, guides of another size than
         the exemplar / the output or with different channel counts, guide
-        values outside [0, 1], ``guide_weight < 0``.
+        values outside [0, 1], ``guide_weight < 0``, ``orientation`` or
+        ``scale`` not of the output's size, non-finite or (scale) not
+        positive, fields with ``gradient_weight > 0`` or soft constraints.
     TypeError
         Unsupported dtypes or argument types.
 
@@ -1793,6 +2027,23 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     unchanged ``z_p`` alone and neighbourhoods inside the output. Any
     option given explicitly wins over the preset.
 
+    Orientation and scale fields (Kwatra et al. have none; this follows the
+    local frames of Zhang et al. 2003 [6]_ and the lecture's "Synthesis with
+    Local Size/Vector Field Control"): the neighbourhood of centre ``p`` is
+    the output sampled bilinearly at ``p + A(p) d``, ``A = S R(theta)``, for
+    the offsets ``d`` of a ``w x w`` patch (M-step: compared with the
+    exemplar's plain neighbourhoods, fall-off ``g(d)``), and the E-step adds
+    every value ``z_p(d)`` back at ``p + A(p) d`` with the same bilinear
+    weights times ``ω_p g(d)`` (the adjoint of the sampling,
+    :func:`texsynth.core.fields.splat`), normalised by the summed weights.
+    That average is not the exact least-squares solution of the bilinear
+    sampling (it is where ``A`` is a whole-pixel shift), so the guarantee
+    that ``E`` never rises within a stage does not hold with fields. The
+    fields are read at each level at the output pixels it samples; the
+    coherent candidates of the copy limit follow the frames (the grid
+    neighbour's ``z`` shifted by ``A^{-1} e``), while the copy limit's
+    offsets stay unrotated, so it rarely fires where the field turns.
+
     Neighbourhood sizes per level: at full resolution every size not larger
     than the exemplar is used; at a level sub-sampled ``2^l`` times only
     sizes up to half the sub-sampled exemplar's smaller side, so the coarse
@@ -1822,6 +2073,11 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
        (its own weights and search); here the labels are extra channels of
        Kwatra's neighbourhood distance, with our ``guide_weight``, and we
        could not compare results with the paper's figures.
+    .. [6] J. Zhang, K. Zhou, L. Velho, B. Guo and H.-Y. Shum, "Synthesis of
+       progressively-variant textures on arbitrary surfaces", ACM TOG 22(3)
+       (SIGGRAPH 2003), pp. 295-302. :doi:`10.1145/882262.882344` (not at
+       hand; its orientation and scale control as summarised in
+       :func:`~texsynth.synthesize_controlled`).
 
     Examples
     --------
@@ -1841,12 +2097,17 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     auto = _preset(preset, problem, tolerance=tolerance, completeness_weight=completeness_weight,
                    copy_limit=copy_limit, histogram_matching=histogram_matching)
     problem = _with_guides(problem, exemplar_guide, output_guide, guide_weight)
+    problem = _with_fields(problem, orientation, scale)
     tileable = check_bool(tileable, "tileable")
     margin = 0 if tileable or preset == "paper" else problem.sizes[0] // 2
     opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,
                           max_iterations=max_iterations, gradient_weight=gradient_weight,
                           tileable=tileable or margin > 0, falloff=falloff, method=method,
-                          occurrence_weight=occurrence_weight, **auto)
+                          occurrence_weight=occurrence_weight, fields=problem.fields is not None, **auto)
+    if opts.fields and opts.mu > 0:
+        raise ValueError(f"gradient_weight={opts.mu:g} does not combine with orientation/scale fields (the "
+                         f"gradient E-step solves on the pixel grid, not in rotated frames); pass "
+                         f"gradient_weight=0 or no fields")
     shape = problem.shape
     if margin:  # a tileable canvas a little larger, cropped: no neighbourhood ends at the output's edges
         problem = _with_margin(problem, margin)
@@ -1904,8 +2165,10 @@ def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc):
                                            guided=problem.guide is not None)
                 if len(cache[key]) == 0:  # exemplar_mask leaves nothing at this level: skip it
                     continue
+                fields = None if problem.fields is None else [level_field(f, level, out_shapes[level])
+                                                              for f in problem.fields]
                 x = _run_stage(cache[key], x, out_shapes[level], level, opts, cons_pyr[level], rng, record, bar,
-                               guide=guide_pyr[level])
+                               guide=guide_pyr[level], fields=fields, labels=problem.labels)
     finally:
         bar.close()
     level, *last = record.get("dominant", (None,))

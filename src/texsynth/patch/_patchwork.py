@@ -420,16 +420,28 @@ class _Geometry:
         shape = self.grid_shape
         return (ext[0].reshape(shape), ext[1].reshape(shape)), (ext[2].reshape(shape), ext[3].reshape(shape))
 
-    def bands(self, axes=None):
-        """Slices of row blocks, each about ``_BAND_PIXELS`` output pixels."""
+    def bands(self, axes=None, blocks=None, col_blocks=None):
+        """Slices of row blocks (of the slice ``blocks``, default all), each about ``_BAND_PIXELS``
+        output pixels over ``col_blocks`` column blocks (default all)."""
         rows, cols = axes or (self.rows, self.cols)
-        per_block = rows.T * len(cols.k0) * cols.T
+        per_block = rows.T * (len(cols.k0) if col_blocks is None else col_blocks) * cols.T
         step = max(1, _BAND_PIXELS // per_block)
-        nb = len(rows.k0)
-        return [slice(b, min(nb, b + step)) for b in range(0, nb, step)]
+        first, last = (0, len(rows.k0)) if blocks is None else (blocks.start, blocks.stop)
+        return [slice(b, min(last, b + step)) for b in range(first, last, step)]
 
-    def band_weights(self, band, padded_width=None, pads=(0, 0, 0, 0), need_cells=False, axes=None, taper=True):
-        """Eq. 1 for every pixel of a band and each of its ``m*m`` neighbouring cells.
+    def tiles(self, rows, cols):
+        """``(band, cband)`` pairs of row and column blocks that cover the output ``rows x cols``
+        (slices), each about ``_BAND_PIXELS`` output pixels."""
+        r = self.rows.block_of[[rows.start, rows.stop - 1]]
+        c = self.cols.block_of[[cols.start, cols.stop - 1]]
+        group = max(1, _BAND_PIXELS // (self.rows.T * self.cols.T))  # column blocks at a time
+        cbands = [slice(b, min(int(c[1]) + 1, b + group)) for b in range(int(c[0]), int(c[1]) + 1, group)]
+        return [(band, cband) for cband in cbands
+                for band in self.bands(blocks=slice(int(r[0]), int(r[1]) + 1), col_blocks=cband.stop - cband.start)]
+
+    def band_weights(self, band, padded_width=None, pads=(0, 0, 0, 0), need_cells=False, axes=None, taper=True,
+                     cband=slice(None)):
+        """Eq. 1 for every pixel of a band (of its column blocks ``cband``) and each of its ``m*m`` neighbouring cells.
 
         Returns a list of ``(ids, w, flat)`` per neighbour: ``ids`` the cell
         index ``(By, Bx)``, ``w`` the weights relative to the nearest cell
@@ -442,13 +454,13 @@ class _Geometry:
         rows, cols = axes or (self.rows, self.cols)
         top, _, left, _ = pads
         r = rows.coords[band].astype(np.float64)  # (By, T)
-        c = cols.coords.astype(np.float64)  # (Bx, T)
+        c = cols.coords[cband].astype(np.float64)  # (Bx, T)
         nx = self.grid_shape[1]
         parts = []
         for a in range(self.m):
             J, shift_y, valid_y = (v[band] for v in rows.neighbour(a))
             for b in range(self.m):
-                K, shift_x, valid_x = cols.neighbour(b)
+                K, shift_x, valid_x = (v[cband] for v in cols.neighbour(b))
                 py = self.py[J[:, None], K[None, :]] + shift_y[:, None]  # (By, Bx), periodic image
                 px = self.px[J[:, None], K[None, :]] + shift_x[None, :]
                 dy2 = ((r[:, :, None] - py[:, None, :]) ** 2).astype(np.float32)[..., None]  # (By,T,Bx,1)
@@ -483,18 +495,24 @@ class _Geometry:
             if taper and not rows.untapered[a]:  # w_i(x) phi_i(x): smooth truncation (module notes)
                 w *= rows.windows[a][band][:, :, None, None]
             if taper and not cols.untapered[b]:
-                w *= cols.windows[b][None, None, :, :]
+                w *= cols.windows[b][cband][None, None, :, :]
             part[1] = w
         return parts, cells
 
-    def to_output(self, band, padded):
-        """Scatter a band in the padded block layout back to output rows and columns."""
+    def to_output(self, band, padded, cband=None):
+        """Scatter a band (of the column blocks ``cband``) in the padded block layout back to output
+        rows (and, with ``cband``, columns: ``(rows, cols, values)``)."""
         rows, cols = self.rows, self.cols
         sel = (rows.block_of >= band.start) & (rows.block_of < band.stop)
         by = rows.block_of[sel] - band.start
         iy = rows.index_in_block[sel]
-        out = padded[by[:, None], iy[:, None], cols.block_of[None, :], cols.index_in_block[None, :]]
-        return np.flatnonzero(sel), out
+        if cband is None:
+            return np.flatnonzero(sel), padded[by[:, None], iy[:, None], cols.block_of[None, :],
+                                               cols.index_in_block[None, :]]
+        csel = (cols.block_of >= cband.start) & (cols.block_of < cband.stop)
+        out = padded[by[:, None], iy[:, None], cols.block_of[csel][None, :] - cband.start,
+                     cols.index_in_block[csel][None, :]]
+        return np.flatnonzero(sel), np.flatnonzero(csel), out
 
 
 def _power(ratio, exponent):
@@ -595,12 +613,13 @@ def _info(geom, cells, clipped, start, matched=None, **extra):
     )
 
 
-def _check_memory(size, channels, spacing, frames=1, cells=False):
+def _check_memory(size, channels, spacing, frames=1, cells=False, pixels=True):
     """Refuse an output that cannot fit: float32 while blending, the result in float64, the cell map,
-    and about 100 bytes per grid point of the geometry."""
+    and about 100 bytes per grid point of the geometry (that alone without ``pixels``: chunks)."""
     h, w = size
-    per_pixel = frames * channels * (4 + 8) + (8 if cells else 0)
+    per_pixel = (frames * channels * (4 + 8) + (8 if cells else 0)) if pixels else 0
     check_memory(float(h) * w * per_pixel + 100.0 * (h / spacing + 2) * (w / spacing + 2), size,
+                 what="the output" if pixels else "the cells (p_i, q_i) of the whole output",
                  also={"n_frames": frames} if frames > 1 else None)
 
 
@@ -701,6 +720,7 @@ def patchwork(
     rng=None,
     return_info=False,
     progress=False,
+    chunks=None,
 ):
     """Synthesise a texture from random Voronoi patches with invisible joins (Harrison 2002, Section 3).
 
@@ -743,12 +763,22 @@ def patchwork(
     progress : bool or callable
         Report progress per band of rows (True: tqdm bar; callable receives
         ``(step, total, info)``).
+    chunks : None, int or (int, int)
+        Return a lazy ``dask.array`` rendered block by block (blocks of
+        ``chunks`` rows and columns, an int meaning square), for outputs
+        larger than memory: the points ``p_i`` and ``q_i`` are drawn once for
+        the whole output (about 100 bytes per cell), each block blends the
+        cells that reach it. Write it with :func:`texsynth.io.save_chunked`.
+        Every block equals the same pixels of the in-memory result bit for
+        bit. Not with ``return_info`` or ``progress``. Needs Dask
+        (``pip install 'texsynth[dask]'``).
 
     Returns
     -------
-    image : numpy.ndarray
+    image : numpy.ndarray or dask.array.Array
         ``(height, width)`` or ``(height, width, C)``, the exemplar's channel
-        layout; float32 for float32 input, float64 otherwise.
+        layout; float32 for float32 input, float64 otherwise; lazy with
+        ``chunks``.
     info : PatchworkInfo
         Only with ``return_info=True``.
 
@@ -828,7 +858,9 @@ def patchwork(
     f = _check_sharpness(sharpness)
     m = _check_neighbors(neighbors)
     s = _check_grid(grid_spacing, ex.shape[:2], f, m)
-    _check_memory((H, W), ex.shape[-1], s, cells=return_info)
+    if chunks is not None and (return_info or progress):
+        raise ValueError("return_info and progress are not available with chunks=; pass them as False")
+    _check_memory((H, W), ex.shape[-1], s, cells=return_info, pixels=chunks is None)
     geom = _Geometry((H, W), ex.shape[:2], s, f, m, check_bool(tileable, "tileable"), as_rng(rng))
     _warn_if_cells_leave(geom, s, ex.shape[:2], f, m)
 
@@ -837,6 +869,28 @@ def patchwork(
     a = src.reshape(-1, C).mean(0, dtype=np.float64).astype(np.float32)  # average colour a (eq. 2)
     pads = geom.pad()
     table, width = _padded_flat(src - a, pads)
+
+    def sample(n, ids, flat):
+        return table.take(flat, axis=0)
+
+    if chunks is not None:
+        from ..core.chunked import chunked_image
+
+        def window(rows, cols):  # the pixels rows x cols, tile by tile, as compose() below computes them
+            out = np.empty((rows.stop - rows.start, cols.stop - cols.start, C), np.float32)
+            for band, cband in geom.tiles(rows, cols):
+                r, c, values = geom.to_output(band, _blend(geom.band_weights(band, width, pads, cband=cband)[0],
+                                                           sample, C), cband)
+                # r and c are runs of rows and columns: the part inside the block, by slices
+                r0, r1 = max(r[0], rows.start), min(r[-1] + 1, rows.stop)
+                c0, c1 = max(c[0], cols.start), min(c[-1] + 1, cols.stop)
+                out[r0 - rows.start : r1 - rows.start, c0 - cols.start : c1 - cols.start] = (
+                    values[r0 - r[0] : r1 - r[0], c0 - c[0] : c1 - c[0]] + a)
+            return _finish(out, image.dtype, grey)[0]
+
+        # blending works in float32 on m*m weights of a tile's pixels; the block itself and its result
+        return chunked_image((H, W), None if grey else C, image.dtype, chunks, window,
+                             bytes_per_pixel=C * (4 + 2 * image.dtype.itemsize))
     out = np.empty((H, W, C), np.float32)
     sources = []  # return_info: the source-coordinate map, band by band (bookkeeping beside the blend)
 
@@ -845,7 +899,7 @@ def patchwork(
             c, w = _band_sources(parts, pads, width, ex.shape[:2])
             idx, rows = geom.to_output(band, c)
             sources.append((idx, rows, geom.to_output(band, w)[1]))
-        blended = _blend(parts, lambda n, ids, flat: table.take(flat, axis=0), C)
+        blended = _blend(parts, sample, C)
         idx, rows = geom.to_output(band, blended)
         out[idx] = rows + a  # eq. 2: ... + a
 

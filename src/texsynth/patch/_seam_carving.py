@@ -55,6 +55,7 @@ from ..core._validate import (
     restore_channels,
     with_channels,
 )
+from ..core.coordinates import compact_slots
 from ..core.seams import backtrack, cumulative_cost
 
 __all__ = ["SeamCarvingInfo", "carve_seams"]
@@ -93,6 +94,19 @@ class SeamCarvingInfo:
     transport_map : numpy.ndarray or None
         ``order="optimal"``: ``T(r, c)``, the least total energy of removing
         ``r`` rows and ``c`` columns (Section 4.3).
+    coordinates : numpy.ndarray
+        The source-coordinate map of ``docs/conventions.md``, which
+        :func:`texsynth.apply_coordinates` renders other channels of the
+        image through (a height or normal map resized like the photo).
+        Seams removed only: ``(H', W', 2)``, equal to ``source``, every
+        pixel a copy. Seams inserted: ``(H', W', K, 2)``, the input pixels
+        each output pixel averages, largest weight first (an inserted pixel
+        is the mean of two, which may themselves be inserted ones; the
+        shares of one input pixel are added up, so ``K`` stays small: 2
+        for insertion in one direction, 4 in both, in our measurements).
+    weights : numpy.ndarray or None
+        None after removal only; with inserted seams ``(H', W', K)``, the
+        weights of ``coordinates`` (sums of powers of 1/2, summing to 1).
     seconds : float
         Total wall time.
     stage_seconds : dict
@@ -109,6 +123,8 @@ class SeamCarvingInfo:
     removal_size: tuple
     order: str
     transport_map: np.ndarray | None = None
+    coordinates: np.ndarray | None = None
+    weights: np.ndarray | None = None
     seconds: float = 0.0
     stage_seconds: dict = field(default_factory=dict)
 
@@ -187,6 +203,7 @@ class _Carver:
     def __init__(self, image, bias, energy, source=None, inserted=None, removing=None):
         self.image, self.bias, self.kind = image, bias, energy
         self.source, self.inserted, self.removing = source, inserted, removing
+        self.blend = None  # (coordinates (H, W, K, 2), weights (H, W, K)) of every pixel, once insertion blends
         self.energy = self._full_energy() if energy == "backward" or callable(energy) else None
 
     @property
@@ -221,7 +238,7 @@ class _Carver:
         """A new carver without the seam; the energy is recomputed only next to it."""
         axis = _AXIS[direction]
         out = _Carver.__new__(_Carver)
-        out.kind = self.kind
+        out.kind, out.blend = self.kind, None  # (seams are removed before any is inserted)
         out.image = _remove_along(self.image, seam, axis)
         for name in ("bias", "source", "inserted", "removing"):
             value = getattr(self, name)
@@ -293,12 +310,36 @@ class _Carver:
         for name in ("bias", "source"):
             value = flip(getattr(self, name))
             setattr(out, name, None if value is None else back(spread(value, value[r_dup, c_dup])))
+        out.blend = None
+        if self.blend is not None:  # the new pixel's sources: half of each of the two it averages
+            coords, weights = (flip(a) for a in self.blend)
+            both, halves = _merged(np.concatenate([coords[r_dup, c_dup], coords[r_dup, nxt]], axis=1),
+                                   np.concatenate([weights[r_dup, c_dup], weights[r_dup, nxt]], axis=1) / 2)
+            coords = np.concatenate([coords, np.zeros_like(coords)], axis=2)  # 2K slots for every pixel
+            weights = np.concatenate([weights, np.zeros_like(weights)], axis=2)
+            out.blend = compact_slots(back(spread(coords, both)), back(spread(weights, halves)))
         inserted = flip(self.inserted)
         out.inserted = back(spread(inserted, np.ones(r_dup.size, dtype=bool)))
         removing = flip(self.removing)
         out.removing = None if removing is None else back(spread(removing, removing[r_dup, c_dup]))
         out.energy = out._full_energy() if out.kind == "backward" or callable(out.kind) else None
         return out
+
+
+def _merged(coords, weights):
+    """Blend slots ``(n, K, 2)``, ``(n, K)`` with the weights of equal coordinates summed into one slot (the
+    others 0): the two pixels an inserted one averages often share sources, and unmerged, the slots
+    would double with every insertion step."""
+    codes = coords[..., 0] * (int(coords[..., 1].max()) + 1) + coords[..., 1]
+    order = np.argsort(codes, axis=1, kind="stable")
+    codes = np.take_along_axis(codes, order, axis=1)
+    coords = np.take_along_axis(coords, order[..., None], axis=1)
+    weights = np.take_along_axis(weights, order, axis=1).copy()
+    for k in range(codes.shape[1] - 1, 0, -1):  # right to left: runs of equal codes add up in their first slot
+        same = codes[:, k] == codes[:, k - 1]
+        weights[same, k - 1] += weights[same, k]
+        weights[same, k] = 0
+    return coords, weights
 
 
 def _custom_energy(energy, image):
@@ -645,6 +686,8 @@ def carve_seams(image, size=None, *, energy="backward", order="optimal", enlarge
     # Section 4.2: enlarging, vertical seams first
     if rows_in or cols_in:
         t0 = time.perf_counter()
+        if return_info:  # every pixel a copy of weight 1 until insertion averages two
+            state.blend = (state.source[:, :, None, :].copy(), np.ones(state.shape + (1,)))
         with Progress(progress, rows_in + cols_in, "seam insertion") as bar:
             for direction, count in (("vertical", cols_in), ("horizontal", rows_in)):
                 axis = _AXIS[direction]
@@ -663,4 +706,8 @@ def carve_seams(image, size=None, *, energy="backward", order="optimal", enlarge
                            n_inserted=tuple(n_inserted), source=state.source, inserted=state.inserted,
                            removal_size=removal_size, order=order, transport_map=T, seconds=total,
                            stage_seconds=stages)
+    if state.blend is None:  # removal only: every pixel is a copy
+        info.coordinates = state.source
+    else:
+        info.coordinates, info.weights = state.blend
     return out, info

@@ -583,7 +583,7 @@ def _check_tile_set(tiles):
     return edges
 
 
-def wang_tiling(tiles, size, *, rng=None, return_info=False):
+def wang_tiling(tiles, size, *, tileable=False, rng=None, return_info=False):
     """Cover an image of any size with Wang tiles, chosen at random in scanline order (Cohen et al. 2003).
 
     Parameters
@@ -593,6 +593,14 @@ def wang_tiling(tiles, size, *, rng=None, return_info=False):
     size : int or (int, int)
         Output size ``(height, width)``; the last row and column of tiles are
         cropped if it is not a multiple of the tile.
+    tileable : bool
+        A toroidal tiling, so the output tiles seamlessly: the last column's
+        east colours are the first column's west colours, the last row's
+        south colours the first row's north colours, so the wrap-around
+        edges are ordinary tile edges of matching colours. Needs a ``size``
+        of at least two whole tiles in each direction (a multiple of the
+        tile: a cropped tile would break the wrap) and a set of two colours
+        per direction: see Notes.
     rng : None, int or numpy.random.Generator
         Random source for the choice of tiles.
     return_info : bool
@@ -609,12 +617,25 @@ def wang_tiling(tiles, size, *, rng=None, return_info=False):
     ------
     ValueError
         If the set has no tile for a (north, west) pair that the tiling
-        meets, or the output would not fit in memory.
+        meets (or, tileable, for the colours the wrap fixes), the output
+        would not fit in memory, or ``tileable`` with a size that is not a
+        multiple of at least two tiles.
     TypeError
         If ``tiles`` is not a :class:`WangTileSet`.
 
     Notes
     -----
+    *Tileable.* The last tile of a row must also match the row's first
+    tile on its east edge, the tiles of the last row the first row on
+    their south edges. With :func:`tile_edges`' set of two colours this
+    never fails: its two tiles of each (north, west) pair differ in east
+    and in south colour, so the last column and the last row have exactly
+    one tile each, and every tile has ``N + W = S + E`` (mod 2), which,
+    summed over the torus, makes the corner's four constraints agree. With
+    more colours a scanline choice can reach an east or south colour that
+    no tile of its (north, west) pair has, so ``wang_texture`` refuses
+    ``tileable`` with ``colors > 2``.
+
     Section 4 of the paper: the tiles are placed row by row, left to right;
     each is drawn uniformly among the tiles whose north colour is the south
     colour of the tile above and whose west colour is the east colour of the
@@ -646,6 +667,10 @@ def wang_tiling(tiles, size, *, rng=None, return_info=False):
     T = images.shape[1]
     channels = images.shape[3] if images.ndim == 4 else 1
     n_rows, n_cols = math.ceil(size[0] / T), math.ceil(size[1] / T)
+    if check_bool(tileable, "tileable") and (size[0] % T or size[1] % T or min(n_rows, n_cols) < 2):
+        raise ValueError(f"a tileable tiling needs a size that is a multiple of the tile ({T}) with at least two "
+                         f"tiles in each direction, got {size}; pass e.g. size="
+                         f"{(max(2, round(size[0] / T)) * T, max(2, round(size[1] / T)) * T)}")
     check_memory(float(size[0]) * size[1] * channels * images.dtype.itemsize + 8.0 * n_rows * n_cols, size, "size")
     gen = as_rng(rng)
     # Section 4: the scanline choice, each tile among those matching the tile above and the tile to the left
@@ -669,6 +694,16 @@ def wang_tiling(tiles, size, *, rng=None, return_info=False):
             if choice is None or choice.size == 0:
                 raise ValueError(f"tiles has no tile with north colour {north} and west colour {west}; a set needs "
                                  "at least one tile for every pair (wang_tiles makes two)")
+            if tileable and (r == n_rows - 1 or c == n_cols - 1):  # the wrap: match the first column and row too
+                wraps = np.ones(choice.size, bool)
+                if c == n_cols - 1:
+                    wraps &= edges[choice, EAST] == edges[indices[r, 0], WEST]
+                if r == n_rows - 1:
+                    wraps &= edges[choice, SOUTH] == edges[indices[0, c], NORTH]
+                choice = choice[wraps]
+                if choice.size == 0:
+                    raise ValueError(f"tiles has no tile for the wrap at tile ({r}, {c}) of a tileable tiling; a set "
+                                     "of two colours per direction always has one (wang_tiles(..., colors=2))")
             indices[r, c] = choice[int(draws[r, c] * choice.size)]
     t_choice = time.perf_counter() - started
     out = np.empty(size + images.shape[3:], dtype=images.dtype)
@@ -694,7 +729,7 @@ def wang_tiling(tiles, size, *, rng=None, return_info=False):
 
 
 def wang_texture(exemplar, size, *, tile=None, colors=2, overlap=None, error_tolerance=ERROR_TOLERANCE,
-                 candidates=CANDIDATES, cut=True, rng=None, return_info=False, progress=False):
+                 candidates=CANDIDATES, cut=True, tileable=False, rng=None, return_info=False, progress=False):
     """Synthesise a texture of any size with Wang tiles: a tile set, then a random tiling (Cohen et al. 2003).
 
     The same as ``wang_tiling(wang_tiles(exemplar, tile, ...), size)`` with one random source for both
@@ -708,6 +743,10 @@ def wang_texture(exemplar, size, *, tile=None, colors=2, overlap=None, error_tol
         Output size ``(height, width)``.
     tile, colors, overlap, error_tolerance, candidates, cut :
         As in :func:`wang_tiles`.
+    tileable : bool
+        Output that tiles seamlessly (a toroidal tiling, see
+        :func:`wang_tiling`): ``size`` a multiple of the tile, at least two
+        tiles each way, and ``colors=2``.
     rng : None, int or numpy.random.Generator
         Random source for the samples and the tiling.
     return_info : bool
@@ -743,11 +782,14 @@ def wang_texture(exemplar, size, *, tile=None, colors=2, overlap=None, error_tol
     """
     started = time.perf_counter()
     size = as_size(size)
+    if check_bool(tileable, "tileable") and colors != 2:
+        raise ValueError(f"tileable=True needs colors=2, got colors={colors!r}: with more colours a random tiling "
+                         "cannot always close around the torus (see wang_tiling's Notes)")
     gen = as_rng(rng)
     tiles = wang_tiles(exemplar, tile, colors=colors, overlap=overlap, error_tolerance=error_tolerance,
                        candidates=candidates, cut=cut, rng=gen, progress=progress)
     t_tiles = time.perf_counter() - started
-    out, info = wang_tiling(tiles, size, rng=gen, return_info=True)
+    out, info = wang_tiling(tiles, size, tileable=tileable, rng=gen, return_info=True)
     if not return_info:
         return out
     info.stage_seconds = {"tiles": t_tiles, **info.stage_seconds}

@@ -66,6 +66,7 @@ from ..core._validate import (
     as_image,
     as_rng,
     as_size,
+    check_bool,
     check_memory,
     check_positive_float,
     restore_channels,
@@ -258,15 +259,23 @@ def _window_counts(known, w):
     return s[w:, w:] - s[:-w, w:] - s[w:, :-w] + s[:-w, :-w]
 
 
-def _batches(rows, cols, shape, w):
+def _batches(rows, cols, shape, w, size=None):
     """Batch number of each pixel of a pass, in pass order: one more than the latest earlier pixel in its window.
 
     Pixels of one batch lie outside each other's windows, and each sees exactly
     the pixels before it in the pass order: batch by batch is one at a time.
+    ``size``: the output's, for toroidal windows (None: windows end at the border).
     """
-    latest = np.zeros(shape, np.int32)  # padded coordinates: the window of (r, c) is latest[r:r+w, c:c+w]
     t = w // 2
     out = np.empty(len(rows), np.int32)
+    if size is not None:  # toroidal: the window of (r, c) wraps
+        latest = np.zeros(size, np.int32)
+        around = np.arange(-t, t + 1)
+        for i, (r, c) in enumerate(zip(rows.tolist(), cols.tolist())):
+            out[i] = latest[np.ix_((r + around) % size[0], (c + around) % size[1])].max() + 1
+            latest[r, c] = out[i]
+        return out
+    latest = np.zeros(shape, np.int32)  # padded coordinates: the window of (r, c) is latest[r:r+w, c:c+w]
     for i, (r, c) in enumerate(zip(rows.tolist(), cols.tolist())):
         out[i] = latest[r:r + w, c:c + w].max() + 1
         latest[r + t, c + t] = out[i]
@@ -274,12 +283,15 @@ def _batches(rows, cols, shape, w):
 
 
 class _Canvas:
-    """The output padded by half a window of unknown pixels, with what the info reports per pixel."""
+    """The output padded by half a window of unknown pixels, with what the info reports per pixel.
 
-    def __init__(self, size, channels, dtype, w):
+    ``tileable``: the padding holds copies of the opposite side (written with every pixel), so every window
+    is toroidal."""
+
+    def __init__(self, size, channels, dtype, w, tileable=False):
         t = w // 2
         h, wd = size
-        self.w, self.t = w, t
+        self.w, self.t, self.size, self.tileable = w, t, (h, wd), tileable
         self.image = np.zeros((h + 2 * t, wd + 2 * t, channels), dtype)
         self.known = np.zeros((h + 2 * t, wd + 2 * t), bool)
         self.inner = (slice(t, t + h), slice(t, t + wd))
@@ -291,14 +303,22 @@ class _Canvas:
         self.layer = np.zeros((h, wd), np.int64)
 
     def set(self, rows, cols, values):
-        """Write known values at output pixels ``(rows, cols)``."""
-        self.image[rows + self.t, cols + self.t] = values
-        self.known[rows + self.t, cols + self.t] = True
+        """Write known values at output pixels ``(rows, cols)`` (and at their copies in a toroidal padding)."""
+        (h, wd) = self.size
+        shifts = [(dr, dc) for dr in (-h, 0, h) for dc in (-wd, 0, wd)] if self.tileable else [(0, 0)]
+        for dr, dc in shifts:
+            pr, pc = rows + self.t + dr, cols + self.t + dc
+            on = (pr >= 0) & (pr < self.known.shape[0]) & (pc >= 0) & (pc < self.known.shape[1])
+            self.image[pr[on], pc[on]] = values[on]
+            self.known[pr[on], pc[on]] = True
 
     def layer_pixels(self):
         """The unfilled pixels touching a filled one (8-neighbours) and their known pixels per window."""
-        known = self.known[self.inner]
-        front = ndimage.binary_dilation(known, np.ones((3, 3), bool)) & ~known
+        inner = self.known[self.inner]
+        if self.tileable:  # the padding's copies are the wrapped neighbours
+            front = ndimage.binary_dilation(self.known, np.ones((3, 3), bool))[self.inner] & ~inner
+        else:
+            front = ndimage.binary_dilation(inner, np.ones((3, 3), bool)) & ~inner
         rows, cols = np.nonzero(front)
         return rows, cols, _window_counts(self.known, self.w)[rows, cols]
 
@@ -346,7 +366,7 @@ def _grow(canvas, search, max_error, rng, bar):
         order = perm[np.argsort(-counts[perm], kind="stable")]
         rows, cols = rows[order], cols[order]
         u = rng.random(rows.size)  # the random pick of each pixel, in pass order
-        batch = _batches(rows, cols, canvas.known.shape, canvas.w)
+        batch = _batches(rows, cols, canvas.known.shape, canvas.w, canvas.size if canvas.tileable else None)
         filled = 0
         for b in range(1, int(batch.max()) + 1):
             sel = batch == b
@@ -388,7 +408,7 @@ def _check_memory(ex_shape, channels, itemsize, w, size):
 # public
 # --------------------------------------------------------------------------- #
 def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, max_error=0.3, sigma=None, seed_center=None,
-                mask=None, target=None, exemplar_mask=None, method="exact", rng=None, progress=False,
+                mask=None, target=None, exemplar_mask=None, method="exact", tileable=False, rng=None, progress=False,
                 return_info=False):
     """Efros-Leung texture synthesis by non-parametric sampling: grow the output pixel by pixel.
 
@@ -433,6 +453,12 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
         knows a whole half-window (or quadrant) compares it in a PCA basis
         keeping 99 % of its variance, the rest exactly: the IPOL
         acceleration [3]_, 1.6x faster, visually alike (see Notes).
+    tileable : bool
+        Toroidal output: a window that crosses the output's border continues
+        on the opposite side (the known pixels there count, the growth front
+        wraps), so the output tiles seamlessly. Needs an output at least
+        ``neighborhood_size`` in both directions. Default False: positions
+        outside the output are unknown, as in the paper.
     rng : None, int or numpy.random.Generator
         Seeds the seed patch, the order of each pass and the random picks.
     progress : bool or callable
@@ -461,8 +487,8 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
     Notes
     -----
     Candidate windows lie wholly inside the exemplar (and on
-    ``exemplar_mask``); the output is not periodic: window positions
-    outside it count as unknown.
+    ``exemplar_mask``); the output is not periodic unless ``tileable``:
+    window positions outside it count as unknown.
 
     *Order.* Each pass is the pseudo-code's [2]_ list: the unfilled pixels
     with a filled 8-neighbour, randomly permuted, then sorted by decreasing
@@ -530,6 +556,9 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
     channels = ex.shape[-1]
     values, known = _check_constraints(target, mask, size, channels, seed_center)
     center = _check_seed_center(seed_center, size) if known is None else None
+    if check_bool(tileable, "tileable") and min(size) < w:
+        raise ValueError(f"tileable output of size {tuple(size)} is smaller than the {w}x{w} window, which would "
+                         f"wrap onto itself; pass a size of at least {w} or a smaller neighborhood_size")
     allowed = np.ones(ex.shape[:2], bool) if exemplar_mask is None else _check_map(exemplar_mask, ex.shape[:2],
                                                                                   "exemplar_mask")
     rng = as_rng(rng)
@@ -545,7 +574,7 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
                             blocks=_blocks(w, channels), rng=rng)
         search = _Search(index, ex, centers, gauss, error_tolerance)
         t_index = time.perf_counter()
-        canvas = _Canvas(size, channels, ex.dtype, w)
+        canvas = _Canvas(size, channels, ex.dtype, w, tileable)
         if known is None:
             _plant_seed(canvas, ex, allowed, center, rng)
         else:

@@ -69,6 +69,8 @@ from ..core import search
 from ..core._progress import Progress
 from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_size, check_memory, check_positive_float,
                               check_positive_int, restore_channels, with_channels)
+from ..core.fields import as_field as _field, bilinear as _bilinear, frames as _frames, level_field as _level_field
+from ..core.fields import taps as _taps
 from ..core.neighborhood import patch_shape
 from ..core.pyramid import gaussian_pyramid
 from ..core.search import KCoherence, nearest_candidates
@@ -77,8 +79,6 @@ from ._wei_levoy import (SHAPES, _candidates, _check_fits, _check_levels, _check
 
 __all__ = ["synthesize_controlled", "find_textons", "ControlledSynthesisInfo"]
 
-# The scale factors a field may hold.
-_SCALE_RANGE = (1e-3, 1e3)
 # Precision of the matching (pyramids, queries, distances); the output is sampled from the exemplar as given.
 _WORK_DTYPE = np.float32
 
@@ -227,50 +227,8 @@ def _as_texton_mask(value, image, name):
 
 
 # --------------------------------------------------------------------------- #
-# the orientation, scale and blend fields
+# the blend field (orientation and scale fields: texsynth.core.fields)
 # --------------------------------------------------------------------------- #
-def _field(value, size, name, *, positive=False):
-    """A field over the output: None, a number, an array of the output size, or a callable (rows, cols)."""
-    if value is None:
-        return None
-    if callable(value):
-        rows, cols = np.meshgrid(np.arange(size[0], dtype=float), np.arange(size[1], dtype=float), indexing="ij")
-        try:
-            arr = np.asarray(value(rows, cols), dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"{name}(rows, cols) must return numbers for arrays of rows and columns of the "
-                             f"output; it raised {type(exc).__name__}: {exc}") from exc
-        what = f"{name}(rows, cols)"
-        try:
-            arr = np.broadcast_to(arr, size)
-        except ValueError:
-            raise ValueError(f"{what} returned shape {arr.shape}; it must return one value per output pixel, "
-                             f"shape {tuple(size)}") from None
-    elif isinstance(value, numbers.Real) and not isinstance(value, bool):
-        what = name
-        arr = np.full(size, float(value))
-    else:
-        what = name
-        arr = np.asarray(value)
-        if arr.dtype == object or arr.dtype == bool or not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
-            raise TypeError(f"{name} must be a number, an array of the output size {tuple(size)} or a callable "
-                            f"(rows, cols) -> values, got {type(value).__name__} of dtype {arr.dtype}")
-        if arr.ndim == 3 and arr.shape[-1] == 1:
-            arr = arr[..., 0]
-        if arr.shape != tuple(size):
-            raise ValueError(f"{name} has shape {arr.shape} but the output size is {tuple(size)}; pass one "
-                             f"value per output pixel, a number, or a callable (rows, cols) -> values")
-        arr = arr.astype(np.float64)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{what} contains NaN or infinite values")
-    if positive and arr.min() <= 0:
-        raise ValueError(f"{what} must be positive everywhere (a scale factor), got a minimum of {arr.min():.4g}")
-    if positive and (arr.min() < _SCALE_RANGE[0] or arr.max() > _SCALE_RANGE[1]):
-        raise ValueError(f"{what} must lie in [{_SCALE_RANGE[0]:g}, {_SCALE_RANGE[1]:g}] (a texture magnified or "
-                         f"shrunk more shows one pixel or nothing), got values in [{arr.min():.4g}, {arr.max():.4g}]")
-    return arr
-
-
 def _dithered(blend, sigma, rng):
     """The blend map as a binary target: 1 where ``blend`` exceeds smooth noise of uniform distribution.
 
@@ -284,77 +242,6 @@ def _dithered(blend, sigma, rng):
     ranks = np.empty(noise.size)
     ranks[np.argsort(noise, axis=None, kind="stable")] = np.arange(noise.size)
     return (blend > (ranks.reshape(blend.shape) + 0.5) / noise.size).astype(np.float64)
-
-
-def _level_field(arr, level, shape):
-    """The field at a pyramid level: pixel ``p`` of the level lies over output pixel ``2^level p``."""
-    step = 2**level
-    return np.ascontiguousarray(arr[::step, ::step][: shape[0], : shape[1]])
-
-
-def _frames(theta, scale):
-    """Per pixel the matrix ``A = S R(theta)`` (exemplar offsets to output offsets) and its inverse.
-
-    ``R(theta)`` turns the texture counter-clockwise as the image is shown
-    (rows down): the exemplar's rightward offset ``(0, 1)`` becomes
-    ``(-sin, cos)``, upward for 90 degrees.
-    """
-    cos, sin = np.cos(theta), np.sin(theta)
-    a = np.stack([np.stack([cos, -sin], -1), np.stack([sin, cos], -1)], -2) * scale[..., None, None]
-    inverse = np.stack([np.stack([cos, sin], -1), np.stack([-sin, cos], -1)], -2) / scale[..., None, None]
-    return a.reshape(-1, 2, 2), inverse.reshape(-1, 2, 2)
-
-
-# --------------------------------------------------------------------------- #
-# sampling
-# --------------------------------------------------------------------------- #
-def _taps(pos, h, w, wrap):
-    """Flat indices ``(..., 4)`` and weights of the bilinear taps of float (row, col) positions."""
-    if wrap:
-        r, col = pos[..., 0], pos[..., 1]
-    else:
-        r, col = np.clip(pos[..., 0], 0, h - 1), np.clip(pos[..., 1], 0, w - 1)
-    r0, c0 = np.floor(r), np.floor(col)
-    fr, fc = r - r0, col - c0
-    r0, c0 = r0.astype(np.intp), c0.astype(np.intp)
-    if wrap:
-        r0, c0 = r0 % h, c0 % w
-        r1, c1 = (r0 + 1) % h, (c0 + 1) % w
-    else:
-        r1, c1 = np.minimum(r0 + 1, h - 1), np.minimum(c0 + 1, w - 1)
-    index = np.stack([r0 * w + c0, r0 * w + c1, r1 * w + c0, r1 * w + c1], -1)
-    weight = np.stack([(1 - fr) * (1 - fc), (1 - fr) * fc, fr * (1 - fc), fr * fc], -1)
-    return index, weight
-
-
-def _bilinear(image, pos, *, wrap, done=None, spread=None):
-    """Bilinear samples of an ``(h, w, C)`` image at float (row, col) positions ``(..., 2)``.
-
-    ``wrap``: toroidal (the output); otherwise positions are clamped to the
-    image (the exemplar). With ``done`` (a flat bool per pixel) only done
-    pixels count: the value is their weighted mean and ``known`` their share
-    of the bilinear weight (0 where none is done). With ``spread`` (``(...)``
-    half-widths, in pixels) each value is the mean of the bilinear samples at
-    ``pos - spread`` and ``pos + spread`` along both axes: a tent filter that
-    also sees the pixels between the samples of a magnified footprint.
-    """
-    h, w, c = image.shape
-    if spread is None:
-        index, weight = _taps(pos, h, w, wrap)
-    else:
-        shift = spread[..., None]
-        i1, w1 = _taps(pos - shift, h, w, wrap)
-        i2, w2 = _taps(pos + shift, h, w, wrap)
-        index, weight = np.concatenate([i1, i2], -1), np.concatenate([w1, w2], -1) / 2
-    if done is not None:
-        weight = weight * done[index]
-    weight = weight.astype(image.dtype, copy=False)
-    values = image.reshape(h * w, c)[index]
-    known = weight.sum(-1)
-    value = np.einsum("...k,...kc->...c", weight, values)
-    if done is not None:
-        value /= np.maximum(known, 1e-12)[..., None]
-    return value, known
 
 
 # --------------------------------------------------------------------------- #

@@ -8,7 +8,8 @@ multi-source algorithm [2]_ *is* Wei-Levoy synthesis [1]_ with several sources:
     starts as noise drawn from the exemplar's pixels; levels are synthesised
     coarse to fine; each pixel becomes the exemplar pixel whose causal
     (L-shaped) neighbourhood at this level, joined to the full neighbourhood
-    of its parent one level coarser, is nearest. Toroidal output: it tiles.
+    of its parent one level coarser, is nearest. Toroidal output (seamless
+    when tiled with ``tileable=True``).
     ``order="independent"`` gives the order-independent variant (Wei & Levoy
     2002 [3]_): non-causal neighbourhoods, every pixel of a level updated at
     once from the previous pass, which vectorizes.
@@ -53,7 +54,7 @@ from ..core import search
 from ..core._deprecate import renamed_parameters, warn
 from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
-from ..core._validate import (as_image, as_rng, as_size, check_memory, check_positive_int, max_threads,
+from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memory, check_positive_int, max_threads,
                               restore_channels, with_channels)
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
@@ -123,15 +124,25 @@ class PixelSynthesisInfo:
     stage_seconds : dict
         Wall time per level, ``{"level 2": ..., "level 1": ..., "level 0": ...}``.
     coordinates : numpy.ndarray or None
-        ``(H, W, 2)`` int, the exemplar pixel ``(row, col)`` each output pixel
-        was copied from: the centre of its nearest neighbourhood at the finest
-        level (with ``candidates="k-coherent"``, Ashikhmin's source map
-        ``s(p)``). The source-coordinate map of ``docs/conventions.md``:
+        The source-coordinate map of ``docs/conventions.md``, which
         :func:`texsynth.apply_coordinates` renders other channels of the
-        exemplar through it. :func:`synthesize_pixels` only; None for
-        mixtures and solids, whose pixels average several sources.
-    weights : None
-        Every pixel is a copy.
+        exemplar(s) through. :func:`synthesize_pixels`: ``(H, W, 2)`` int,
+        the exemplar pixel ``(row, col)`` each output pixel was copied from,
+        the centre of its nearest neighbourhood at the finest level (with
+        ``candidates="k-coherent"``, Ashikhmin's source map ``s(p)``).
+        :func:`mix_textures` with several sources: ``(H, W, n, 2)``, the
+        ``p_i`` of eq. 1 whose weighted average ``p = sum_i a_i p_i`` each
+        output pixel is, in the pixels of source ``source_index[..., k]``. None
+        for solids (see :func:`synthesize_solid`).
+    weights : numpy.ndarray or None
+        None for copies; for a mixture ``(H, W, n)``, the weights ``a_i``
+        (normalised to sum 1 at each pixel), largest first; 0 where a
+        source does not take part.
+    source_index : numpy.ndarray or None
+        For a mixture ``(H, W, n)`` int: the source (index into
+        ``sources``) of each slot of ``coordinates``; None otherwise.
+        ``apply_coordinates`` then takes one image per source for every
+        channel.
     """
 
     energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -145,6 +156,7 @@ class PixelSynthesisInfo:
     stage_seconds: dict = field(default_factory=dict)
     coordinates: np.ndarray | None = None
     weights: np.ndarray | None = None
+    source_index: np.ndarray | None = None
 
     @property
     def search(self):
@@ -433,6 +445,7 @@ class _Run:
     seed: int  # of the index builds (their own streams: the synthesis does not depend on them)
     candidates: str = "all"  # "all" exemplar neighbourhoods, or "k-coherent"
     k: int = 1  # size of the k-coherence sets
+    tileable: bool = False  # scanline order: the last rows and columns also match the first ones
 
     def index(self, vectors, *key):
         """A search index over ``vectors``, seeded by ``key`` (level, source, which index)."""
@@ -466,7 +479,7 @@ def _check_memory(sources, shape, channels, dtype, order):
 
 
 def _synthesize(sources, shape, channels, dtype, *, levels, order, method, iterations, passes, rng, progress, desc,
-                candidates="all", k=1):
+                candidates="all", k=1, tileable=False):
     """Multi-resolution synthesis minimising eq. 1 at every pixel, coarse to fine."""
     _check_memory(sources, shape, channels, dtype, order)
     start = time.perf_counter()
@@ -491,11 +504,11 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
     info = PixelSynthesisInfo(order=order, method=used, candidates=candidates)
     # Index builds (PCA subsample, k-means) draw from their own streams, so the
     # synthesis stream does not depend on the search backend or on `iterations`.
-    run = _Run(levels, order, used, profile, iterations, passes, int(rng.integers(2**62)), candidates, k)
+    run = _Run(levels, order, used, profile, iterations, passes, int(rng.integers(2**62)), candidates, k, tileable)
     energies, steps = [], []
     cells = None  # k-coherent: the grid cell each output pixel of the last level came from
-    # one 2-D source: the candidate each pixel of the finest level copies (its source-coordinate map)
-    picked = np.zeros(tuple(shape), np.intp) if len(sources) == 1 and spatial_dims == 2 else None
+    # 2-D output: each source's candidate p_i at every pixel of the finest level (the source-coordinate map)
+    picked = np.zeros((len(sources),) + tuple(shape), np.intp) if spatial_dims == 2 else None
     with Progress(progress, total, desc) as bar:
         for level in range(levels - 1, -1, -1):
             t_level = time.perf_counter()
@@ -519,8 +532,14 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
     info.energy, info.iterations = np.asarray(energies), np.asarray(steps)
     if cells is not None:
         info.coordinates = tables[0][0][cells]
-    elif picked is not None:
-        info.coordinates = tables[0][0][picked].astype(np.int64)
+    elif picked is not None and len(sources) == 1:
+        info.coordinates = tables[0][0][picked[0]].astype(np.int64)
+    elif picked is not None:  # p = sum_i a_i p_i: source i's p_i with weight a_i, largest first
+        coords = np.stack([tables[0][i][picked[i]] for i in range(len(sources))], axis=2).astype(np.int64)
+        order = np.argsort(-np.stack(weights[0], axis=2), axis=2, kind="stable")
+        info.weights = np.take_along_axis(np.stack(weights[0], axis=2), order, axis=2)
+        info.coordinates = np.take_along_axis(coords, order[..., None], axis=2)
+        info.source_index = order
     info.stage = np.arange(levels)
     info.seconds = time.perf_counter() - start
     return out_pyr[0], info
@@ -547,13 +566,15 @@ class _LineTable:
     index: PatchIndex | None = None  # [fixed, left]
     index_p: PatchIndex | None = None  # [fixed, left, pixel], for eq. 1 with several sources
     q: np.ndarray | None = None  # approximate search: this line's fixed parts
+    i: int = 0  # the source's position in the list
 
 
 def _scanline_level(lv, run, bar, picked=None):
     """Wei & Levoy 2000, Table 1: visit pixels in scanline order, causal neighbourhoods.
 
-    With one source, ``picked`` (an ``(H, W)`` int array, or None) receives the
-    candidate each pixel copies."""
+    ``picked`` (an ``(n_sources, H, W)`` int array, or None) receives the
+    candidate ``p_i`` of every source at each pixel (the one it copies, or
+    the ones eq. 1 averages)."""
     height, width, channels = lv.out.shape
     exact = run.method == "exact"
     tabs = []
@@ -563,7 +584,8 @@ def _scanline_level(lv, run, bar, picked=None):
         lefts = extract(src.pyramid[lv.level], cen, src.size, mode="valid")[:, left].reshape(len(cen), -1)
         pixels = np.ascontiguousarray(src.pyramid[lv.level][cen[:, 0], cen[:, 1]])
         nw = src.size[1]
-        t = _LineTable(src, a, above, pixels, (np.arange(width)[:, None] - nw // 2 + np.arange(nw // 2)[None, :]) % width)
+        t = _LineTable(src, a, above, pixels, (np.arange(width)[:, None] - nw // 2 + np.arange(nw // 2)[None, :]) % width,
+                       i=i)
         if exact:
             t.exact = SequentialExact(fixed, lefts, pixels)
         else:
@@ -573,10 +595,13 @@ def _scanline_level(lv, run, bar, picked=None):
                 t.index_p = run.index(np.concatenate([full, pixels], axis=1), lv.level, i, 1)
         tabs.append(t)
     single = len(tabs) == 1
+    wrap = _WrapSearch(lv, run, tabs[0]) if run.tileable and single else None
     energy = 0.0
     steps = 0
     line_centers = np.stack([np.zeros(width, np.intp), np.arange(width)], 1)
     for r in range(height):
+        # tileable: the columns [start, stop) whose causal window does not wrap; the others search by _WrapSearch
+        start, stop = (0, width) if wrap is None else wrap.unwrapped(r)
         line_centers[:, 0] = r
         row = lv.out[r]
         active = [t for t in tabs if t.weight[r].any()]
@@ -587,34 +612,41 @@ def _scanline_level(lv, run, bar, picked=None):
                 t.exact.start(q)
             else:
                 t.q = q
+        for j in range(start):
+            energy += wrap.solve(row, r, j, picked)
+            steps += 1
         if single and exact:  # Wei & Levoy 2000: p = the exemplar pixel of nearest neighbourhood
-            energy += _scanline_single(row, tabs[0], None if picked is None else picked[r])
-            steps += width
+            energy += _scanline_single(row, tabs[0], None if picked is None else picked[0, r], start, stop)
+            steps += stop - start
         else:
-            for j in range(width):
+            for j in range(start, stop) if single else range(width):
                 if single:
                     t = tabs[0]
                     k, d_k = _query_one(t.index, np.concatenate([t.q[j], row[t.cols[j]].ravel()]))
                     row[j] = t.pixels[k]
                     if picked is not None:
-                        picked[r, j] = k
+                        picked[0, r, j] = k
                     energy += d_k
                     steps += 1
                     continue
-                e, n_iter = _solve_pixel(row, j, r, active, run.iterations, exact)
+                e, n_iter = _solve_pixel(row, j, r, active, run.iterations, exact,
+                                         None if picked is None else picked[:, r, j])
                 energy += e
                 steps += n_iter
+        for j in range(stop, width):
+            energy += wrap.solve(row, r, j, picked)
+            steps += 1
         bar.advance({"level": lv.level, "row": r})
     n = height * width
     return energy / n, steps / n
 
 
-def _scanline_single(row, t, picked=None):
-    """One scanline of single-source exact synthesis: the per-pixel loop kept minimal (``picked``: the
-    line's chosen candidates, or None)."""
+def _scanline_single(row, t, picked=None, start=0, stop=None):
+    """Columns ``start`` to ``stop`` of one scanline of single-source exact synthesis: the per-pixel loop kept
+    minimal (``picked``: the line's chosen candidates, or None)."""
     exact, pixels, cols = t.exact, t.pixels, t.cols
     energy = 0.0
-    for j in range(len(row)):
+    for j in range(start, len(row) if stop is None else stop):
         d = exact.distances(j, row[cols[j]].ravel())  # ||N(p) - N(p_1)||^2 for every candidate p_1
         k = d.argmin()
         row[j] = pixels[k]
@@ -624,13 +656,79 @@ def _scanline_single(row, t, picked=None):
     return energy
 
 
+class _WrapSearch:
+    """Scanline order, ``tileable=True``: where a causal window wraps, the pixels synthesised before it.
+
+    Wei & Levoy's output is toroidal, but a causal neighbourhood that wraps
+    compares the wrong pixels for a seamless tiling: the first rows and
+    columns read the not yet synthesised end of the level (noise) above and
+    left of them, and the last ones never see the first rows and columns
+    they meet across the wrap. Both show as a seam when the output is tiled.
+    Here a pixel whose window wraps (the first and last ``h//2`` rows and
+    ``w//2`` columns of each level) compares the window pixels synthesised
+    before it in scanline order, found toroidally (so the last rows match
+    the first rows below them), and the parent's neighbourhood. The
+    coarsest level, which has no parent, keeps the noise of its causal
+    window too: it is the synthesis's only source of randomness (without
+    it the first pixel would have nothing to match). Exact search with the
+    other terms left out, ``||v_S - q_S||^2 = ||v_S||^2 - 2 v.q_S +
+    ||q_S||^2``: one product with the candidates per pixel, for a few
+    percent of the pixels. (This rule is texsynth's; Wei & Levoy's papers
+    were not at hand to say how they treat the wrap.)
+    """
+
+    def __init__(self, lv, run, table):
+        src = table.src
+        self.lv, self.table, self.src = lv, table, src
+        _, _, self.full = _masks(src.size, src.shape)
+        self.vectors = _exemplar_vectors(src, lv.level, run.levels, lv.centers[0], self.full)
+        self.squares = self.vectors**2
+        self.channels = lv.out.shape[-1]
+        self.parent_dims = self.vectors.shape[1] - int(self.full.sum()) * self.channels
+        h, w = src.size
+        self.offsets = np.mgrid[-(h // 2):h - h // 2, -(w // 2):w - w // 2]  # (2, h, w) window offsets
+        # the coarsest level compares its causal window's noise as Wei & Levoy do; finer levels have the parent
+        self.always = causal_mask(src.size) & self.full if lv.parent is None else np.zeros_like(self.full)
+        self.kept = {}  # window pixels compared -> (selected dimensions, ||v_S||^2 of every candidate)
+
+    def unwrapped(self, r):
+        """The columns ``[start, stop)`` of row ``r`` whose causal window does not wrap (none in the first and
+        last rows)."""
+        (h, w), (height, width) = self.src.size, self.lv.out.shape[:2]
+        if r < h // 2 or r + h // 2 >= height:
+            return width, width
+        return w // 2, width - w // 2
+
+    def solve(self, row, r, j, picked):
+        """Pixel ``(r, j)`` becomes the candidate nearest over its synthesised neighbours; returns the distance."""
+        height, width = self.lv.out.shape[:2]
+        rows = (r + self.offsets[0]) % height
+        cols = (j + self.offsets[1]) % width
+        known = ((rows * width + cols < r * width + j) & self.full) | self.always  # visited before (r, j)
+        key = known.tobytes()
+        if key not in self.kept:
+            sel = np.concatenate([np.repeat(known[self.full], self.channels), np.ones(self.parent_dims, bool)])
+            self.kept[key] = (sel, self.squares @ sel)
+        sel, norms = self.kept[key]
+        src = self.src
+        q = _vectors(self.lv.out, self.lv.parent, np.array([[r, j]]), src.size, src.parent_size, self.full, "wrap",
+                     src.parent_mask)[0] * sel
+        d = norms - 2 * (self.vectors @ q) + q @ q
+        k = int(d.argmin())
+        row[j] = self.table.pixels[k]
+        if picked is not None:
+            picked[0, r, j] = k
+        return max(float(d[k]), 0.0)
+
+
 def _query_one(index, vector):
     idx, d2 = index.query(vector[None], k=1)
     return idx[0, 0], d2[0, 0]
 
 
-def _solve_pixel(row, j, r, active, iterations, exact):
-    """Eq. 1 at one pixel; writes p into ``row[j]``, returns (E, iterations).
+def _solve_pixel(row, j, r, active, iterations, exact, picks=None):
+    """Eq. 1 at one pixel; writes p into ``row[j]`` (and each source's ``p_i`` into ``picks``, if given),
+    returns (E, iterations).
 
     With one source of positive weight, eq. 1 is minimised directly (Wei
     2002: choose the p_i of nearest neighbourhood and set p = p_i, which is
@@ -655,6 +753,8 @@ def _solve_pixel(row, j, r, active, iterations, exact):
         else:
             k, nd = _query_one(t.index, x)
         row[j] = t.pixels[k]
+        if picks is not None:
+            picks[t.i] = k
         return nd, 1
     n_iter = 0
     # Wei's alternation needs a starting p; start from each source's own
@@ -664,7 +764,7 @@ def _solve_pixel(row, j, r, active, iterations, exact):
     for start in range(len(terms)):
         t, _, x = terms[start]
         p = t.pixels[x.argmin()] if exact else t.pixels[_query_one(t.index, x)[0]]
-        energy, n = np.inf, 0
+        energy, n, ks = np.inf, 0, None
         for _ in range(iterations):
             # fix p, choose each p_i minimising ||p - p_i||^2 + ||N_i(p) - N_i(p_i)||^2 (one term of eq. 1)
             chosen = []
@@ -680,11 +780,14 @@ def _solve_pixel(row, j, r, active, iterations, exact):
             n += 1
             if not e_new < energy * (1.0 - _STOP_TOLERANCE):  # E stopped falling
                 break
-            p, energy = p_new, e_new
+            p, energy, ks = p_new, e_new, [k for k, _ in chosen]
         n_iter += n
         if best is None or energy < best[1]:
-            best = (p, energy)
+            best = (p, energy, ks)
     row[j] = best[0]
+    if picks is not None:
+        for (t, _, _), k in zip(terms, best[2]):
+            picks[t.i] = k
     return best[1], n_iter
 
 
@@ -807,8 +910,8 @@ class _PassTable:
 def _independent_level(lv, run, bar, picked=None):
     """Wei & Levoy 2002: non-causal neighbourhoods, all pixels updated at once per pass.
 
-    With one source, ``picked`` (an ``(H, W)`` int array, or None) receives the
-    candidate each pixel copies in the last pass.
+    ``picked`` (an ``(n_sources, H, W)`` int array, or None) receives each
+    source's candidate ``p_i`` at every pixel in the last pass.
 
     Every pass reads the previous pass's output (Jacobi order), so the
     search for all pixels is one batched query per source. A Jacobi update
@@ -850,12 +953,12 @@ def _independent_level(lv, run, bar, picked=None):
         for t in tabs:
             mask = np.zeros(t.src.size, bool) if parent_only else t.full
             queries.append(_output_vectors(out, parent, t.src, mask))
-        chosen = [] if picked is not None and len(tabs) == 1 else None
+        chosen = [] if picked is not None else None
         p, energy, n_iter = _solve_all(flat, tabs, a_flat, queries, parent_only, 1 if parent_only else run.iterations,
                                        threads, chosen)
         flat[:] = p
         if chosen:
-            picked.reshape(-1)[:] = chosen[0]
+            picked.reshape(len(tabs), -1)[:] = chosen
         bar.advance({"level": lv.level, "parent_only": parent_only})
     return energy.mean(), n_iter.mean()
 
@@ -921,7 +1024,7 @@ def _for_each_source(fn, n, threads):
 def _solve_all(flat, tabs, a_flat, queries, parent_only, iterations, threads=1, chosen=None):
     """Eq. 1 at every pixel at once (vectorized over pixels), as :func:`_solve_pixel`.
 
-    ``chosen``, a list, receives each source's candidate per pixel (the direct solutions)."""
+    ``chosen``, a list, receives each source's candidate ``p_i`` per pixel: the ones ``p`` averages."""
     n = len(flat)
     everything = np.arange(n)
     n_on = sum((a > 0).astype(int) for a in a_flat)
@@ -941,8 +1044,9 @@ def _solve_all(flat, tabs, a_flat, queries, parent_only, iterations, threads=1, 
     # One source at a pixel: that is the minimum of eq. 1. (The parent-only
     # first pass stops here everywhere: it is only a starting guess.)
     p, energy = _average_sel(tabs, a_flat, ks, nds, everything)
+    final = [k.copy() for k in ks]  # the p_i of each pixel's p (the starts below read ks)
     if chosen is not None:
-        chosen.extend(ks)
+        chosen.extend(final)
     n_iter = np.ones(n)
     multi = np.flatnonzero(n_on > 1)
     if parent_only or multi.size == 0:
@@ -991,6 +1095,8 @@ def _solve_all(flat, tabs, a_flat, queries, parent_only, iterations, threads=1, 
                 break
         win = cur_e < energy[sel]
         p[sel[win]], energy[sel[win]] = cur_p[win], cur_e[win]
+        for i in range(len(tabs)):
+            final[i][sel[win]] = cur_k[i][win]
     return p, energy, n_iter
 
 
@@ -1062,6 +1168,7 @@ def synthesize_pixels(
     k=1,
     method="auto",
     passes=2,
+    tileable=False,
     rng=None,
     progress=False,
     return_info=False,
@@ -1125,6 +1232,19 @@ def synthesize_pixels(
         ``"kdtree"`` for large ones (profiles ``"scanline"`` and ``"pixels"``).
     passes : int
         ``order="independent"`` only: passes over each level (default 2).
+    tileable : bool
+        Make the output tile seamlessly. The output is toroidal either way
+        (windows wrap), but in scanline order a causal window that wraps
+        reads noise above and left of the first rows and columns, and the
+        last ones never see the first rows and columns they meet across the
+        wrap, so the tiled output shows a seam (seam visibility 1.5-3.5 on
+        pebbles, where 1 is no seam). With True, the pixels whose window
+        wraps (the first and last ``h//2`` rows and ``w//2`` columns of each
+        level) compare the wrapped pixels synthesised before them instead,
+        by exact search (0.6-1.7, one outlier 2.7 in ten seeds; see
+        ``docs/methods/multisource.md``). In independent order every
+        neighbourhood is whole and the output tiles either way (about 1.0);
+        True changes nothing there. Not with ``candidates="k-coherent"``.
     rng : None, int or numpy.random.Generator
         Seeds the initial noise. Same seed, same output.
     progress : bool or callable
@@ -1135,7 +1255,8 @@ def synthesize_pixels(
     Returns
     -------
     image : numpy.ndarray
-        ``size`` with the exemplar's channel layout; tileable.
+        ``size`` with the exemplar's channel layout; toroidal (seamless
+        when tiled with ``tileable=True`` or in independent order).
     info : PixelSynthesisInfo
         Only with ``return_info=True``.
 
@@ -1186,6 +1307,10 @@ def synthesize_pixels(
     if candidates == "k-coherent" and order != "scanline":
         raise ValueError("candidates='k-coherent' is implemented in order='scanline' only; pass order='scanline' "
                          "or candidates='all'")
+    tileable = check_bool(tileable, "tileable")
+    if tileable and candidates == "k-coherent":
+        raise ValueError("tileable=True is not implemented with candidates='k-coherent'; pass candidates='all' "
+                         "(or order='independent', which tiles)")
     rng = as_rng(rng)
     sources, channels, dtype, grey = _prepare(
         [exemplar], ["exemplar"], [neighborhood_size], [parent_size], [None], levels, "neighborhood_size",
@@ -1195,6 +1320,7 @@ def synthesize_pixels(
     out, info = _synthesize(
         sources, size, channels, dtype, levels=levels, order=order, method=method, iterations=1,
         passes=passes, rng=rng, progress=progress, desc="Wei-Levoy", candidates=candidates, k=k,
+        tileable=tileable and order == "scanline",
     )
     out = restore_channels(out, grey)
     return (out, info) if return_info else out
@@ -1465,6 +1591,17 @@ def synthesize_solid(
     are updated in the order-independent way (Wei & Levoy 2002: non-causal
     neighbourhoods, all voxels per pass), which vectorizes over the volume.
     The output pyramid is a 3-D Gaussian pyramid of noise.
+
+    No source-coordinate map (``info.coordinates`` is None): each voxel is
+    the average of one pixel of every view (eq. 1), so a map would be
+    ``(D, H, W, 3, 2)`` plus the view of each slot, 48 bytes a voxel (800
+    MB for 256^3), and it would render only channels that mean the same in
+    every view. A tangent-space normal map is expressed in its view's own
+    plane, and the three views' planes differ, so averaging their normals
+    gives no normal of the solid; a height map is a height above one
+    view's plane, not a property of a voxel. Colour and roughness alone
+    would survive, and for them one can synthesise a solid of those
+    channels stacked with the colour (``views`` with more channels).
 
     Speed: a view given once for several axes builds each search index once;
     the alternation of eq. 1 starts from the previous pass's voxel (the

@@ -507,12 +507,14 @@ class _GridNoise:
     Equal to ``_noise_points`` at the grid's coordinates up to rounding.
     """
 
-    def __init__(self, size, spacing, origin, perm, period, fade, dtype):
+    def __init__(self, size, spacing, origin, perm, period, fade, dtype, x_start=0, y_start=0):
         self.size, self.ndim, self.perm, self.dtype = tuple(size), len(size), perm, dtype
+        self.y0 = y_start  # the first row's index in a larger grid (2-D); fill and blocks take those indices
         period = period or (None,) * self.ndim
         self.axes = []
         for a, n in enumerate(self.size[::-1]):
-            coords = origin[a] + spacing * np.arange(n, dtype=np.float64)
+            start = {0: x_start, 1: y_start}.get(a, 0) if self.ndim == 2 else 0  # a window of a larger grid
+            coords = origin[a] + spacing * np.arange(start, start + n, dtype=np.float64)
             self.axes.append(_Axis(coords, fade, dtype, period[a]))
         ax = self.axes[0]
         width = self.size[-1]
@@ -532,18 +534,22 @@ class _GridNoise:
         self.multi_rows = [r for r in runs if r[1] - r[0] >= 2]
         self.single_rows = [r for r in runs if r[1] - r[0] == 1]  # one-row products (gemv) in 3-D
 
-    def blocks(self):
-        """Ranges ``[a, b)`` of the first array axis whose lattice rows (slices) hold about
-        ``_BLOCK`` points each (a block of samples finer than the lattice touches up to twice
-        as many lattice rows as it has rows)."""
+    def blocks(self, first=None, last=None):
+        """Ranges ``[a, b)`` within ``[first, last)`` (default: all) of the first array axis whose
+        lattice rows (slices) hold about ``_BLOCK`` points each (a block of samples finer than the
+        lattice touches up to twice as many lattice rows as it has rows). Any cut gives the same
+        values: the products round alike whatever their number of rows (two at least)."""
         n, inner = self.size[0], math.prod(self.size[1:])
+        first = self.y0 if first is None else first
+        last = self.y0 + n if last is None else last
         per_row = min(2.0, max(1.0, self.axes[-1].n_lattice / n))
         # one-column products (inner == 1) are gemv along the samples: never cut them
         step = n if inner == 1 else max(1, int(_BLOCK / (inner * per_row)))
-        return [(a, min(a + step, n)) for a in range(0, n, step)]
+        return [(a, min(a + step, last)) for a in range(first, last, step)]
 
     def fill(self, out, a, b):
         """Write the noise of rows (2-D) or slices (3-D) ``[a, b)`` into ``out`` (C-contiguous)."""
+        a, b = a - self.y0, b - self.y0
         if self.ndim == 2:
             self._fill_2d(out, a, b)
         else:
@@ -592,7 +598,9 @@ class _GridNoise:
         out2 = out.reshape(b - a, width)
         fy = ay.factors
         for (_, start, stop, lo, hi), p in zip(pieces, np.searchsorted(lattice, cells).tolist()):
-            if lo == start and hi == stop:  # (samples x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1]
+            if hi - lo == 1:  # a one-sample run: as two rows (gemm), which round alike at any width (gemv does not)
+                out2[start - a : stop - a] = np.matmul(fy[[lo, lo]], matrix[2 * p : 2 * p + 4])[:1]
+            elif lo == start and hi == stop:  # (samples x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1]
                 np.matmul(fy[lo:hi], matrix[2 * p : 2 * p + 4], out=out2[start - a : stop - a])
             else:
                 out2[start - a : stop - a] = np.matmul(fy[lo:hi], matrix[2 * p : 2 * p + 4])[start - lo : stop - lo]
@@ -688,15 +696,43 @@ class _GridNoise:
             yield group, ylat, np.searchsorted(ylat, cells).tolist()
 
 
-def _noise_grid(size, spacing, origin, perm, period, fade, dtype, out=None):
-    """Perlin noise on a grid (see :class:`_GridNoise`), into ``out`` if given."""
-    grid = _GridNoise(size, spacing, origin, perm, period, fade, dtype)
-    if out is None:
-        out = np.empty(size, dtype=dtype)
+def _window_columns(size, window):
+    """The columns to compute for ``window`` (2-D) and which of them it keeps: two at least, since
+    products over one column (gemv) round differently from the whole grid's."""
+    if window is None:
+        return None, slice(None)
+    c0, c1 = window[1].start, window[1].stop
+    if c1 - c0 > 1 or size[1] == 1:
+        return (c0, c1), slice(None)
+    return ((c0, c0 + 2), slice(0, 1)) if c0 + 2 <= size[1] else ((c0 - 1, c1), slice(1, 2))
+
+
+def _window_grid(size, spacing, origin, perm, period, fade, dtype, window):
+    """The noise of the grid ``size``, or of its ``window`` (rows, cols slices; 2-D): the columns
+    :func:`_window_columns` gives, and the window's rows widened to whole lattice runs (a run is at
+    most ``1 / spacing + 1`` rows), so that every product has the rows it has in the whole grid."""
+    columns, _ = _window_columns(size, window)
+    if columns is None:
+        return _GridNoise(size, spacing, origin, perm, period, fade, dtype)
+    reach = 2 + (size[0] if not spacing > 1 / size[0] else math.ceil(1 / spacing))
+    y0, y1 = max(0, window[0].start - reach), min(size[0], window[0].stop + reach)
+    return _GridNoise((y1 - y0, columns[1] - columns[0]), spacing, origin, perm, period, fade, dtype, columns[0], y0)
+
+
+def _window_rows(size, window):
+    """``(first, last)``: the rows of ``window`` (all rows without one)."""
+    return (0, size[0]) if window is None else (window[0].start, window[0].stop)
+
+
+def _noise_grid(size, spacing, origin, perm, period, fade, dtype, window=None):
+    """Perlin noise on a grid (see :class:`_GridNoise`), or on the ``window`` of it (see :func:`_window_grid`)."""
+    grid = _window_grid(size, spacing, origin, perm, period, fade, dtype, window)
+    first, last = _window_rows(size, window)
+    out = np.empty((last - first,) + grid.size[1:], dtype=dtype)
     with _single_thread_blas():
-        for a, b in grid.blocks():
-            grid.fill(out[a:b], a, b)
-    return out
+        for a, b in grid.blocks(first, last):
+            grid.fill(out[a - first : b - first], a, b)
+    return out[:, _window_columns(size, window)[1]]
 
 
 # --------------------------------------------------------------------------
@@ -704,9 +740,23 @@ def _noise_grid(size, spacing, origin, perm, period, fade, dtype, out=None):
 # --------------------------------------------------------------------------
 
 
+def _no_chunks(chunks):
+    if chunks is not None:
+        raise ValueError("chunks= renders a grid (size=) block by block; with points= pass chunks=None")
+
+
+def _chunked(size, chunks, dtype, render, copies, channels=None):
+    """``chunks=``: the lazy image whose blocks are ``render(rows, cols)`` (2-D grids only)."""
+    if len(size) != 2:
+        raise ValueError(f"chunks= renders 2-D images block by block; size={size} is a volume, pass chunks=None")
+    from ..core.chunked import chunked_image
+
+    return chunked_image(size, channels, dtype, chunks, render, bytes_per_pixel=copies * dtype.itemsize)
+
+
 @renamed_parameters(shape="size")
 def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fade="quintic",
-           rng=None, dtype=np.float64):
+           rng=None, dtype=np.float64, chunks=None):
     """Perlin gradient noise on a grid (image or volume) or at arbitrary points.
 
     Parameters
@@ -741,13 +791,20 @@ def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fad
     dtype : numpy.float32 or numpy.float64, default float64
         Precision of the computation and result; float32 is about twice as
         fast on large grids.
+    chunks : None, int or (int, int)
+        2-D grids only: return a lazy ``dask.array`` of ``size`` rendered
+        block by block (blocks of ``chunks`` rows and columns, an int meaning
+        square), for outputs larger than memory; write it with
+        :func:`texsynth.io.save_chunked`. Every block equals the same pixels
+        of the in-memory result bit for bit. Needs Dask
+        (``pip install 'texsynth[dask]'``).
 
     Returns
     -------
-    numpy.ndarray
+    numpy.ndarray or dask.array.Array
         ``size`` (grid) or ``(N,)`` (points), values in [-1, 1] (standard
         deviation about 0.31 in 2-D, 0.27 in 3-D), exactly 0 at lattice
-        points.
+        points; a ``dask.array`` with ``chunks``.
 
     Raises
     ------
@@ -811,6 +868,7 @@ def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fad
         raise ValueError("give exactly one of size (a grid) or points (lattice coordinates), "
                          f"got size={size!r} and points={'None' if points is None else 'an array'}")
     if points is not None:
+        _no_chunks(chunks)
         pts = _check_points(points)
         ndim = pts.shape[1]
         per = _check_period(period, ndim)
@@ -825,6 +883,9 @@ def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fad
     spacing = _pixel_spacing(size, frequency)
     _check_extent(_grid_extent(size, spacing, origin), f"frequency={frequency:g} and offset={offset!r}",
                   "pass a smaller frequency or offset")
-    _check_fits(size, dt.itemsize, 1)
     perm = _permutation(rng)
+    if chunks is not None:
+        return _chunked(size, chunks, dt, lambda rows, cols: _noise_grid(size, spacing, origin, perm, per, fade_fn,
+                                                                         dt, (rows, cols)), 2)
+    _check_fits(size, dt.itemsize, 1)
     return _noise_grid(size, spacing, origin, perm, per, fade_fn, dt)

@@ -53,11 +53,15 @@ from ._noise import (
     _check_size,
     _finite_real,
     _grid_extent,
-    _GridNoise,
+    _chunked,
+    _no_chunks,
     _noise_points,
     _permutation,
     _pixel_spacing,
     _single_thread_blas,
+    _window_columns,
+    _window_grid,
+    _window_rows,
 )
 
 __all__ = ["turbulence", "fbm", "marble", "wood", "apply_colormap", "MARBLE_COLORS", "WOOD_COLORS"]
@@ -133,8 +137,13 @@ def _octave_plan(octaves, lacunarity, gain, per, origin, extent, dtype, frequenc
 
 
 def _octave_sum(size, points, *, frequency, octaves, lacunarity, gain, absolute, period, offset,
-                fade, rng, dtype):
-    """sum_{i < octaves} gain^i * [abs] noise(lacunarity^i x + shift_i)."""
+                fade, rng, dtype, chunks=None, finish=None, copies=1, channels=None):
+    """sum_{i < octaves} gain^i * [abs] noise(lacunarity^i x + shift_i).
+
+    With ``chunks``, a lazy image (:func:`~texsynth.core.chunked.chunked_image`) whose block is
+    ``finish(total, rows, cols)`` of the block's sum (``total`` itself without ``finish``);
+    ``copies`` and ``channels`` describe what ``finish`` makes of a block.
+    """
     fade_fn = _check_fade(fade)
     dt = _check_dtype(dtype)
     lacunarity = _check_lacunarity(lacunarity)
@@ -142,6 +151,7 @@ def _octave_sum(size, points, *, frequency, octaves, lacunarity, gain, absolute,
     if (size is None) == (points is None):
         raise ValueError("give exactly one of size (a grid) or points (lattice coordinates)")
     if points is not None:
+        _no_chunks(chunks)
         pts = _check_points(points)
         ndim = pts.shape[1]
     else:
@@ -161,7 +171,8 @@ def _octave_sum(size, points, *, frequency, octaves, lacunarity, gain, absolute,
                             lambda scale, shift: largest * scale + float(np.abs(shift).max()), dt,
                             "these points" + given)
     else:
-        _check_fits(size, dt.itemsize, 1)
+        if chunks is None:
+            _check_fits(size, dt.itemsize, 1)
         spacing = _pixel_spacing(size, frequency)
         plan = _octave_plan(octaves, lacunarity, gain, per, origin,
                             lambda scale, shift: _grid_extent(size, spacing * scale, tuple(shift)), dt,
@@ -173,21 +184,33 @@ def _octave_sum(size, points, *, frequency, octaves, lacunarity, gain, absolute,
             layer = _noise_points(pts * scale + shift, perm, per_i, fade_fn, dt)
             total = _accumulate(total, layer, amp, absolute, dt)
         return total, octaves
-    # Grid: every octave is evaluated block by block (rows, or slices of a
-    # volume) into the total, so that the only full-size array is the result.
-    grids = [_GridNoise(size, spacing * scale, tuple(shift), perm, per_i, fade_fn, dt)
-             for scale, amp, per_i, shift in plan]
-    total = np.empty(size, dtype=dt)
-    buf = None
-    with _single_thread_blas():
-        for a, b in grids[0].blocks():
-            block = total[a:b]
-            _accumulate(None, grids[0].fill(block, a, b), plan[0][1], absolute, dt)  # octave 0 writes the total
-            for grid, (_, amp, _, _) in zip(grids[1:], plan[1:]):
-                if buf is None:
-                    buf = np.empty_like(block)  # the first block is the largest
-                _accumulate(block, grid.fill(buf[: b - a], a, b), amp, absolute, dt)
-    return total, octaves
+
+    def grid_sum(window):
+        # Grid: every octave is evaluated block by block (rows, or slices of a volume) into the
+        # total, so that the only full-size array is the result (of the window, with chunks).
+        grids = [_window_grid(size, spacing * scale, tuple(shift), perm, per_i, fade_fn, dt, window)
+                 for scale, amp, per_i, shift in plan]
+        first, last = _window_rows(size, window)
+        total = np.empty((last - first,) + grids[0].size[1:], dtype=dt)
+        buf = None
+        with _single_thread_blas():
+            for a, b in grids[0].blocks(first, last):
+                block = total[a - first : b - first]
+                _accumulate(None, grids[0].fill(block, a, b), plan[0][1], absolute, dt)  # octave 0 writes the total
+                for grid, (_, amp, _, _) in zip(grids[1:], plan[1:]):
+                    if buf is None:
+                        buf = np.empty_like(block)  # the first block is the largest
+                    _accumulate(block, grid.fill(buf[: b - a], a, b), amp, absolute, dt)
+        return total[:, _window_columns(size, window)[1]]
+
+    if chunks is None:
+        return grid_sum(None), octaves
+
+    def render(rows, cols):
+        total = grid_sum((rows, cols))
+        return total if finish is None else finish(total, rows, cols)
+
+    return _chunked(size, chunks, dt, render, copies + 1, channels), octaves
 
 
 def _accumulate(total, layer, amp, absolute, dt):
@@ -204,7 +227,7 @@ def _accumulate(total, layer, amp, absolute, dt):
 
 @renamed_parameters(shape="size")
 def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None, offset=None,
-               fade="quintic", rng=None, dtype=np.float64):
+               fade="quintic", rng=None, dtype=np.float64, chunks=None):
     """Perlin's turbulence: the sum of absolute noise octaves, band-limited.
 
     Parameters
@@ -233,10 +256,13 @@ def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None
         Seed of the permutation table (shared by all octaves).
     dtype : numpy.float32 or numpy.float64
         Precision; float32 is faster.
+    chunks : None, int or (int, int)
+        2-D grids only: a lazy ``dask.array`` rendered block by block, for
+        outputs larger than memory (see :func:`perlin`).
 
     Returns
     -------
-    numpy.ndarray
+    numpy.ndarray or dask.array.Array
         ``size`` or ``(N,)``, values >= 0 (mean about 0.4, below 2).
 
     Raises
@@ -282,18 +308,19 @@ def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None
     (1,)
     """
     total, _ = _octave_sum(size, points, frequency=frequency, octaves=octaves, lacunarity=2.0, gain=0.5,
-                           absolute=True, period=period, offset=offset, fade=fade, rng=rng, dtype=dtype)
+                           absolute=True, period=period, offset=offset, fade=fade, rng=rng, dtype=dtype,
+                           chunks=chunks)
     return total
 
 
 @renamed_parameters(shape="size")
 def fbm(size=None, *, frequency=8, octaves=None, lacunarity=2.0, gain=0.5, points=None, period=None,
-        offset=None, fade="quintic", rng=None, dtype=np.float64):
+        offset=None, fade="quintic", rng=None, dtype=np.float64, chunks=None):
     """Fractional Brownian motion: the signed, normalised sum of noise octaves.
 
     Parameters
     ----------
-    size, frequency, points, period, offset, fade, rng, dtype
+    size, frequency, points, period, offset, fade, rng, dtype, chunks
         As in :func:`turbulence` (``shape`` is the deprecated name of
         ``size``).
     octaves : int, optional
@@ -308,8 +335,8 @@ def fbm(size=None, *, frequency=8, octaves=None, lacunarity=2.0, gain=0.5, point
 
     Returns
     -------
-    numpy.ndarray
-        ``size`` or ``(N,)``, values in about [-1, 1].
+    numpy.ndarray or dask.array.Array
+        ``size`` or ``(N,)``, values in about [-1, 1] (lazy with ``chunks``).
 
     Raises
     ------
@@ -341,12 +368,15 @@ def fbm(size=None, *, frequency=8, octaves=None, lacunarity=2.0, gain=0.5, point
     >>> bool(abs(f).max() <= 1)
     True
     """
+
+    def normalise(total, rows=None, cols=None):  # by sum_i gain^i (n: the octaves, known by then)
+        total /= total.dtype.type(sum(float(gain) ** i for i in range(n)))
+        return total
+
     total, n = _octave_sum(size, points, frequency=frequency, octaves=octaves, lacunarity=lacunarity,
                            gain=gain, absolute=False, period=period, offset=offset, fade=fade, rng=rng,
-                           dtype=dtype)
-    gain = float(gain)
-    total /= total.dtype.type(sum(gain**i for i in range(n)))
-    return total
+                           dtype=dtype, chunks=chunks, finish=normalise)
+    return total if chunks is not None else normalise(total)
 
 
 # --------------------------------------------------------------------------
@@ -406,8 +436,23 @@ def _colormap_function(colormap, name="colormap"):
         colors = np.array([_parse_color(c, name) for c in entries])
         positions = np.linspace(0.0, 1.0, len(colors))
 
+    # per stop: its colour and the slope of the segment it starts (0 for the last: constant beyond it)
+    widths = np.diff(positions)
+    slopes = np.zeros_like(colors)
+    np.divide(np.diff(colors, axis=0), widths[:, None], out=slopes[:-1], where=widths[:, None] > 0)
+
     def piecewise_linear(t):
-        return np.stack([np.interp(t, positions, colors[:, ch]) for ch in range(3)], axis=-1)
+        """``colour(p_k) + (t - p_k) slope_k`` with ``p_k`` the last stop at or below ``t`` (the first
+        colour below the first stop), in ``t``'s floating dtype."""
+        dt = t.dtype if np.issubdtype(t.dtype, np.floating) else np.dtype(np.float64)
+        t = t.astype(dt, copy=False)
+        stop = np.maximum(np.searchsorted(positions.astype(dt), t, side="right") - 1, 0)
+        offset = np.maximum(t - positions.astype(dt)[stop], 0)
+        out = np.empty(t.shape + (3,), dt)
+        for ch in range(3):
+            np.multiply(offset, slopes[:, ch].astype(dt)[stop], out=out[..., ch])
+            out[..., ch] += colors[:, ch].astype(dt)[stop]
+        return out
 
     return piecewise_linear
 
@@ -460,11 +505,19 @@ def apply_colormap(values, colormap=None, *, default=MARBLE_COLORS, dtype=None):
         For values that are not real numbers, a colormap of the wrong type,
         or a dtype that is not floating point.
 
+    A lazy ``dask.array`` of values (e.g. :func:`turbulence` with
+    ``chunks=``) gives a lazy RGB array, coloured block by block.
+
     Examples
     --------
     >>> apply_colormap(np.array([0.0, 1.0]), [(0, 0, 0), "#ffffff"]).tolist()
     [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]
     """
+    if hasattr(values, "map_blocks") and getattr(values, "ndim", 0) >= 1:  # lazy (dask): block by block
+        _colormap_function(default, "default") if colormap is None else _colormap_function(colormap)
+        out = values.dtype if np.issubdtype(values.dtype, np.floating) and dtype is None else np.dtype(dtype or float)
+        return values.map_blocks(apply_colormap, colormap, default=default, dtype=out, new_axis=values.ndim,
+                                 chunks=values.chunks + ((3,),))
     arr = _check_values(values)
     fn = _colormap_function(default, "default") if colormap is None else _colormap_function(colormap)
     values = np.clip(arr, 0.0, 1.0)
@@ -517,13 +570,24 @@ def _check_phase(dtype, largest, names):
                          "use smaller values (a phase step of more than pi per pixel is aliased anyway)")
 
 
-def _marble_wood_checks(size, colormap, dtype, return_info):
+def _marble_wood_checks(size, colormap, dtype, return_info, chunks):
     """Checks shared by marble and wood, before the turbulence is computed."""
     size = _check_size(size)
     if colormap is not None:
         _colormap_function(colormap)  # a bad colour map fails before the turbulence is computed
-    _check_fits(size, _check_dtype(dtype).itemsize, 8 if return_info else 7)  # field, RGB and temporaries
+    if chunks is None:
+        _check_fits(size, _check_dtype(dtype).itemsize, 8 if return_info else 7)  # field, RGB and temporaries
+    elif return_info:
+        raise ValueError("return_info=True returns the whole field in memory; with chunks= pass return_info=False")
     return size
+
+
+def _coloured_turbulence(colour, size, chunks, *, frequency, octaves, period, fade, rng, dtype):
+    """``colour(turbulence, rows, cols)`` over the grid, or block by block (lazily) with ``chunks``."""
+    turb, _ = _octave_sum(size, None, frequency=frequency, octaves=octaves, lacunarity=2.0, gain=0.5, absolute=True,
+                          period=period, offset=None, fade=fade, rng=rng, dtype=dtype, chunks=chunks,
+                          finish=colour, copies=7, channels=3)
+    return turb if chunks is not None else colour(turb, slice(None), slice(None))
 
 
 def _sine_transfer(turb, strength, base_phase, colormap, default, return_info):
@@ -540,7 +604,7 @@ def _sine_transfer(turb, strength, base_phase, colormap, default, return_info):
 
 @renamed_parameters(shape="size")
 def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None, colormap=None, period=None,
-           fade="quintic", rng=None, dtype=np.float64, return_info=False):
+           fade="quintic", rng=None, dtype=np.float64, return_info=False, chunks=None):
     """Marble: layers ``sin(x)`` bent by turbulence, through a colour transfer function.
 
     Parameters
@@ -569,6 +633,10 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None,
         As in :func:`turbulence`.
     return_info : bool, default False
         Also return the scalar field ``t`` in [0, 1] before colouring.
+    chunks : None, int or (int, int)
+        2-D images only: a lazy ``dask.array`` ``(H, W, 3)`` rendered block
+        by block, for outputs larger than memory (see :func:`perlin`); not
+        with ``return_info``.
 
     Returns
     -------
@@ -612,15 +680,19 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None,
     veins = _check_float(veins, "veins", allow_zero=True)
     strength = _check_float(turbulence_strength, "turbulence_strength", allow_zero=True)
     _check_phase(dtype, 2 * np.pi * veins + 2 * strength, {"veins": veins, "turbulence_strength": strength})
-    size = _marble_wood_checks(size, colormap, dtype, return_info)
-    turb = turbulence(size, frequency=frequency, octaves=octaves, period=period, fade=fade, rng=rng, dtype=dtype)
-    x = _unit_coords(turb.shape, turb.dtype)[-1]
-    return _sine_transfer(turb, strength, 2 * np.pi * veins * x, colormap, MARBLE_COLORS, return_info)
+    size = _marble_wood_checks(size, colormap, dtype, return_info, chunks)
+
+    def colour(turb, rows, cols):
+        x = _unit_coords(size, turb.dtype)[-1][..., cols]
+        return _sine_transfer(turb, strength, 2 * np.pi * veins * x, colormap, MARBLE_COLORS, return_info)
+
+    return _coloured_turbulence(colour, size, chunks, frequency=frequency, octaves=octaves, period=period, fade=fade,
+                                rng=rng, dtype=dtype)
 
 
 @renamed_parameters(shape="size")
 def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, center=None, colormap=None,
-         fade="quintic", rng=None, dtype=np.float64, return_info=False):
+         fade="quintic", rng=None, dtype=np.float64, return_info=False, chunks=None):
     """Wood: concentric rings ``sin(radius)`` around a trunk axis, bent by turbulence.
 
     Parameters
@@ -644,7 +716,7 @@ def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, 
     colormap : None or colour map
         Transfer function (see :func:`apply_colormap`); None gives
         :data:`WOOD_COLORS`.
-    fade, rng, dtype, return_info
+    fade, rng, dtype, return_info, chunks
         As in :func:`marble`.
 
     Returns
@@ -693,12 +765,15 @@ def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, 
                  {"rings": rings, "center": center, "turbulence_strength": strength})
     if not reach < np.sqrt(float(np.finfo(_check_dtype(dtype)).max)) / 16:
         raise ValueError(f"center={center!r} is too far from the image for {np.dtype(dtype).name} distances")
-    size = _marble_wood_checks(size, colormap, dtype, return_info)
-    turb = turbulence(size, frequency=frequency, octaves=octaves, fade=fade, rng=rng, dtype=dtype)
-    shp = turb.shape
-    y, x = _unit_coords(shp, turb.dtype)[-2:]
-    n = max(shp)
-    y0 = turb.dtype.type(center[0] * (shp[-2] - 1) / n)
-    x0 = turb.dtype.type(center[1] * (shp[-1] - 1) / n)
-    radius = np.sqrt((y - y0) ** 2 + (x - x0) ** 2)
-    return _sine_transfer(turb, strength, 2 * np.pi * rings * radius, colormap, WOOD_COLORS, return_info)
+    size = _marble_wood_checks(size, colormap, dtype, return_info, chunks)
+
+    def colour(turb, rows, cols):
+        y, x = _unit_coords(size, turb.dtype)[-2:]
+        n = max(size)
+        y0 = turb.dtype.type(center[0] * (size[-2] - 1) / n)
+        x0 = turb.dtype.type(center[1] * (size[-1] - 1) / n)
+        radius = np.sqrt((y[rows] - y0) ** 2 + (x[..., cols] - x0) ** 2)
+        return _sine_transfer(turb, strength, 2 * np.pi * rings * radius, colormap, WOOD_COLORS, return_info)
+
+    return _coloured_turbulence(colour, size, chunks, frequency=frequency, octaves=octaves, period=None, fade=fade,
+                                rng=rng, dtype=dtype)

@@ -330,8 +330,12 @@ def _blend(model, indices, weights, out, work):
         np.copyto(q, g, casting="unsafe")
         np.clip(q, 0, LUT_SIZE - 1, out=q)
         np.take(model.lut[c], q, out=values[c], mode="wrap")
-    if channels > 1:
-        values = np.matmul(model.basis, values, out=work("rotated", (channels, n), np.float32))  # undo the PCA
+    if channels > 1:  # undo the PCA, term by term: a BLAS product would round by the block's length
+        rotated, term = work("rotated", (channels, n), np.float32), work("rotated term", (channels, n), np.float32)
+        np.multiply(model.basis[:, :1], values[:1], out=rotated)
+        for k in range(1, channels):
+            rotated += np.multiply(model.basis[:, k : k + 1], values[k : k + 1], out=term)
+        values = rotated
     values += model.mean[:, None]
     out = out.reshape(-1, channels)
     for c in range(channels):
@@ -371,7 +375,7 @@ def _info(model, tile_scale, key, stages, t_start):
 
 
 # --------------------------------------------------------------------------- the public functions
-def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, return_info=False):
+def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, return_info=False, chunks=None):
     """Infinite by-example noise by tiling and histogram-preserving blending (Heitz & Neyret 2018).
 
     Parameters
@@ -395,13 +399,20 @@ def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, r
         also through :func:`tile_and_blend_at`.
     return_info : bool
         Also return a :class:`TileBlendInfo`.
+    chunks : None, int or (int, int)
+        Return a lazy ``dask.array`` rendered block by block (blocks of
+        ``chunks`` rows and columns, an int meaning square), for outputs
+        larger than memory; write it with :func:`texsynth.io.save_chunked`.
+        Every block equals the same pixels of the in-memory result bit for
+        bit. Not with ``return_info``. Needs Dask
+        (``pip install 'texsynth[dask]'``).
 
     Returns
     -------
-    image : numpy.ndarray
+    image : numpy.ndarray or dask.array.Array
         ``size`` with the exemplar's channels, in [0, 1], the exemplar's
         float dtype (pass a float32 exemplar for a float32 output, half the
-        memory of a large one).
+        memory of a large one); lazy with ``chunks``.
     info : TileBlendInfo
         Only if ``return_info=True``.
 
@@ -462,6 +473,15 @@ def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, r
     ex, dtype, grey, tile_scale, key = _setup(exemplar, tile_scale, rng)
     height, width = as_size(size)
     channels = ex.shape[-1]
+    if chunks is not None:
+        if return_info:
+            raise ValueError("return_info=True is not available with chunks=; pass return_info=False")
+        from ..core.chunked import chunked_image
+
+        model = _prepare(ex, tile_scale)
+        return chunked_image((height, width), None if grey else channels, dtype, chunks,
+                             lambda rows, cols: _window(model, key, rows, cols, channels, dtype, grey),
+                             bytes_per_pixel=channels * dtype.itemsize + 40)
     threads = max_threads()
     # the output, and per thread one block's working arrays (about 40 values of 4-8 bytes per pixel)
     check_memory(float(height) * width * channels * dtype.itemsize + threads * 400.0 * max(BLOCK_PIXELS, width),
@@ -523,6 +543,29 @@ def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, r
     if not return_info:
         return image
     return image, _info(model, tile_scale, key, stages, t_start)
+
+
+def _evaluate(model, key, r, c, out, work):
+    """The texture at the pixels ``(r, c)`` (int64, at most ``BLOCK_PIXELS``) into ``out``."""
+    i1, i2, upper, w_a, w_b, w_c = _barycentric(*_skew(r.astype(np.float64), c.astype(np.float64), model.edge), work)
+    a, b, u = i1.astype(np.int64), i2.astype(np.int64), upper.astype(np.int64)
+    pixel = r * model.shape[1] + c
+    index = [pixel + _vertex_offsets(a + u, b + u, model, key),  # A = base + u (1, 1)
+             pixel + _vertex_offsets(a + u, b + 1 - u, model, key),  # B = base + (u, 1 - u)
+             pixel + _vertex_offsets(a + 1 - u, b + u, model, key)]  # C = base + (1 - u, u)
+    _blend(model, index, (w_a, w_b, w_c), out, work)
+
+
+def _window(model, key, rows, cols, channels, dtype, grey):
+    """The texture over the pixels ``rows x cols`` (slices), evaluated ``BLOCK_PIXELS`` at a time."""
+    width = cols.stop - cols.start
+    n = (rows.stop - rows.start) * width
+    out = np.empty((n, channels), dtype=dtype)
+    work = _Work()
+    for s in range(0, n, BLOCK_PIXELS):
+        k = np.arange(s, min(n, s + BLOCK_PIXELS), dtype=np.int64)
+        _evaluate(model, key, rows.start + k // width, cols.start + k % width, out[s : s + BLOCK_PIXELS], work)
+    return restore_channels(out.reshape(-1, width, channels), grey)
 
 
 def _as_coordinates(values, name):
@@ -615,15 +658,7 @@ def tile_and_blend_at(exemplar, rows, cols, *, tile_scale=DEFAULT_TILE_SCALE, rn
     out = np.empty((n, channels), dtype=dtype)
     work = _Work()
     for s in range(0, n, BLOCK_PIXELS):
-        rr, cc = r[s : s + BLOCK_PIXELS], c[s : s + BLOCK_PIXELS]
-        i1, i2, upper, w_a, w_b, w_c = _barycentric(*_skew(rr.astype(np.float64), cc.astype(np.float64), model.edge),
-                                                    work)
-        a, b, u = i1.astype(np.int64), i2.astype(np.int64), upper.astype(np.int64)
-        pixel = rr * model.shape[1] + cc
-        index = [pixel + _vertex_offsets(a + u, b + u, model, key),  # A = base + u (1, 1)
-                 pixel + _vertex_offsets(a + u, b + 1 - u, model, key),  # B = base + (u, 1 - u)
-                 pixel + _vertex_offsets(a + 1 - u, b + u, model, key)]  # C = base + (1 - u, u)
-        _blend(model, index, (w_a, w_b, w_c), out[s : s + BLOCK_PIXELS], work)
+        _evaluate(model, key, r[s : s + BLOCK_PIXELS], c[s : s + BLOCK_PIXELS], out[s : s + BLOCK_PIXELS], work)
     stages["synthesis"] = time.perf_counter() - t
     values = out.reshape(shape + (channels,))
     values = restore_channels(values, grey)

@@ -1,0 +1,67 @@
+"""Texture synthesis on surfaces (issue 20): vertex synthesis and lapped textures at the issue's sizes.
+
+Run: python benchmarks/bench_surface.py [--vertices 50000] [--faces 20000] [--preview DIR]   (from the repository root)
+
+- Vertex synthesis (:func:`texsynth.synthesize_surface`): a sphere retiled to ``--vertices``
+  vertices (default 50,000), 3 levels, a 128 x 128 colour exemplar: the top-left crop of the
+  brick photograph ../shared/textures/rohitrango/t1.png (RGB; the bundled 77 x 107 "brick"
+  where that folder is absent), seed 0: wall time per stage (retiling hierarchy, field, each
+  level). Target: <= 120 s.
+- Lapped textures (:func:`texsynth.lapped_textures`): a torus of about ``--faces`` faces
+  (default 20,000), the same photograph, seed 0: wall time per stage (field, paste, bake).
+  Target: <= 30 s.
+
+``--preview DIR`` also renders both results (texsynth.surface.render_mesh) into DIR.
+"""
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+import texsynth
+from texsynth.data import load
+from texsynth.io import load_image, save_image
+from texsynth.surface import render_mesh, sphere, torus
+
+PHOTO = Path(__file__).resolve().parents[2] / "shared" / "textures" / "rohitrango" / "t1.png"
+
+
+def exemplar():
+    image = load_image(PHOTO)[..., :3] if PHOTO.is_file() else load("brick")
+    return np.ascontiguousarray(image[:128, :128])
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--vertices", type=int, default=50000)
+    parser.add_argument("--faces", type=int, default=20000)
+    parser.add_argument("--preview", default=None)
+    args = parser.parse_args()
+    ex = exemplar()
+
+    start = time.perf_counter()
+    out, info = texsynth.synthesize_surface(sphere(10242), ex, n_vertices=args.vertices, levels=3, rng=0,
+                                            return_info=True)
+    total = time.perf_counter() - start
+    stages = ", ".join(f"{k} {v:.1f}" for k, v in info.stage_seconds.items())
+    print(f"vertex synthesis: {len(out.vertices)} vertices, 3 levels, exemplar {ex.shape[1]}x{ex.shape[0]}: "
+          f"{total:.1f} s ({stages}; search {info.method})")
+
+    mesh = torus(args.faces // 2)
+    start = time.perf_counter()
+    lapped, linfo = texsynth.lapped_textures(mesh, ex, rng=0, return_info=True)
+    total_l = time.perf_counter() - start
+    stages = ", ".join(f"{k} {v:.1f}" for k, v in linfo.stage_seconds.items())
+    print(f"lapped textures: {len(mesh.faces)} faces, {len(linfo.patches)} patches, atlas "
+          f"{lapped.texture.shape[1]}x{lapped.texture.shape[0]}: {total_l:.1f} s ({stages})")
+    if args.preview:
+        folder = Path(args.preview)
+        folder.mkdir(parents=True, exist_ok=True)
+        save_image(folder / "surface_vertex.png", render_mesh(out, 1000), overwrite=True)
+        save_image(folder / "surface_lapped.png", render_mesh(lapped, 1000), overwrite=True)
+
+
+if __name__ == "__main__":
+    main()

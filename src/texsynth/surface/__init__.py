@@ -1,0 +1,28 @@
+"""Texture synthesis on surfaces: triangle meshes, their files and previews.
+
+- :class:`Mesh`, :func:`as_mesh`: the triangle mesh every surface method
+  works on (per-vertex colours or a uv-mapped texture) and its checks.
+- :func:`sphere`, :func:`torus`, :func:`bumpy`: test surfaces;
+  :func:`scanned_mesh`: a real scan (the Stanford Bunny, ``texsynth[mesh]``).
+- :func:`read_mesh`, :func:`write_mesh`: OBJ (with MTL and texture) and PLY
+  in numpy, other formats through trimesh (``texsynth[mesh]``).
+- :func:`render_mesh`: a z-buffer preview from a few viewpoints.
+- :func:`retile`: Turk's evenly spaced retiling; :func:`tangent_field`:
+  the orientation (user, random or relaxed, 2-/4-fold symmetric).
+- :func:`synthesize_surface`: vertex synthesis over a mesh hierarchy
+  (Turk 2001; Wei & Levoy 2001); :func:`lapped_textures`: Praun et al.'s
+  pasted splotches, baked into a texture atlas.
+"""
+
+from ._mesh import Mesh, as_mesh
+from ._meshio import read_mesh, write_mesh
+from ._render import PROJECTIONS, render_mesh
+from ._shapes import SCANNED_MESHES, bumpy, scanned_mesh, sphere, torus
+from ._retile import retile
+from ._field import tangent_field
+from ._vertex_synthesis import SurfaceSynthesisInfo, synthesize_surface
+from ._lapped import LappedInfo, default_splotch, lapped_textures
+
+__all__ = ["Mesh", "as_mesh", "read_mesh", "write_mesh", "render_mesh", "PROJECTIONS", "sphere", "torus", "bumpy",
+           "scanned_mesh", "SCANNED_MESHES", "retile", "tangent_field", "synthesize_surface", "SurfaceSynthesisInfo",
+           "lapped_textures", "LappedInfo", "default_splotch"]

@@ -1,0 +1,539 @@
+"""texsynth.surface: the Mesh, its checks (as_mesh), the shapes, the scanned mesh and mesh files."""
+
+import warnings
+
+import numpy as np
+import pytest
+import scipy.sparse
+
+from texsynth.surface import Mesh, as_mesh, bumpy, read_mesh, scanned_mesh, sphere, torus, write_mesh
+
+# a tetrahedron, faces counter-clockwise seen from outside
+TETRA_V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+TETRA_F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+
+
+def tetra(**kwargs):
+    return Mesh(TETRA_V, TETRA_F, **kwargs)
+
+
+# ---------------------------------------------------------------------------- Mesh
+def test_mesh_stores_arrays_read_only_with_the_documented_dtypes():
+    mesh = Mesh(TETRA_V.astype(np.float32), TETRA_F.astype(np.int32), colors=np.full((4, 3), 255, np.uint8))
+    assert mesh.vertices.dtype == np.float64 and mesh.faces.dtype == np.int64
+    assert mesh.colors.dtype == np.float32 and np.all(mesh.colors == 1)
+    with pytest.raises(ValueError, match="read-only"):
+        mesh.vertices[0, 0] = 5
+    assert repr(mesh) == "Mesh(4 vertices, 4 faces, colors 3 channels)"
+
+
+def test_face_normals_and_areas_of_the_tetrahedron():
+    mesh = tetra()
+    np.testing.assert_allclose(mesh.face_areas, [0.5, 0.5, 0.5, np.sqrt(3) / 2])
+    np.testing.assert_allclose(mesh.face_normals, [[0, 0, -1], [0, -1, 0], [-1, 0, 0], np.ones(3) / np.sqrt(3)],
+                               atol=1e-12)
+    # outward: each face normal points away from the centroid
+    centre = TETRA_V.mean(axis=0)
+    to_face = TETRA_V[TETRA_F].mean(axis=1) - centre
+    assert np.all(np.sum(to_face * mesh.face_normals, axis=1) > 0)
+
+
+def test_vertex_normals_are_area_weighted():
+    mesh = tetra()
+    # vertex 1 touches faces 0 (normal -z, area 1/2), 1 (-y, 1/2) and 3 ((1,1,1)/sqrt3, sqrt3/2):
+    # the weighted sum is (1/2, 0, 0), so the unit normal is +x
+    np.testing.assert_allclose(mesh.vertex_normals[1], [1, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(mesh.vertex_normals[0], -np.ones(3) / np.sqrt(3), atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(mesh.vertex_normals, axis=1), 1)
+
+
+def test_edges_and_adjacency():
+    mesh = tetra()
+    assert mesh.edges.tolist() == [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]]
+    adjacency = mesh.vertex_adjacency
+    assert scipy.sparse.issparse(adjacency) and adjacency.format == "csr" and adjacency.shape == (4, 4)
+    np.testing.assert_array_equal(adjacency.toarray(), 1 - np.eye(4))
+    # edge k of a face joins corners k and k+1; the face across shares exactly that vertex pair
+    across = mesh.face_adjacency
+    assert across.dtype == np.int64 and across.shape == (4, 3)
+    for f in range(4):
+        for k in range(3):
+            edge = {TETRA_F[f, k], TETRA_F[f, (k + 1) % 3]}
+            g = across[f, k]
+            assert g != f and edge <= set(TETRA_F[g])
+    np.testing.assert_allclose(mesh.mean_edge_length, (3 + 3 * np.sqrt(2)) / 6)
+    np.testing.assert_array_equal(mesh.bounds, [[0, 0, 0], [1, 1, 1]])
+
+
+def test_face_adjacency_is_minus_one_on_a_boundary():
+    # two triangles sharing the diagonal of a square
+    mesh = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2], [0, 2, 3]])
+    assert mesh.face_adjacency.tolist() == [[-1, -1, 1], [0, -1, -1]]
+
+
+def test_with_colors_and_with_texture_keep_the_geometry_caches():
+    mesh = tetra()
+    normals = mesh.face_normals
+    red = mesh.with_colors(np.tile([1.0, 0, 0], (4, 1)))
+    assert red.face_normals is normals and red.colors.shape == (4, 3) and mesh.colors is None
+    uv = np.zeros((4, 3, 2))
+    textured = red.with_texture(uv, np.zeros((2, 2, 3)))
+    assert textured.texture.shape == (2, 2, 3) and textured.face_normals is normals
+
+
+def test_compact_and_select_faces():
+    mesh = Mesh(np.vstack([TETRA_V, [[9, 9, 9]]]), TETRA_F + (TETRA_F >= 2),  # vertex 2 unused
+                colors=np.linspace(0, 1, 5)[:, None])
+    small = mesh.compact()
+    np.testing.assert_array_equal(small.vertices, np.delete(mesh.vertices, 2, axis=0))
+    np.testing.assert_array_equal(small.vertices[small.faces], mesh.vertices[mesh.faces])
+    np.testing.assert_allclose(small.colors[:, 0], np.delete(np.linspace(0, 1, 5), 2), atol=1e-7)
+    mesh = tetra(uv=np.arange(24.0).reshape(4, 3, 2) / 24)
+    assert mesh.compact() is mesh  # nothing to drop: the mesh itself
+    two = mesh.select_faces([1, 3])
+    np.testing.assert_array_equal(two.faces, TETRA_F[[1, 3]])
+    np.testing.assert_array_equal(two.uv, mesh.uv[[1, 3]])
+
+
+# ---------------------------------------------------------------------------- as_mesh
+def test_as_mesh_accepts_a_mesh_and_a_pair():
+    mesh = tetra()
+    assert as_mesh(mesh) is mesh
+    pair = as_mesh((TETRA_V, TETRA_F))
+    np.testing.assert_array_equal(pair.faces, TETRA_F)
+
+
+@pytest.mark.parametrize("value, error, message", [
+    (([], []), ValueError, r"surface is empty \(0 vertices, 0 faces\)"),
+    ((TETRA_V, np.zeros((0, 3), int)), ValueError, r"surface is empty \(4 vertices, 0 faces\)"),
+    ((np.vstack([TETRA_V[:3], [[np.nan, 0, 0]]]), TETRA_F), ValueError,
+     r"1 vertices with NaN or infinite coordinates \(first: vertex 3\)"),
+    ((TETRA_V, np.vstack([TETRA_F, [[1, 2, 4]], [[-1, 0, 2]]])), ValueError,
+     r"surface has 2 faces with vertex indices outside 0\.\.3 \(first: face 4 = \[1, 2, 4\]\)"),
+    ((TETRA_V, np.vstack([TETRA_F, [[1, 1, 2]]])), ValueError,
+     r"1 faces of zero area \(first: face 4 = \[1, 1, 2\]\); drop them with surface\.select_faces"),
+    ((np.vstack([TETRA_V, [[2, 0, 0]]]), np.vstack([TETRA_F, [[0, 1, 4]]])), ValueError,
+     r"1 faces of zero area \(first: face 4"),  # collinear corners
+    ((np.vstack([TETRA_V, [[5, 5, 5], [6, 6, 6]]]), TETRA_F), ValueError,
+     r"surface has 2 isolated vertices .* \(first: vertex 4\); remove the unused vertices with surface\.compact\(\)"),
+    ((np.vstack([TETRA_V, [[1, 1, 1]]]), np.vstack([TETRA_F, [[1, 2, 4]]])), ValueError,
+     r"surface has 1 non-manifold edges shared by more than two faces \(first: edge \(1, 2\) of faces \[0, 3, 4\]\)"),
+    ((TETRA_V[:, :2], TETRA_F), ValueError, r"surface: vertices must have shape \(N, 3\)"),
+    ((TETRA_V, TETRA_F.astype(float)), TypeError, r"surface: faces must be integer vertex indices"),
+    ((TETRA_V, np.zeros((2, 4), int)), ValueError, r"faces must have shape \(M, 3\).*triangulated"),
+    (TETRA_V, TypeError, r"surface must be a texsynth\.surface\.Mesh, a \(vertices, faces\) pair"),
+    (None, TypeError, r"surface must be a texsynth\.surface\.Mesh"),
+])
+def test_as_mesh_refuses_bad_meshes_with_the_fix(value, error, message):
+    with pytest.raises(error, match=message):
+        as_mesh(value, "surface")
+
+
+def test_the_suggested_fixes_work():
+    bad = Mesh(np.vstack([TETRA_V, [[5, 5, 5]]]), np.vstack([TETRA_F, [[1, 1, 2]]]))
+    with pytest.raises(ValueError, match="zero area"):
+        as_mesh(bad)
+    fixed = as_mesh(bad.select_faces(bad.face_areas > 0).compact())
+    np.testing.assert_array_equal(fixed.faces, TETRA_F)
+
+
+def test_inconsistent_orientation_is_a_warning_with_a_fix():
+    flipped = TETRA_F.copy()
+    flipped[3] = flipped[3, ::-1]
+    with pytest.warns(UserWarning, match=r"surface's faces are not consistently oriented: 3 edges .* "
+                                         r"\(first: edge \(1, 2\) of faces 0 and 3\)"):
+        mesh = as_mesh((TETRA_V, flipped), "surface")
+    import trimesh
+
+    repaired = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False)
+    trimesh.repair.fix_winding(repaired)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        as_mesh((repaired.vertices, repaired.faces))
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"colors": np.zeros((3, 3))}, r"colors must have shape \(N, C\) = \(4, 1\.\.4\)"),
+    ({"colors": np.full((4, 3), 2.0)}, r"colors is floating point with values in \[2, 2\]"),
+    ({"uv": np.zeros((4, 2))}, r"uv must have shape \(M, 3, 2\) = \(4, 3, 2\)"),
+    ({"uv": np.full((4, 3, 2), np.inf)}, r"uv contains NaN or infinite values"),
+    ({"texture": np.zeros((4, 4))}, r"texture needs uv coordinates"),
+    ({"uv": np.zeros((4, 3, 2)), "texture": np.zeros(4)}, r"texture must have shape \(H, W\)"),
+])
+def test_mesh_refuses_bad_attributes(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        tetra(**kwargs)
+
+
+# ---------------------------------------------------------------------------- shapes
+def _euler(mesh):
+    return len(mesh.vertices) - len(mesh.edges) + len(mesh.faces)
+
+
+def _signed_volume(mesh):
+    v = mesh.vertices[mesh.faces]
+    return np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6
+
+
+@pytest.mark.parametrize("n", [12, 42, 100, 2562])
+def test_sphere_is_a_closed_outward_genus_zero_surface(n):
+    mesh = as_mesh(sphere(n, radius=2.0))
+    assert _euler(mesh) == 2 and np.all(mesh.face_adjacency >= 0)
+    np.testing.assert_allclose(np.linalg.norm(mesh.vertices, axis=1), 2.0)
+    centroids = mesh.vertices[mesh.faces].mean(axis=1)
+    assert np.all(np.sum(centroids * mesh.face_normals, axis=1) > 0)  # every face normal points away from the centre
+    assert 0.6 * n <= len(mesh.vertices) <= 1.5 * n  # "about n_vertices"
+
+
+def test_sphere_converges_to_the_ball():
+    # an inscribed polyhedron: its volume approaches 4/3 pi r^3 from below as it is refined
+    coarse, fine = _signed_volume(sphere(162)), _signed_volume(sphere(10242))
+    assert coarse < fine < 4 / 3 * np.pi
+    assert fine == pytest.approx(4 / 3 * np.pi, rel=2e-3)
+
+
+def test_torus_is_a_closed_outward_genus_one_surface():
+    mesh = as_mesh(torus(3000, major_radius=2.0, minor_radius=0.5))
+    assert _euler(mesh) == 0 and np.all(mesh.face_adjacency >= 0)
+    assert 0.8 * 3000 <= len(mesh.vertices) <= 1.2 * 3000
+    # outward: away from the nearest point of the tube's core circle
+    centroids = mesh.vertices[mesh.faces].mean(axis=1)
+    core = centroids * [1, 1, 0]
+    core = 2.0 * core / np.linalg.norm(core, axis=1, keepdims=True)
+    assert np.all(np.sum((centroids - core) * mesh.face_normals, axis=1) > 0)
+    assert _signed_volume(mesh) == pytest.approx(2 * np.pi ** 2 * 2.0 * 0.5 ** 2, rel=1e-2)
+
+
+def test_bumpy_is_deterministic_closed_and_bumpy():
+    a, b, c = bumpy(642, rng=3), bumpy(642, rng=3), bumpy(642, rng=4)
+    np.testing.assert_array_equal(a.vertices, b.vertices)
+    assert not np.array_equal(a.vertices, c.vertices)
+    as_mesh(a)
+    assert _euler(a) == 2 and _signed_volume(a) > 0
+    r = np.linalg.norm(a.vertices, axis=1)
+    assert r.min() == pytest.approx(0.85, abs=0.01) or r.max() == pytest.approx(1.15, abs=0.01)  # amplitude 0.15
+    assert 0.85 - 1e-9 <= r.min() and r.max() <= 1.15 + 1e-9
+    flat = bumpy(642, amplitude=0.0, rng=3)
+    np.testing.assert_allclose(np.linalg.norm(flat.vertices, axis=1), 1.0)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: sphere(0), ValueError, "n_vertices must be an integer >= 1"),
+    (lambda: sphere(10.5), TypeError, "n_vertices must be an integer"),
+    (lambda: sphere(radius=-1), ValueError, "radius must be a finite number > 0"),
+    (lambda: torus(major_radius=1, minor_radius=1), ValueError, r"minor_radius \(1.0\) must be less than major_radius"),
+    (lambda: bumpy(amplitude=1.0), ValueError, r"amplitude must lie in \[0.0, 1.0\)"),
+    (lambda: bumpy(rng="seed"), TypeError, "rng must be None, an int seed"),
+    (lambda: scanned_mesh("dragon"), ValueError, r"name must be one of \['bunny'\]"),
+])
+def test_shapes_refuse_bad_parameters(call, error, message):
+    with pytest.raises(error, match=message):
+        call()
+
+
+# ---------------------------------------------------------------------------- the scanned mesh
+def test_the_scanned_bunny_is_a_valid_closed_mesh():
+    bunny = as_mesh(scanned_mesh())
+    assert bunny.vertices.shape == (34835, 3) and bunny.faces.shape == (69666, 3)
+    assert _euler(bunny) == 2 and np.all(bunny.face_adjacency >= 0) and _signed_volume(bunny) > 0
+    assert np.linalg.norm(bunny.vertices, axis=1).max() == pytest.approx(1.0)
+    np.testing.assert_allclose(bunny.bounds.sum(axis=0), 0, atol=1e-12)  # centred on its bounding box
+    extent = np.ptp(bunny.vertices, axis=0)
+    assert extent[2] > 0.9 * extent.max()  # z up: the bunny with its ears is about as tall as it is long
+
+
+def test_scanned_mesh_names_the_extra_when_the_package_is_missing(monkeypatch):
+    import importlib.util
+
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: None)
+    with pytest.raises(ModuleNotFoundError, match=r"visvis package, which is not installed; pip install texsynth\[mesh\]"):
+        scanned_mesh()
+
+
+# ---------------------------------------------------------------------------- mesh files
+def _decorated(kind):
+    mesh = sphere(92)
+    rng = np.random.default_rng(0)
+    if kind == "colors":
+        return mesh.with_colors(rng.random((len(mesh.vertices), 3)))
+    if kind == "rgba":
+        return mesh.with_colors(rng.random((len(mesh.vertices), 4)))
+    if kind == "texture":
+        return mesh.with_texture(rng.random((len(mesh.faces), 3, 2)), rng.random((6, 10, 3)))
+    return mesh
+
+
+def _eight_bit(values):
+    return np.round(np.asarray(values, np.float64) * 255) / 255
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".ply"])
+@pytest.mark.parametrize("kind", ["plain", "colors", "rgba", "texture"])
+def test_round_trip(tmp_path, suffix, kind):
+    mesh = _decorated(kind)
+    path = write_mesh(tmp_path / f"m{suffix}", mesh)
+    back = read_mesh(path)
+    np.testing.assert_array_equal(back.vertices, mesh.vertices)  # OBJ: 17 digits, PLY: doubles
+    np.testing.assert_array_equal(back.faces, mesh.faces)
+    if kind in ("colors", "rgba"):
+        if suffix == ".obj":  # v x y z r g b: RGB only, exact
+            np.testing.assert_array_equal(back.colors, mesh.colors[:, :3])
+        else:  # uchar red green blue [alpha]
+            np.testing.assert_allclose(back.colors, _eight_bit(mesh.colors), atol=1e-7)
+    else:
+        assert back.colors is None
+    if kind == "texture":
+        np.testing.assert_allclose(back.uv, mesh.uv, atol=0 if suffix == ".obj" else 1e-7)  # PLY texcoord: float
+        np.testing.assert_allclose(back.texture, _eight_bit(mesh.texture), atol=1e-12)  # an 8-bit PNG beside it
+        beside = sorted(p.name for p in tmp_path.iterdir())
+        assert beside == (["m.mtl", "m.obj", "m.png"] if suffix == ".obj" else ["m.ply", "m.png"])
+    else:
+        assert back.uv is None and back.texture is None
+
+
+def test_read_obj_with_quads_negative_indices_normals_and_mtl_options(tmp_path):
+    from texsynth.io import save_image
+
+    save_image(tmp_path / "checker.png", np.kron([[1, 0], [0, 1]], np.ones((2, 2))))
+    (tmp_path / "quad.mtl").write_text("newmtl plain\nKd 1 1 1\nnewmtl checker\nmap_Kd -s 1 1 1 -clamp on checker.png\n")
+    (tmp_path / "quad.obj").write_text(
+        "# a square as one quad, then a triangle using relative indices\nmtllib quad.mtl\no square\n"
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nusemtl checker\ns off\n"
+        "f 1/1/1 2/2/1 3/3/1 4/4/1\nf -4/-3/1 -5/-4/1 -1/-1/1\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # everything is readable: no warning
+        mesh = read_mesh(tmp_path / "quad.obj")
+    assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3], [1, 0, 4]]  # the quad as a fan, in file order
+    np.testing.assert_array_equal(mesh.uv[1], [[0, 0], [1, 1], [0, 1]])
+    np.testing.assert_array_equal(mesh.uv[2], [[1, 0], [0, 0], [0, 1]])
+    assert mesh.texture.shape == (4, 4)
+
+
+def test_read_obj_with_0_255_vertex_colours_and_missing_texture(tmp_path):
+    (tmp_path / "a.mtl").write_text("newmtl m\nmap_Kd gone.png\n")
+    (tmp_path / "a.obj").write_text("mtllib a.mtl\nusemtl m\nv 0 0 0 255 0 0\nv 1 0 0 0 255 0\nv 0 1 0 0 0 255\n"
+                                    "vt 0 0\nf 1/1 2/1 3/1\n")
+    with pytest.warns(UserWarning, match="names the texture 'gone.png', which cannot be read"):
+        mesh = read_mesh(tmp_path / "a.obj")
+    np.testing.assert_array_equal(mesh.colors, np.eye(3))
+    assert mesh.texture is None and mesh.uv.shape == (1, 3, 2)
+
+
+def test_read_ascii_ply_with_polygons_of_mixed_sizes_and_texcoords(tmp_path):
+    (tmp_path / "a.ply").write_text(
+        "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 5\nproperty float x\nproperty float y\n"
+        "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "element face 2\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+        "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n"
+        "0 0 0 255 0 0\n1 0 0 0 255 0\n1 1 0 0 0 255\n0 1 0 255 255 255\n0.5 0.5 1 0 0 0\n"
+        "4 0 1 2 3 8 0 0 1 0 1 1 0 1\n3 1 0 4 6 1 0 0 0 0.5 0.5\n0 1\n")
+    mesh = read_mesh(tmp_path / "a.ply")
+    assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3], [1, 0, 4]]
+    np.testing.assert_allclose(mesh.uv[1], [[0, 0], [1, 1], [0, 1]])
+    np.testing.assert_allclose(mesh.uv[2], [[1, 0], [0, 0], [0.5, 0.5]])
+    np.testing.assert_array_equal(mesh.colors[3], [1, 1, 1])
+
+
+def test_read_big_endian_ply_with_per_vertex_uv_as_blender_writes(tmp_path):
+    vertex = np.array([(0, 0, 0, 0, 0), (1, 0, 0, 1, 0), (0, 1, 0, 0, 1)],
+                      dtype=[("x", ">f4"), ("y", ">f4"), ("z", ">f4"), ("s", ">f4"), ("t", ">f4")])
+    face = np.array([(3, (0, 1, 2))], dtype=[("n", "u1"), ("i", ">i4", (3,))])
+    header = ("ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nproperty float s\nproperty float t\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n")
+    (tmp_path / "b.ply").write_bytes(header.encode() + vertex.tobytes() + face.tobytes())
+    mesh = read_mesh(tmp_path / "b.ply")
+    np.testing.assert_array_equal(mesh.vertices, [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    np.testing.assert_array_equal(mesh.uv[0], [[0, 0], [1, 0], [0, 1]])
+
+
+def test_binary_ply_with_polygons_of_mixed_sizes(tmp_path):
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], dtype="<f4")
+    rows = b"".join([np.uint8(4).tobytes() + np.array([0, 1, 2, 3], "<i4").tobytes(),
+                     np.uint8(3).tobytes() + np.array([1, 4, 2], "<i4").tobytes()])
+    header = ("ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+              "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n")
+    (tmp_path / "q.ply").write_bytes(header.encode() + vertices.tobytes() + rows)
+    assert read_mesh(tmp_path / "q.ply").faces.tolist() == [[0, 1, 2], [0, 2, 3], [1, 4, 2]]
+
+
+@pytest.mark.parametrize("name, content, message", [
+    ("a.obj", "hello world\n", r"it holds no faces \(0 vertices"),
+    ("a.obj", "v 0 0 0\nv 1 0 0\n", r"it holds no faces \(2 vertices: a point cloud\?\)"),
+    ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "line 4: a face needs at least 3 corners"),
+    ("a.obj", "v 0 0 0\nv 1 0 zero\n", r"line 2: cannot read 'v 1 0 zero'"),
+    ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4: vertex index 0 \\(OBJ indices count from 1\\)"),
+    ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", r"faces must .*|indices|outside"),
+    ("a.ply", "not a ply file", "does not start with 'ply'"),
+    ("a.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n", "format 'binary_middle_endian'"),
+    ("a.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0\n", r"no 'element face' in the header \(a point cloud\?\)"),
+    ("a.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n",
+     "the data end before"),
+    ("a.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+              "end_header\n0 zero 0\n", "something that is not a number"),
+    ("a.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quaternion x\nend_header\n",
+     "header line 4: cannot read property"),
+])
+def test_garbled_files_give_a_value_error_naming_the_file(tmp_path, name, content, message):
+    path = tmp_path / name
+    path.write_text(content)
+    if "outside" in message:  # read as written; as_mesh (every surface function) finds the bad index
+        with pytest.raises(ValueError, match=r"1 faces with vertex indices outside 0\.\.2"):
+            as_mesh(path)
+        return
+    with pytest.raises(ValueError, match=f"cannot read '.*{name}' as a {name[2:].upper()} mesh: .*{message}"):
+        read_mesh(path)
+
+
+def test_truncated_binary_ply(tmp_path):
+    write_mesh(tmp_path / "full.ply", sphere(42))
+    data = (tmp_path / "full.ply").read_bytes()
+    (tmp_path / "cut.ply").write_bytes(data[:-7])
+    with pytest.raises(ValueError, match="cut.ply' as a PLY mesh: the data end before"):
+        read_mesh(tmp_path / "cut.ply")
+
+
+def test_missing_files_and_folders(tmp_path):
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        read_mesh(tmp_path / "nothing.obj")
+    with pytest.raises(FileNotFoundError, match="is a folder"):
+        read_mesh(tmp_path)
+    with pytest.raises(TypeError, match="path must be a str or os.PathLike"):
+        read_mesh(3)
+    with pytest.raises(FileNotFoundError, match="does not exist; create it first"):
+        write_mesh(tmp_path / "no" / "a.ply", sphere(12))
+    with pytest.raises(ValueError, match="has no suffix"):
+        write_mesh(tmp_path / "a", sphere(12))
+
+
+def test_write_refuses_to_overwrite_and_leaves_nothing_behind(tmp_path):
+    textured = _decorated("texture")
+    (tmp_path / "t.png").write_bytes(b"someone's image")
+    with pytest.raises(FileExistsError, match=r"t\.png' already exists; pass overwrite=True"):
+        write_mesh(tmp_path / "t.obj", textured)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["t.png"]  # not even the .obj was written
+    write_mesh(tmp_path / "t.obj", textured, overwrite=True)
+    assert read_mesh(tmp_path / "t.obj").texture.shape == (6, 10, 3)
+    with pytest.raises(FileExistsError, match="already exists"):
+        write_mesh(tmp_path / "t.obj", sphere(12))
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary files left
+
+
+def test_write_checks_the_mesh(tmp_path):
+    with pytest.raises(ValueError, match="mesh has 1 isolated vertices"):
+        write_mesh(tmp_path / "a.ply", (np.vstack([TETRA_V, [[5, 5, 5]]]), TETRA_F))
+    assert not list(tmp_path.iterdir())
+
+
+def test_as_mesh_reads_a_path(tmp_path):
+    write_mesh(tmp_path / "s.ply", sphere(42))
+    assert as_mesh(tmp_path / "s.ply").vertices.shape == (42, 3)
+    assert as_mesh(str(tmp_path / "s.ply")).faces.shape == (80, 3)
+
+
+def test_other_formats_go_through_trimesh(tmp_path):
+    mesh = sphere(162)
+    back = read_mesh(write_mesh(tmp_path / "s.stl", mesh))  # STL: float32 corners per triangle, joined again
+    assert back.vertices.shape == mesh.vertices.shape  # the corners were joined into shared vertices
+    np.testing.assert_allclose(back.vertices[back.faces], mesh.vertices[mesh.faces], atol=1e-6)
+    coloured = _decorated("colors")
+    back = read_mesh(write_mesh(tmp_path / "s.glb", coloured))  # binary glTF: float32 positions, RGBA8 colours
+    np.testing.assert_allclose(back.vertices, coloured.vertices, atol=1e-6)
+    np.testing.assert_array_equal(back.faces, coloured.faces)
+    np.testing.assert_allclose(back.colors[:, :3], _eight_bit(coloured.colors), atol=1e-7)
+    (tmp_path / "bad.stl").write_text("solid nothing here\nfacet normal garbage\n")
+    with pytest.raises(ValueError, match="cannot read '.*bad.stl' as a STL mesh"):
+        read_mesh(tmp_path / "bad.stl")
+
+
+def test_other_formats_name_the_extra_when_trimesh_is_missing(tmp_path, monkeypatch):
+    import importlib
+
+    real = importlib.import_module
+
+    def no_trimesh(name, *args):
+        if name == "trimesh":
+            raise ModuleNotFoundError("No module named 'trimesh'")
+        return real(name, *args)
+
+    monkeypatch.setattr(importlib, "import_module", no_trimesh)
+    with pytest.raises(ModuleNotFoundError, match=r"through trimesh, which is not installed; pip install texsynth\[mesh\]"):
+        write_mesh(tmp_path / "s.stl", sphere(12))
+    assert not list(tmp_path.iterdir())
+
+
+def test_files_interoperate_with_trimesh(tmp_path):
+    """Files trimesh writes read here, and files written here read in trimesh (another tool's reading)."""
+    import trimesh
+    from PIL import Image
+
+    mesh = sphere(162)
+    rng = np.random.default_rng(1)
+    rgba = (rng.random((162, 4)) * 255).astype(np.uint8)
+    theirs = trimesh.Trimesh(mesh.vertices, mesh.faces, vertex_colors=rgba, process=False)
+    for name, options in (("c.ply", {}), ("a.ply", {"encoding": "ascii"}), ("c.obj", {})):
+        theirs.export(tmp_path / name, **options)
+        back = read_mesh(tmp_path / name)
+        np.testing.assert_array_equal(back.faces, mesh.faces)
+        np.testing.assert_allclose(back.vertices, mesh.vertices, atol=1e-7)
+        channels = 4 if name.endswith(".ply") else 3  # trimesh's OBJ writes r g b
+        np.testing.assert_allclose(back.colors * 255, rgba[:, :channels], atol=1e-3)
+    uv = rng.random((162, 2))
+    image = (rng.random((8, 8, 3)) * 255).astype(np.uint8)
+    textured = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False,
+                               visual=trimesh.visual.TextureVisuals(uv=uv, image=Image.fromarray(image)))
+    textured.export(tmp_path / "t.obj")  # with material.mtl and material_0.png
+    back = read_mesh(tmp_path / "t.obj")
+    np.testing.assert_allclose(back.uv, uv[mesh.faces], atol=1e-7)
+    np.testing.assert_array_equal(back.texture, image / 255)
+    # ours, read by trimesh
+    ours = mesh.with_colors(rgba / 255)
+    for name in ("o.ply", "o.obj"):
+        loaded = trimesh.load(write_mesh(tmp_path / name, ours), process=False)
+        np.testing.assert_array_equal(loaded.faces, mesh.faces)
+        np.testing.assert_array_equal(loaded.visual.vertex_colors[:, :3], rgba[:, :3])
+    loaded = trimesh.load(write_mesh(tmp_path / "ot.obj", mesh.with_texture(uv[mesh.faces], image)), process=False)
+    assert loaded.visual.kind == "texture"
+    np.testing.assert_array_equal(np.asarray(loaded.visual.material.image), image)
+
+
+def test_obj_texture_cases_that_are_read_without_the_texture(tmp_path):
+    body = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+    (tmp_path / "some.obj").write_text(body + "f 1/1 2/2 3/3\nf 2 4 3\n")
+    with pytest.warns(UserWarning, match="only some faces have texture coordinates"):
+        mesh = read_mesh(tmp_path / "some.obj")
+    assert mesh.uv is None and mesh.faces.shape == (2, 3)
+    from texsynth.io import save_image
+
+    for name in ("a.png", "b.png"):
+        save_image(tmp_path / name, np.zeros((2, 2)))
+    (tmp_path / "two.mtl").write_text("newmtl a\nmap_Kd a.png\nnewmtl b\nmap_Kd b.png\n")
+    (tmp_path / "two.obj").write_text("mtllib two.mtl\n" + body + "usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 2/2 4/1 3/3\n")
+    with pytest.warns(UserWarning, match=r"uses 2 texture images \(\['a.png', 'b.png'\]\); a texsynth Mesh holds one"):
+        mesh = read_mesh(tmp_path / "two.obj")
+    assert mesh.texture is None and mesh.uv.shape == (2, 3, 2)
+    (tmp_path / "nomtl.obj").write_text("mtllib gone.mtl\nusemtl a\n" + body + "f 1/1 2/2 3/3\n")
+    with pytest.warns(UserWarning, match="names the material file 'gone.mtl', which cannot be read"):
+        assert read_mesh(tmp_path / "nomtl.obj").texture is None
+
+
+def test_ply_faces_without_their_texcoords_are_read_without_uv(tmp_path):
+    (tmp_path / "a.ply").write_text(
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 2\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n"
+        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2 6 0 0 1 0 1 1\n3 0 2 3 0\n")
+    with pytest.warns(UserWarning, match="some faces' texcoord lists do not hold one"):
+        mesh = read_mesh(tmp_path / "a.ply")
+    assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3]] and mesh.uv is None
+
+
+def test_truncated_ascii_ply_with_polygons_of_mixed_sizes(tmp_path):
+    (tmp_path / "a.ply").write_text(
+        "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n4 0 1 2 3\n3 1 4\n")  # the last face is cut short
+    with pytest.raises(ValueError, match="a.ply' as a PLY mesh: the data end before"):
+        read_mesh(tmp_path / "a.ply")

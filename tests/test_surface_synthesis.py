@@ -1,0 +1,292 @@
+"""Retiling, tangent fields and vertex synthesis on surfaces (issue 20, part 1)."""
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from texsynth.data import load
+from texsynth.surface._field import tangent_field
+from texsynth.surface._retile import retile
+from texsynth.surface._shapes import sphere, torus
+from texsynth.surface._vertex_synthesis import synthesize_surface
+
+from conftest import load_texture
+
+
+def _spacing_cv(points):
+    d, _ = cKDTree(points).query(points, k=2)
+    return d[:, 1].std() / d[:, 1].mean()
+
+
+def _stripes(size=48, period=8):
+    """Horizontal stripes (constant along rows' x axis), with a little noise so neighbourhoods differ."""
+    rng = np.random.default_rng(0)
+    rows = np.arange(size)[:, None] * np.ones((1, size))
+    return np.clip(0.5 + 0.4 * np.sin(2 * np.pi * rows / period) + 0.03 * rng.standard_normal((size, size)), 0, 1)
+
+
+# ---------------------------------------------------------------------------- retiling
+@pytest.mark.parametrize("shape, euler", [(sphere(642), 2), (torus(900), 0)])
+def test_retile_is_even_closed_and_manifold(shape, euler):
+    out = retile(shape, 800, rng=0)
+    assert 760 <= len(out.vertices) <= 800
+    assert len(out.vertices) - len(out.edges) + len(out.faces) == euler
+    assert (out.face_adjacency >= 0).all()  # closed: every edge has two faces
+    # Evenness: random surface points have a nearest-neighbour-distance CV of about 0.5 (Poisson); repulsion
+    # brings it to about 0.05 here. 0.15 fails for anything short of a working repulsion.
+    random_cv = _spacing_cv(retile.__globals__["_random_surface_points"](shape, 800, np.random.default_rng(0))[0])
+    assert random_cv > 0.4
+    assert _spacing_cv(out.vertices) < 0.15
+    # outward orientation kept: face normals point away from the centre of these star-shaped-ish surfaces
+    centroids = out.vertices[out.faces].mean(axis=1)
+    if euler == 2:
+        assert (np.einsum("ij,ij->i", out.face_normals, centroids) > 0).all()
+    # the new vertices lie on the surface
+    assert np.allclose(np.linalg.norm(out.vertices, axis=1), 1.0, atol=0.01) if euler == 2 else True
+
+
+def test_retile_repairs_overlapping_dual_triangles():
+    # Where four Voronoi regions meet almost at a point, the dual can hold overlapping triangles and leave a
+    # hole (torus(10000) retiled to 20,000 points, seed 0, had Euler characteristic -3, 8 boundary edges and a
+    # half-edge used twice before the repair). Here: an octahedron with one face missing and a third triangle
+    # on one of its edges.
+    octahedron = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+    broken = np.concatenate([octahedron[1:], [[0, 2, 1]]])   # face 0 missing; (0, 2, 1) crowds edge (1, 2)
+    fixed = retile.__globals__["_repair"](broken, 6)
+    a, b = fixed.ravel(), np.roll(fixed, -1, axis=1).ravel()
+    assert len(np.unique(a * 6 + b)) == len(a)               # every half-edge once: consistently oriented
+    assert np.isin(b * 6 + a, a * 6 + b).all()                # every edge has its twin: closed
+    assert len(fixed) == 8
+
+
+def test_retile_spacing_sets_density_and_rng_repeats():
+    s = sphere(642)
+    a = retile(s, spacing=0.2, rng=3)
+    area = s.face_areas.sum()
+    expected = 2 * area / (np.sqrt(3) * 0.2 ** 2)
+    assert abs(len(a.vertices) - expected) < 0.05 * expected
+    assert np.array_equal(a.vertices, retile(s, spacing=0.2, rng=3).vertices)
+
+
+# ---------------------------------------------------------------------------- fields
+def test_user_field_is_projected_and_normalised():
+    s = sphere(642)
+    t = tangent_field(s, lambda p: np.cross([0, 0, 1.0], p) + 0.3 * p)  # a normal component to remove
+    expected = np.cross([0, 0, 1.0], s.vertices)
+    ok = np.linalg.norm(expected, axis=1) > 0.1
+    expected = expected[ok] / np.linalg.norm(expected[ok], axis=1, keepdims=True)
+    assert np.allclose(t[ok], expected, atol=1e-2)  # vertex normals are not exactly radial
+    assert np.allclose(np.linalg.norm(t, axis=1), 1)
+    # the poles (zero vectors: singularities) are filled, still tangent
+    assert np.abs(np.einsum("ij,ij->i", t, s.vertex_normals)).max() < 1e-9
+
+
+@pytest.mark.parametrize("symmetry", [1, 4])
+def test_smooth_field_is_smoother_than_random(symmetry):
+    s = sphere(2562)
+    i, j = s.edges.T
+
+    def roughness(t):
+        # the symmetric angle between neighbours: 1 - |cos(symmetry * angle)|
+        cos = np.clip(np.einsum("ij,ij->i", t[i], t[j]), -1, 1)
+        return np.mean(1 - np.cos(symmetry * np.arccos(cos)))
+
+    smooth = roughness(tangent_field(s, "smooth", symmetry=symmetry, rng=0))
+    noisy = roughness(tangent_field(s, "random", rng=0))
+    # random: about 1 (uniform angles); relaxed: only near the few singularities. 0.1 is 10x below random.
+    assert noisy > 0.8
+    assert smooth < 0.1
+
+
+def _singular_faces(mesh, t, symmetry=1):
+    """Faces around which the field turns by a nonzero multiple of 2 pi / symmetry (its singularities)."""
+    n = mesh.face_normals
+    e1 = mesh.vertices[mesh.faces[:, 1]] - mesh.vertices[mesh.faces[:, 0]]
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    e2 = np.cross(n, e1)
+    corners = t[mesh.faces]                                             # (M, 3, 3)
+    angle = np.arctan2(np.einsum("mkd,md->mk", corners, e2), np.einsum("mkd,md->mk", corners, e1)) * symmetry
+    turn = np.angle(np.exp(1j * (np.roll(angle, -1, axis=1) - angle))).sum(axis=1)
+    return np.abs(turn) > np.pi
+
+
+@pytest.mark.parametrize("shape, most", [(sphere(2562), 2), (torus(2500), 0)])
+def test_smooth_field_has_few_singularities(shape, most):
+    # A sphere needs singularities of total index 2 (two, at best); a torus needs none. The same relaxation
+    # from a random start measured 2, 2, 2 (sphere) and 4, 0, 4 (torus) singular faces over seeds 0-2; the
+    # rotational start reaches the minimum. A random field has hundreds.
+    t = tangent_field(shape, "smooth", rng=0)
+    assert _singular_faces(shape, t).sum() <= most
+    assert _singular_faces(shape, tangent_field(shape, "random", rng=0)).sum() > 100
+
+
+def test_field_bad_input_names_the_parameter():
+    s = sphere(162)
+    with pytest.raises(ValueError, match=r"field must be one \(x, y, z\) vector per vertex, shape \(162, 3\)"):
+        tangent_field(s, np.ones((10, 3)))
+    bad = np.ones((162, 3))
+    bad[5, 1] = np.nan
+    with pytest.raises(ValueError, match="field has 1 vectors with NaN.*vertex 5"):
+        tangent_field(s, bad)
+    with pytest.raises(ValueError, match="symmetry must be 1, 2 or 4"):
+        tangent_field(s, symmetry=3)
+    with pytest.raises(ValueError, match="field must be one of 'smooth', 'random'"):
+        tangent_field(s, "swirl")
+    with pytest.raises(ValueError, match="no vector with a component along the surface"):
+        tangent_field(s, s.vertex_normals)
+    with pytest.raises(ValueError, match=r"field\(points\) must return one .* vector per vertex"):
+        tangent_field(s, lambda p: p[:, :2])
+
+
+# ---------------------------------------------------------------------------- vertex synthesis
+def _radial_spectrum(images, bins=8):
+    """Mean radially averaged power spectrum of grey square images (without the mean), normalised to sum 1."""
+    n = images.shape[-1]
+    f = np.fft.fftfreq(n)
+    r = np.hypot(f[:, None], f[None, :])
+    edges = np.linspace(0, 0.5, bins + 1)
+    power = np.abs(np.fft.fft2(images - images.mean(axis=(-2, -1), keepdims=True))) ** 2
+    spectrum = np.array([power[..., (r > a) & (r <= b)].mean() for a, b in zip(edges[:-1], edges[1:])])
+    return spectrum / spectrum.sum()
+
+
+def _flattened_views(mesh, colors, field, pixel_size, centers, size=16):
+    """Grey ``size x size`` views of the vertex colours on a grid laid along the field at each centre."""
+    n = mesh.vertex_normals
+    b = np.cross(n, field)
+    r, c = np.mgrid[0:size, 0:size] - size // 2
+    grid = (mesh.vertices[centers, None, None] + pixel_size * (c[None, ..., None] * field[centers, None, None]
+                                                          - r[None, ..., None] * b[centers, None, None]))
+    _, near = cKDTree(mesh.vertices).query(grid.reshape(-1, 3))
+    return colors.mean(axis=1)[near].reshape(len(centers), size, size)
+
+
+def test_element_scale_matches_the_exemplar_everywhere_on_a_torus():
+    ex = load_texture("skimage/gravel.png", 64, rgb=True)
+    ex = ex if ex.ndim == 3 else ex[..., None]
+    out, info = synthesize_surface(torus(2500), ex, n_vertices=6000, levels=2, rng=0, return_info=True)
+    rng = np.random.default_rng(1)
+    centers = rng.choice(len(out.vertices), 60, replace=False)
+    views = _flattened_views(out, out.colors, info.field, info.pixel_size, centers)
+    crops = np.stack([ex[i:i + 16, j:j + 16].mean(axis=2) for i in range(0, 48, 8) for j in range(0, 48, 8)])
+    target = _radial_spectrum(crops)
+    # baseline: the same vertex colours shuffled over the surface (no spatial structure, the exemplar's histogram)
+    shuffled = _flattened_views(out, out.colors[rng.permutation(len(out.colors))], info.field, info.pixel_size, centers)
+
+    def distance(v):
+        return np.abs(np.log(_radial_spectrum(v)) - np.log(target)).mean()
+
+    synth, noise = distance(views), distance(shuffled)
+    # calibrated: shuffled colours are white (flat spectrum) and measured 2.20 from gravel's; the synthesis
+    # 0.17. A quarter of the baseline's distance fails for colours that lost the element scale.
+    assert synth < 0.25 * noise
+    # uniform over the surface: the spectral centroid (in frequency bins) of the views on the inner and outer
+    # halves of the torus (curved differently) measured 0.91 and 0.92, the exemplar's 0.97 and the shuffled
+    # colours' 3.70; both halves must be within 25 % of the exemplar's
+    radial = np.hypot(out.vertices[centers, 0], out.vertices[centers, 1])
+    freqs = np.arange(8) + 0.5
+
+    def centroid(v):
+        s = _radial_spectrum(v)
+        return (s * freqs).sum()
+
+    inner, outer, reference = centroid(views[radial < 1.0]), centroid(views[radial >= 1.0]), centroid(crops)
+    assert abs(inner - reference) < 0.25 * reference and abs(outer - reference) < 0.25 * reference
+
+
+def _gradient_energy(mesh, directions):
+    """Squared colour differences along the mesh edges, shared out to each of ``directions`` (N, 3) unit fields
+    by the squared cosine of the edge's angle with it: large along a direction the colour changes in."""
+    i, j = mesh.edges.T
+    e = mesh.vertices[j] - mesh.vertices[i]
+    e /= np.linalg.norm(e, axis=1, keepdims=True)
+    dc = ((mesh.colors[j] - mesh.colors[i]) ** 2).sum(axis=1)
+    keep = np.abs(mesh.vertices[i, 2]) < 0.8  # away from the poles (the fields' singularities)
+    return [float((dc * np.einsum("ij,ij->i", e, d[i]) ** 2)[keep].sum()) for d in directions]
+
+
+def test_user_field_turns_the_texture():
+    ex = _stripes()
+    s = sphere(642)
+    kw = dict(n_vertices=3000, levels=2, rng=0)
+
+    def east(p):
+        return np.cross([0, 0, 1.0], p)
+
+    def north(p):
+        return np.cross(p, east(p))
+
+    ratios = []
+    for field in (east, north):
+        out = synthesize_surface(s, ex, field=field, **kw)
+        unit = [d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
+                for d in (east(out.vertices), north(out.vertices))]
+        along_east, along_north = _gradient_energy(out, unit)
+        ratios.append(along_north / along_east)
+    # Horizontal stripes laid along the field: the colour changes across the field more than along it. A
+    # random field (candidates="all") measured 0.98-1.01 over two seeds; the oriented results 1.88-1.91 (east
+    # field) and 0.49-0.50 (north field): the noise of the stripes and the irregular vertices add energy in
+    # every direction. Thresholds 1.4 and 0.7 sit between the baseline and the measured values.
+    assert ratios[0] > 1.4
+    assert ratios[1] < 0.7
+
+
+@pytest.mark.parametrize("shape", [sphere(642), torus(900)])
+def test_stripes_follow_the_smooth_field(shape):
+    # Every level must use one field: stripes synthesised along the relaxed field change colour across it
+    # (along n x t) more than along it. Measured 1.84-1.91 (sphere) and 2.03-2.10 (torus) over seeds 0-1; a
+    # random field gives about 1.0 (see test_user_field_turns_the_texture). Threshold 1.4 between.
+    out, info = synthesize_surface(shape, _stripes(), n_vertices=3000, levels=2, rng=0, return_info=True)
+    t = info.field
+    b = np.cross(out.vertex_normals, t)
+    i, j = out.edges.T
+    e = out.vertices[j] - out.vertices[i]
+    e /= np.linalg.norm(e, axis=1, keepdims=True)
+    dc = ((out.colors[j] - out.colors[i]) ** 2).sum(axis=1)
+    across = (dc * np.einsum("ij,ij->i", e, b[i]) ** 2).sum()
+    along = (dc * np.einsum("ij,ij->i", e, t[i]) ** 2).sum()
+    assert across > 1.4 * along
+
+
+def test_synthesis_copies_exemplar_pixels_and_repeats_with_rng():
+    ex = load("bread")[:40, :40]
+    s = sphere(162)
+    a, info = synthesize_surface(s, ex, n_vertices=800, levels=2, rng=5, return_info=True)
+    b = synthesize_surface(s, ex, n_vertices=800, levels=2, rng=5)
+    assert np.array_equal(a.colors, b.colors)
+    # every colour is the exemplar pixel at the recorded source
+    assert np.allclose(a.colors, ex[info.sources[:, 0], info.sources[:, 1]], atol=1e-6)
+    assert len(info.levels) == 2 and len(info.levels[1].vertices) < len(info.levels[0].vertices) / 3
+    assert set(info.stage_seconds) == {"hierarchy", "field", "level 1", "level 0"}
+    # without a density the mesh's own vertices are coloured
+    own = synthesize_surface(s, ex, levels=1, rng=0)
+    assert np.array_equal(own.vertices, s.vertices)
+
+
+def test_paper_preset_and_global_search_run():
+    ex = load("bread")[:32, :32]
+    out, info = synthesize_surface(sphere(162), ex, n_vertices=500, levels=2, preset="paper", rng=0,
+                                   return_info=True)
+    assert info.candidates == "all" and info.method == "tsvq"
+    assert out.colors.shape == (len(out.vertices), 3)
+
+
+def test_synthesis_bad_input():
+    s = sphere(162)
+    ex = load("bread")[:32, :32]
+    with pytest.raises(ValueError, match=r"field must be one \(x, y, z\) vector per vertex, shape \(162, 3\)"):
+        synthesize_surface(s, ex, field=np.ones((5, 3)), levels=2)
+    with pytest.raises(ValueError, match="field has 162 vectors with NaN"):
+        synthesize_surface(s, ex, field=np.full((162, 3), np.nan), levels=2)
+    with pytest.raises(ValueError, match="n_vertices=.* needs about .* GiB .* pass a smaller n_vertices"):
+        synthesize_surface(s, ex, n_vertices=10**12, levels=2)
+    with pytest.raises(ValueError, match="pixel_size=1e-09 .* pass a larger pixel_size"):
+        synthesize_surface(s, ex, pixel_size=1e-9, levels=2)
+    with pytest.raises(ValueError, match="pass exactly one of n_vertices"):
+        synthesize_surface(s, ex, n_vertices=100, pixel_size=0.1, levels=2)
+    with pytest.raises(ValueError, match="coarsest level"):
+        synthesize_surface(s, ex, levels=3)
+    with pytest.raises(ValueError, match="candidates must be one of"):
+        synthesize_surface(s, ex, candidates="some", levels=2)
+    with pytest.raises(ValueError, match="preset must be one of"):
+        synthesize_surface(s, ex, preset="fast", levels=2)
