@@ -346,6 +346,7 @@ class _Options:
     paper: bool = False  # preset "paper": the index M-step, as the paper searches a tree over the exemplar
     coarse_copy_limit: bool = False  # the copy limit at every level but the finest
     fields: bool = False  # orientation / scale fields: rotated, scaled neighbourhoods (the index M-step)
+    confidence: float | None = None  # Wexler's γ: neighbourhoods weighed by their confidence (hard constraints)
 
     @property
     def frame(self):
@@ -662,6 +663,34 @@ def _grid_parts(centers, budget):
     ncols = int(np.count_nonzero(centers[:, 0] == centers[0, 0]))
     step = ncols * max(1, budget // ncols)
     return [slice(a, a + step) for a in range(0, len(centers), step)]
+
+
+WEXLER_CONFIDENCE = 1.3
+"""γ of Wexler, Shechtman & Irani 2007 (Sec. 3.2): a filled pixel's confidence is γ^-(its distance to the
+known pixels); :func:`~texsynth.inpaint` and :func:`~texsynth.uncrop` use it."""
+
+
+def _confidence(mask, centers, w, mode, gamma):
+    """Each neighbourhood's confidence under hard constraints (Wexler, Shechtman & Irani 2007, Sec. 3.2).
+
+    The mean over its pixels of 1 where the pixel is known (``mask``, fractional where a coarse pixel
+    is partly known) and ``γ^-d`` elsewhere, ``d`` the distance to the nearest known pixel: in the
+    E-step the neighbourhoods that lie mostly on known pixels outweigh the others near the
+    boundary, so the fill continues what is known rather than meeting it along a seam.
+    """
+    from scipy import ndimage
+
+    known = mask >= 0.5
+    if not known.any():
+        return None
+    h, w_ = mask.shape
+    if mode == "wrap":  # distances round the torus
+        d = ndimage.distance_transform_edt(np.tile(~known, (3, 3)))[h : 2 * h, w_ : 2 * w_]
+    else:
+        d = ndimage.distance_transform_edt(~known)
+    conf = np.maximum(np.maximum(mask, gamma**-d), 1e-100)  # floored: far inside a hole only the ratios matter
+    mean = ndimage.uniform_filter(conf, size=w, mode="wrap" if mode == "wrap" else "nearest")
+    return np.maximum(mean[centers[:, 0], centers[:, 1]], 1e-100)  # a running sum can round below 0
 
 
 def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, votes=None, warp=None):
@@ -1254,8 +1283,13 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
     coords = opts.coords  # animation frame: the previous frame's correspondence, warped
     prior = None if coords is None else ex.lookup(coords[centers[:, 0], centers[:, 1]] - w // 2, 0)
 
-    # hard constraints (λ = ∞) are in x_p already: the M-step is the plain nearest neighbour
-    searched = None if constraint is not None and np.isinf(constraint[2]) else constraint
+    # hard constraints (λ = ∞) are in x_p already: the M-step is the plain nearest neighbour, and the
+    # E-step weighs each neighbourhood by its confidence (Wexler et al. 2007)
+    hard = constraint is not None and np.isinf(constraint[2])
+    searched = None if hard else constraint
+    confidence = None
+    if hard and coords is None and opts.confidence is not None:
+        confidence = _confidence(constraint[0], centers, w, mode, opts.confidence)
     use_field = opts.field(searched, ex, len(centers))
     stack = use_field and warp is not None  # fields: PatchMatch on the sampled neighbourhoods (_m_step)
     use_field = use_field and not stack
@@ -1343,8 +1377,8 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
                 vote_w = vote_w * (occurrence.copy_penalty(ex, completeness.jidx, pj) == 0)
             votes = (completeness.jidx, pj, vote_w)
         g = g0 if it == 0 and g0 is not None else ga  # bootstrap assembly, frame assembly or ex.g
-        current = _e_step(ex, zidx, centers, shape, omega[:n], mode, mu, constraint, current, g=g, votes=votes,
-                          warp=warp)
+        current = _e_step(ex, zidx, centers, shape, omega[:n] if confidence is None else omega[:n] * confidence,
+                          mode, mu, constraint, current, g=g, votes=votes, warp=warp)
         for where, targets in groups:  # the exemplar's colour histograms, against the E-step's wash-out
             for c, t in enumerate(targets):
                 if where is None:
@@ -1472,11 +1506,13 @@ class _Problem:
 
 def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
                    falloff=True, method="auto", occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0,
-                   histogram_matching=False, paper=False, coarse_copy_limit=False, fields=False):
+                   histogram_matching=False, paper=False, coarse_copy_limit=False, fields=False, confidence=None):
     """The scalar options of :func:`optimize_texture`, checked, as an :class:`_Options`."""
+    if confidence is not None and check_positive_float(confidence, "confidence", maximum=_MAX_WEIGHT) <= 1:
+        raise ValueError(f"confidence must be None or a base gamma > 1 (Wexler et al.: 1.3), got {confidence!r}")
     return _Options(
         histogram=check_bool(histogram_matching, "histogram_matching"), paper=paper,
-        coarse_copy_limit=coarse_copy_limit, fields=fields,
+        coarse_copy_limit=coarse_copy_limit, fields=fields, confidence=None if confidence is None else float(confidence),
         r=check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True),
         mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True, maximum=_MAX_WEIGHT),
         spacing=check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True),
@@ -1739,8 +1775,8 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
                      gradient_weight=0.0, mask=None, target=None, constraint_weight=1.0, exemplar_mask=None,
                      tileable=False, init=None, falloff=True, occurrence_weight=0.0, copy_limit="auto",
                      completeness_weight="auto", histogram_matching="auto", method="auto", exemplar_guide=None,
-                     output_guide=None, guide_weight=1.0, orientation=None, scale=None, rng=None, progress=False,
-                     return_info=False):
+                     output_guide=None, guide_weight=1.0, orientation=None, scale=None, confidence=None, rng=None,
+                     progress=False, return_info=False):
     """Synthesise a texture by texture optimization (Kwatra et al. 2005).
 
     Minimises the texture energy (eq. 1) of the output over its
@@ -1939,6 +1975,20 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         then uses the index (PatchMatch compares unrotated patches), and
         ``gradient_weight > 0`` and soft constraints are refused. Fields
         wrap with ``tileable=True``.
+    confidence : None or float
+        With hard constraints (``constraint_weight=float("inf")``): Wexler,
+        Shechtman & Irani's confidence base ``γ`` (their value: 1.3,
+        :data:`WEXLER_CONFIDENCE`). A filled pixel at distance ``d`` from the
+        nearest known pixel has confidence ``γ^-d`` (a known pixel 1), and in
+        the E-step each neighbourhood weighs by the mean confidence of its
+        pixels, so near the boundary the neighbourhoods lying on known pixels
+        decide and the fill continues them (2007, Sec. 3.2; TPAMI
+        doi:10.1109/TPAMI.2007.60). Default None: all neighbourhoods alike,
+        as in Kwatra et al. :func:`~texsynth.inpaint` and
+        :func:`~texsynth.uncrop` use 1.3; :func:`~texsynth.make_tileable`
+        does not, since there the two sides of its band meet in the middle,
+        and the confidence made that meeting a seam (measured in
+        ``docs/methods/completion.md``).
     rng : None, int or numpy.random.Generator
         Seeds the random initial neighbourhoods (and approximate indexes).
     progress : bool or callable
@@ -2103,7 +2153,11 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,
                           max_iterations=max_iterations, gradient_weight=gradient_weight,
                           tileable=tileable or margin > 0, falloff=falloff, method=method,
-                          occurrence_weight=occurrence_weight, fields=problem.fields is not None, **auto)
+                          occurrence_weight=occurrence_weight, fields=problem.fields is not None,
+                          confidence=confidence, **auto)
+    if opts.confidence is not None and (problem.constraint is None or not np.isinf(problem.constraint[2])):
+        raise ValueError("confidence weighs neighbourhoods by their distance to the known pixels of hard "
+                         "constraints: pass mask=, target= and constraint_weight=float('inf'), or confidence=None")
     if opts.fields and opts.mu > 0:
         raise ValueError(f"gradient_weight={opts.mu:g} does not combine with orientation/scale fields (the "
                          f"gradient E-step solves on the pixel grid, not in rotated frames); pass "
