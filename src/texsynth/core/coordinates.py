@@ -17,6 +17,12 @@ The shape convention, the same for every method (``docs/conventions.md``):
   (``coordinates[:, :, 0]`` is therefore always a valid ``(H, W, 2)`` map
   of the dominant source). Unused slots have weight 0. Methods that blend
   (patch-based sampling's feathered zones, patchwork) give this.
+- with ``source_index`` ``(H, W, K)``: the source each slot points into
+  (``mix_textures``' exemplars), or -1 for the average of the sources'
+  images; each channel is then a list of images, one per source.
+- a video map (``patchwork_video``): ``(N, H, W, K, 2)`` with weights and
+  ``source_index`` ``(N, H, W, K)``, one map per output frame; the sources
+  are the input frames (-1: their average frame ``A`` of eq. 6).
 
 A pixel is rendered as
 
@@ -103,7 +109,8 @@ def _as_channel(image, name):
 
 
 def _check_sources(source_index, coords):
-    """The map's source index per slot, ``(H, W, K)`` int, or None (one exemplar)."""
+    """The map's source index per slot, ``(H, W, K)`` int, or None (one exemplar); -1 is the average of
+    the sources (a blend only)."""
     if source_index is None:
         return None
     src = as_array(source_index, "source_index")
@@ -115,8 +122,8 @@ def _check_sources(source_index, coords):
     if src.shape != coords.shape[:3]:
         raise ValueError(f"source_index has shape {src.shape} but coordinates {coords.shape} need one of shape "
                          f"{coords.shape[:3]}; pass the source_index that came with the coordinates")
-    if src.min() < 0:
-        raise ValueError(f"source_index has negative values (min {int(src.min())}); pass info.source_index")
+    if src.min() < -1:
+        raise ValueError(f"source_index has values below -1 (min {int(src.min())}); pass info.source_index")
     return src
 
 
@@ -136,7 +143,7 @@ def _split_channels(channels, several_sources):
 
 
 def _part_names(name, src):
-    return [name] if src is None else [f"{name}[{i}]" for i in range(int(src.max()) + 1)]
+    return [name] if src is None else [f"{name}[{i}]" for i in range(max(0, int(src.max())) + 1)]
 
 
 def _as_parts(channel, name, src):
@@ -146,7 +153,7 @@ def _as_parts(channel, name, src):
     if not isinstance(channel, (list, tuple)):
         raise TypeError(f"{name} must be a list of images, one per source of the map (e.g. [height_a, "
                         f"height_b] for mix_textures([albedo_a, albedo_b], ...)), got {type(channel).__name__}")
-    needed = int(src.max()) + 1
+    needed = max(0, int(src.max())) + 1
     if len(channel) < needed:
         raise ValueError(f"{name} has {len(channel)} image(s) but the map uses {needed} sources; pass one image "
                          "per source, in the order of the synthesis's sources")
@@ -182,11 +189,11 @@ def _white(kind):
     return float(np.iinfo(kind).max) if np.issubdtype(kind, np.integer) else 1.0
 
 
-def _render(parts, flats, weights, blended, normal, name):
+def _render(parts, flats, weights, blended, normal, name, average=False):
     """One channel (its image per source: one unless the map has sources) through the flat indices (one
-    contiguous ``(H, W)`` array per slot, into the sources' pixels one after the other) and the weights
-    (None for copies; else a cache: slot 0 dense, the others as (flat pixels, weights) where nonzero,
-    converted once per working dtype)."""
+    contiguous ``(H, W)`` array per slot, into the sources' pixels one after the other, then, with
+    ``average``, into their average image) and the weights (None for copies; else a cache: slot 0
+    dense, the others as (flat pixels, weights) where nonzero, converted once per working dtype)."""
     tables = [p.reshape(p.shape[0] * p.shape[1], -1) for p in parts]
     table = tables[0] if len(tables) == 1 else np.concatenate(tables)
     channel = parts[0]
@@ -204,15 +211,18 @@ def _render(parts, flats, weights, blended, normal, name):
         values *= work(1.0 / white)
     if normal:
         values = values * 2 - 1
+    sampled = values  # the sources' pixels (and their average image, source -1)
+    if average:
+        sampled = np.concatenate([values, values.reshape(len(parts), -1, values.shape[-1]).mean(0)])
     key = np.dtype(work).name
     if key not in weights:  # slot 0 dense; the others only where they weigh (a few pixels of most maps)
         weights[key] = [weights["first"].astype(work)] + [(at, wk.astype(work)) for at, wk in weights["sparse"]]
     first, *others = weights[key]
-    out = np.take(values, flats[0], axis=0)
+    out = np.take(sampled, flats[0], axis=0)
     out *= first
     flat_out = out.reshape(-1, out.shape[-1])
     for (at, wk), flat in zip(others, flats[1:]):
-        flat_out[at] += np.take(values, flat.reshape(-1)[at], axis=0) * wk
+        flat_out[at] += np.take(sampled, flat.reshape(-1)[at], axis=0) * wk
     if not weights["convex"]:  # weights not summing to 1 (patchwork): the rest from the mean
         out += (1.0 - weights["total"][..., None]).astype(work) * values.mean(0, dtype=np.float64).astype(work)
     if normal:  # renormalise where the pixel blends several sources, then encode in [0, 1]
@@ -263,7 +273,15 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
         ``coordinates`` is one). Each channel is then a list of images, one per exemplar
         in the synthesis's order, each of its exemplar's size and all of
         one dtype and channel count: ``[height_a, height_b]``; several
-        channels are a list of such lists or a dict of them.
+        channels are a list of such lists or a dict of them. -1 reads the
+        average of the channel's images (all of one size), in blend maps
+        only.
+        A video map (:func:`texsynth.patchwork_video`): coordinates ``(N,
+        H, W, K, 2)`` with weights and source_index ``(N, H, W, K)``, the
+        sources being the input frames (-1: their average, eq. 6's ``A``);
+        each channel is the list of its images, one per input frame (all
+        of them: the average is taken over the images given), and the
+        result ``(N, H, W[, C])``.
     normals : bool, or a list or dict of bool
         Which channels are tangent-space normal maps (``x, y, z`` encoded in
         [0, 1], or 0..255 / 0..65535): their blended pixels are decoded to
@@ -293,7 +311,8 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
     Notes
     -----
     Output pixel ``x`` with sources ``c_k(x)`` (in exemplar ``s_k(x)`` when
-    the map has a ``source_index``) and weights ``w_k(x)`` is
+    the map has a ``source_index``; ``s_k = -1``: the average of the
+    exemplars' images) and weights ``w_k(x)`` is
     ``O(x) = sum_k w_k(x) I(c_k(x)) + (1 - sum_k w_k(x)) mean(I)``: a plain
     copy when there is one source of weight 1, a convex blend when the
     weights sum to 1 (the mean term vanishes), and patchwork's
@@ -327,6 +346,13 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
     ((32, 32, 2, 2), (32, 32, 2))
     >>> bool(np.allclose(apply_coordinates([albedo, wood], info), mix))
     True
+
+    A video texture renders a sequence, one image per input frame:
+
+    >>> clip = np.stack([np.roll(albedo, 2 * t, axis=1) for t in range(4)])
+    >>> video, info = texsynth.patchwork_video(clip, 32, 6, grid_spacing=16, rng=0, return_info=True)
+    >>> apply_coordinates(list(clip.mean(-1)), info).shape
+    (6, 32, 32)
     """
     if hasattr(coordinates, "coordinates"):  # an info of a synthesis
         info = coordinates
@@ -338,8 +364,15 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
         if coordinates is None:
             raise ValueError(f"this {type(info).__name__} has no coordinates (coordinates is None); see its "
                              "docstring for the options that record them")
+    frames = None
+    if np.ndim(coordinates) == 5:  # a video map: the frames' maps stacked, rendered as one tall map
+        coordinates, weights, source_index, frames = _video_map(coordinates, weights, source_index)
     coords, w = _check_map(coordinates, weights)
     src = _check_sources(source_index, coords)
+    average = src is not None and bool(np.any(src == -1))
+    if average and w is None:
+        raise ValueError("source_index has -1 (the average of the sources) in a map without weights; pass the "
+                         "weights that came with it (info.weights)")
     keys, items = _split_channels(channels, src is not None)
     names = ["channels"] if keys is None else [f"channels[{k!r}]" for k in keys]
     parts = [_as_parts(c, n, src) for c, n in zip(items, names)]  # per channel, its image per source
@@ -351,20 +384,26 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
                                  f"{shape[0]}x{shape[1]}; every channel must have the size of its exemplar")
     flags = _normal_flags(normals, keys if keys is not None else [None])
     where = names[0] if keys is None else "the channels"
+    if average and len(set(shapes)) > 1:
+        raise ValueError(f"the map blends the average of the sources (source_index -1) but the images of {where} "
+                         f"have different sizes {sorted(set(shapes))}; pass images of one size (the input frames)")
     if src is None:
         _check_bounds(coords, shapes[0], where)
     else:
         for i, shape in enumerate(shapes):
             if np.any(src == i):
                 _check_bounds(coords[src == i], shape, f"source {i} of {where}")
+        if average:
+            _check_bounds(coords[src == -1], shapes[0], f"the average of {where}")
     out_pixels = float(coords.shape[0]) * coords.shape[1]
     check_memory(out_pixels * (8 * coords.shape[2] + sum(8 * (c[0].shape[2] if c[0].ndim == 3 else 1)
                                                          for c in parts)),
                  coords.shape[:2], "coordinates", "the rendered channels")
     # flat indices into the sources' pixels one after the other, one contiguous (H, W) array per slot,
     # computed once for all channels
-    widths = np.array([shape[1] for shape in shapes], np.intp)
-    starts = np.concatenate([[0], np.cumsum([shape[0] * shape[1] for shape in shapes])[:-1]]).astype(np.intp)
+    # (source -1, the average image, comes after the sources: the last start, the first's width)
+    widths = np.array([shape[1] for shape in shapes] + [shapes[0][1]], np.intp)
+    starts = np.concatenate([[0], np.cumsum([shape[0] * shape[1] for shape in shapes])]).astype(np.intp)
     slot = (lambda k: 0) if src is None else (lambda k: src[:, :, k])
     flats = [starts[slot(k)] + coords[:, :, k, 0].astype(np.intp) * widths[slot(k)] + coords[:, :, k, 1]
              for k in range(coords.shape[2])]
@@ -381,8 +420,10 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
             blended.reshape(-1)[at] = True
         cache["total"] = total
         cache["convex"] = cache["convex"] and bool(np.abs(total - 1).max() <= 1e-6)
-    rendered = [_render(c, flats, cache, blended, flags[k], n)
+    rendered = [_render(c, flats, cache, blended, flags[k], n, average)
                 for c, n, k in zip(parts, names, keys if keys is not None else [None])]
+    if frames is not None:
+        rendered = [r.reshape((frames, -1) + r.shape[1:]) for r in rendered]
     if keys is None:
         return rendered[0]
     if isinstance(channels, dict):
@@ -390,25 +431,52 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
     return type(channels)(rendered) if isinstance(channels, tuple) else rendered
 
 
+def _video_map(coordinates, weights, source_index):
+    """A video map ``(N, H, W, K, 2)`` (weights and sources ``(N, H, W, K)``) as one ``(N * H, W, K, 2)``
+    map, and ``N``."""
+    coords = as_array(coordinates, "coordinates")
+    if coords.shape[-1] != 2 or weights is None or source_index is None:
+        raise ValueError(
+            f"coordinates of shape {coords.shape} (5 dimensions) is a video map (n_frames, H, W, K, 2), which needs "
+            "weights and source_index of shape (n_frames, H, W, K); pass the info of patchwork_video(..., "
+            "return_info=True) itself"
+        )
+    n = coords.shape[0]
+    flat = (n * coords.shape[1],) + coords.shape[2:-1]
+    for name, value in (("weights", weights), ("source_index", source_index)):
+        if np.shape(value) != coords.shape[:-1]:
+            raise ValueError(f"{name} has shape {np.shape(value)} but the video map {coords.shape} needs "
+                             f"{coords.shape[:-1]}; pass the {name} that came with the coordinates")
+    return (coords.reshape(flat + (2,)), np.reshape(weights, flat), np.reshape(source_index, flat), n)
+
+
 # --------------------------------------------------------------------------
 # helpers for the methods that record maps
 
 
-def compact_slots(coordinates, weights):
-    """Sort a blend map's slots by weight (largest first) and drop the slots no pixel uses.
+def compact_slots(coordinates, weights, source_index=None):
+    """Sort a blend map's slots by weight (largest magnitude first) and drop the slots no pixel uses.
 
-    ``coordinates`` ``(H, W, K, 2)``, ``weights`` ``(H, W, K)``; returns the
-    same with ``K`` the largest number of nonzero weights at any pixel.
-    Unused slots repeat the dominant slot's coordinates with weight 0, so
-    ``coordinates[:, :, 0]`` is a valid copy map.
+    ``coordinates`` ``(H, W, K, 2)``, ``weights`` ``(H, W, K)`` and, for a
+    map with sources, ``source_index`` ``(H, W, K)``; returns the same with
+    ``K`` the largest number of nonzero weights at any pixel. Unused slots
+    repeat the dominant slot's coordinates (and source) with weight 0, so
+    ``coordinates[:, :, 0]`` is a valid copy map. (Weights are negative
+    only in :func:`~texsynth.patchwork_video`'s eq. 6; the order of
+    non-negative weights is the plain largest-first one.)
     """
-    order = np.argsort(-weights, axis=-1, kind="stable")
+    order = np.argsort(-np.abs(weights), axis=-1, kind="stable")
     weights = np.take_along_axis(weights, order, -1)
     coordinates = np.take_along_axis(coordinates, order[..., None], -2)
-    k = max(1, int(np.count_nonzero(weights > _NEGLIGIBLE, axis=-1).max()))
+    used = np.abs(weights) > _NEGLIGIBLE
+    k = max(1, int(np.count_nonzero(used, axis=-1).max()))
     weights, coordinates = np.ascontiguousarray(weights[..., :k]), np.ascontiguousarray(coordinates[..., :k, :])
-    unused = weights <= _NEGLIGIBLE
+    unused = ~used[..., :k]
     coordinates[unused] = np.broadcast_to(coordinates[:, :, :1], coordinates.shape)[unused]
     weights[unused] = 0
-    return coordinates, weights
+    if source_index is None:
+        return coordinates, weights
+    source_index = np.ascontiguousarray(np.take_along_axis(source_index, order, -1)[..., :k])
+    source_index[unused] = np.broadcast_to(source_index[:, :, :1], source_index.shape)[unused]
+    return coordinates, weights, source_index
 

@@ -137,17 +137,33 @@ class PatchworkInfo:
         ``"matching"`` (transfer: choosing the ``q_i``) and ``"blending"``
         (eq. 2 or 7 over the output).
     coordinates : numpy.ndarray or None
-        :func:`patchwork` only: ``(H, W, K, 2)`` int, the input pixels
+        :func:`patchwork`: ``(H, W, K, 2)`` int, the input pixels
         ``x - p_i + q_i`` of the ``K`` cells that weigh most at each pixel,
         largest first (mirrored back into the input where a far tail leaves
         it); the source-coordinate map of ``docs/conventions.md``.
+        :func:`patchwork_video`: ``(n_frames, H, W, K, 2)``, one such map
+        per output frame, each cell's slot split into the three terms of
+        eq. 6 (see :attr:`source_index`). None for :func:`patchwork_transfer`
+        (eq. 7's local means ``a_i`` are averages over whole texture
+        patches, which a map of a few pixels per output pixel cannot
+        express) and with ``chunks=``.
     weights : numpy.ndarray or None
-        ``(H, W, K)`` float32, their coefficients ``w_i / sqrt(sum_j w_j^2)``
-        of eq. 2. They sum to more than 1; :func:`texsynth.apply_coordinates`
-        takes the rest from the channel's mean ``a``, as eq. 2 does, so
-        rendering the input through the map gives the output up to the
-        cells left out (those of coefficient below 1/512) and the clipping
-        to [0, 1].
+        ``(H, W, K)`` float32 (video: ``(n_frames, H, W, K)``), their
+        coefficients ``w_i / sqrt(sum_j w_j^2)`` of eq. 2 (video: times
+        eq. 6's ``w_1 / n``, ``w_2 / n`` or ``1 - 1/n``, ``n = sqrt(w_1^2 +
+        w_2^2)``; the last is negative), largest magnitude first. They sum
+        to more than 1; :func:`texsynth.apply_coordinates` takes the rest
+        from the channel's mean ``a``, as eq. 2 does, so rendering the input
+        through the map gives the output up to the cells left out (those of
+        coefficient below 1/512) and the clipping to [0, 1].
+    source_index : numpy.ndarray or None
+        :func:`patchwork_video` only: ``(n_frames, H, W, K)`` int, the input
+        frame each slot reads (``I(x - p_i + q_i, tau)`` of eq. 6), or -1
+        for the average frame ``A(x - p_i + q_i)``. The input frames play
+        the role of :func:`texsynth.mix_textures`' sources:
+        :func:`texsynth.apply_coordinates` takes each channel as the list
+        of its images, one per input frame, and returns ``(n_frames, H,
+        W[, C])``.
     """
 
     p: np.ndarray
@@ -165,6 +181,7 @@ class PatchworkInfo:
     stage_seconds: dict = field(default_factory=dict)
     coordinates: np.ndarray | None = None
     weights: np.ndarray | None = None
+    source_index: np.ndarray | None = None
 
 
 # --------------------------------------------------------------------------
@@ -566,10 +583,11 @@ def _mirror(index, n):
     return np.where(index >= n, 2 * n - 1 - index, index)
 
 
-def _band_sources(parts, pads, width, in_size):
+def _band_sources(parts, pads, width, in_size, with_cells=False):
     """The cells that weigh in eq. 2 at every pixel of a band, largest first: input coordinates
     ``(..., K, 2)`` and coefficients ``w_i / sqrt(sum_j w_j^2)`` ``(..., K)`` in the padded block
-    layout, ``K`` the most cells of coefficient ``>= _SOURCE_MIN_WEIGHT`` at any pixel of the band."""
+    layout, ``K`` the most cells of coefficient ``>= _SOURCE_MIN_WEIGHT`` at any pixel of the band
+    (``with_cells``: also the index ``i`` of each slot's cell, ``(..., K)``)."""
     weights = np.stack([w for _, w, *_ in parts], -1)  # (By, T, Bx, T, m*m)
     norm = np.sqrt(np.sum(weights.astype(np.float64) ** 2, -1, keepdims=True))
     weights = (weights / np.where(norm > 0, norm, 1)).astype(np.float32)
@@ -581,6 +599,9 @@ def _band_sources(parts, pads, width, in_size):
     flats = np.take_along_axis(np.stack([flat for _, _, flat, *_ in parts], -1), order, -1)
     row, col = np.divmod(flats, width)
     coords = np.stack([_mirror(row - pads[0], in_size[0]), _mirror(col - pads[2], in_size[1])], -1)
+    if with_cells:
+        ids = np.stack([np.broadcast_to(i[:, None, :, None], w.shape[:-1]) for i, *_ in parts], -1)
+        return coords, w, np.take_along_axis(ids, order, -1)
     return coords, w
 
 
@@ -987,8 +1008,46 @@ def _frame_spacing(frame_spacing, n_input, n_frames):
     return d
 
 
-def _synthesize_video(geom, vid, n_frames, spacing, gen, local_means, progress, desc):
-    """Output frames: eq. 2 (or 7) over the intermediate sequences' frames, one Voronoi arrangement."""
+def _frame_slots(coords, omega, slot_cells, tau1, tau2, coef):
+    """One output frame's source-coordinate map (eqs. 2 and 6): every cell's slot (its input pixel
+    ``coords``, coefficient ``omega`` of eq. 2, cell ``slot_cells``) split into its three terms of eq.
+    6, ``c1 I(tau1) + c2 I(tau2) + cA A``: input frames ``tau1``, ``tau2`` and -1 (the average frame
+    ``A``), weights ``omega * c``; slots of weight below ``_SOURCE_MIN_WEIGHT`` dropped."""
+    from ..core.coordinates import compact_slots
+
+    shape = omega.shape[:-1] + (3 * omega.shape[-1],)
+    frames = np.stack([tau1[slot_cells], tau2[slot_cells], np.full_like(slot_cells, -1)], -1).reshape(shape)
+    weights = (omega[..., None] * coef[slot_cells]).reshape(shape)
+    weights[np.abs(weights) < _SOURCE_MIN_WEIGHT] = 0  # as patchwork: terms below 1/512 left out
+    coords = np.repeat(coords, 3, axis=-2)
+    return compact_slots(coords, weights, frames)
+
+
+def _video_map(pieces, n_frames, H, W):
+    """The per-frame maps ``(rows, (coordinates, weights, frames) per frame)`` of the bands assembled into
+    ``(n_frames, H, W, K, 2)``, ``(n_frames, H, W, K)`` and ``(n_frames, H, W, K)`` arrays."""
+    from ..core.coordinates import compact_slots
+
+    k = max(w.shape[-1] for _, frames in pieces for _, w, _ in frames)
+    check_memory(float(n_frames) * H * W * k * (16 + 4 + 8), (H, W), what="the source-coordinate map",
+                 also={"n_frames": n_frames})
+    coordinates = np.zeros((n_frames, H, W, k, 2), np.int64)
+    weights = np.zeros((n_frames, H, W, k), np.float32)
+    sources = np.zeros((n_frames, H, W, k), np.intp)
+    for idx, frames in pieces:
+        for t, (c, w, f) in enumerate(frames):
+            n = w.shape[-1]
+            coordinates[t, idx, :, :n], weights[t, idx, :, :n], sources[t, idx, :, :n] = c, w, f
+    flat = compact_slots(coordinates.reshape(n_frames * H, W, k, 2), weights.reshape(n_frames * H, W, k),
+                         sources.reshape(n_frames * H, W, k))
+    return tuple(a.reshape((n_frames, H) + a.shape[1:]) for a in flat)
+
+
+def _synthesize_video(geom, vid, n_frames, spacing, gen, local_means, progress, desc, record=False):
+    """Output frames: eq. 2 (or 7) over the intermediate sequences' frames, one Voronoi arrangement.
+
+    ``record`` (eq. 2 only): also return the source-coordinate map of every frame (:func:`_video_map`),
+    else None."""
     T, Hin, Win, C = vid.shape
     H, W = geom.rows.n_out, geom.cols.n_out
     n_cells = geom.grid_shape[0] * geom.grid_shape[1]
@@ -1011,12 +1070,18 @@ def _synthesize_video(geom, vid, n_frames, spacing, gen, local_means, progress, 
     bands = geom.bands()
     bar = Progress(progress, len(bands) * n_frames, desc)
     cells = np.zeros((H, W), np.intp)
+    pieces = []  # record: per band, its rows and each frame's map (bookkeeping beside the blend)
     for band in bands:
         parts, cell_blocks = geom.band_weights(band, width, pads, need_cells=True)
         idx, block_cells = geom.to_output(band, cell_blocks[..., None])
         cells[idx] = block_cells[..., 0]
+        if record:
+            band_map = [geom.to_output(band, x)[1] for x in _band_sources(parts, pads, width, (Hin, Win), True)]
+            pieces.append((idx, []))
         for t in range(n_frames):
             tau1, tau2, coef = seq.at(t)
+            if record:
+                pieces[-1][1].append(_frame_slots(*band_map, tau1, tau2, coef))
 
             def sample(n, ids, flat, tau1=tau1, tau2=tau2, coef=coef):
                 c = coef[ids][:, None, :, None, :, None]  # (By, 1, Bx, 1, 3, 1)
@@ -1033,7 +1098,7 @@ def _synthesize_video(geom, vid, n_frames, spacing, gen, local_means, progress, 
             out[t, idx] = rows if a is None else rows + a
             bar.advance({"band": band.start, "frame": t})
     bar.close()
-    return out, cells, seq
+    return out, cells, seq, _video_map(pieces, n_frames, H, W) if record else None
 
 
 def patchwork_video(
@@ -1080,7 +1145,15 @@ def patchwork_video(
         Random source.
     return_info : bool
         Also return a :class:`PatchworkInfo` (``frame_keys``,
-        ``frame_sources`` hold the temporal ``p_i``, ``q_i``).
+        ``frame_sources`` hold the temporal ``p_i``, ``q_i``), with the
+        source-coordinate map of every output frame (``coordinates``,
+        ``weights``, ``source_index``: which input frame, -1 for the
+        average frame ``A``), which :func:`texsynth.apply_coordinates`
+        renders another channel sequence through (see Notes). The map
+        takes 28 bytes a slot, and ``K`` (the most slots any pixel of any
+        frame uses) is 2-3 times :func:`patchwork`'s: 33 for a 128 px
+        output at ``grid_spacing=32`` (8.5 used on average), 0.9 kB per
+        pixel and frame.
     progress : bool or callable
         Report progress per output frame.
 
@@ -1112,6 +1185,17 @@ def patchwork_video(
     sqrt(w_1^2 + w_2^2) + A``: the temporal variation about ``A`` keeps its
     standard deviation through a transition.
 
+    Eq. 6 is linear in the input, ``N = c_1 I_1 + c_2 I_2 + c_A A``, so eq. 2
+    over the cells' ``N_i`` is a weighted sum of input pixels, each in some
+    input frame, plus the mean ``a``: ``info.coordinates`` records it per
+    output frame, three slots per cell (frames ``tau_1``, ``tau_2`` and the
+    average frame ``A``, source -1), and rendering the input frames through
+    it (``apply_coordinates(list(frames), info)``) reproduces the video up
+    to the cells of coefficient below 1/512 and the clipping to [0, 1]
+    (``tests/test_coordinates.py``). Another channel of the same clip (a
+    height or normal sequence, one image per input frame) then animates
+    exactly as the colour did.
+
     References
     ----------
     .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
@@ -1125,6 +1209,10 @@ def patchwork_video(
     >>> loop = patchwork_video(clip, 48, 8, grid_spacing=16, rng=0)
     >>> loop.shape
     (8, 48, 48)
+    >>> loop, info = patchwork_video(clip, 48, 8, grid_spacing=16, rng=0, return_info=True)
+    >>> from texsynth import apply_coordinates
+    >>> bool(np.abs(np.clip(apply_coordinates(list(clip), info), 0, 1) - loop).max() < 0.01)
+    True
     """
     start = time.perf_counter()
     video = _check_video(frames)
@@ -1137,12 +1225,18 @@ def patchwork_video(
     spacing = _frame_spacing(frame_spacing, vid.shape[0], N)
     gen = as_rng(rng)
     _check_memory((H, W), vid.shape[-1], s, frames=N, cells=return_info)
+    if return_info:  # the map holds at least the 3 terms of eq. 6 of one cell per pixel and frame (typically 15-20)
+        check_memory(float(N) * H * W * 3 * (16 + 4 + 8), (H, W), what="the source-coordinate map of return_info",
+                     also={"n_frames": N})
     geom = _Geometry((H, W), vid.shape[1:3], s, f, m, check_bool(tileable, "tileable"), gen)
     _warn_if_cells_leave(geom, s, vid.shape[1:3], f, m, "frames")
-    out, cells, seq = _synthesize_video(geom, vid, N, spacing, gen, None, progress, "patchwork_video")
+    out, cells, seq, sources = _synthesize_video(geom, vid, N, spacing, gen, None, progress, "patchwork_video",
+                                                 record=return_info)
     result, clipped = _finish(out, video.dtype, grey)
     if return_info:
-        info = _info(geom, cells, clipped, start, frame_keys=seq.keys[:, :-1], frame_sources=seq.sources[:, :-1])
+        coordinates, weights, frame_index = sources
+        info = _info(geom, cells, clipped, start, frame_keys=seq.keys[:, :-1], frame_sources=seq.sources[:, :-1],
+                     coordinates=coordinates, weights=weights, source_index=frame_index)
         return result, info
     return result
 
@@ -1289,6 +1383,18 @@ def patchwork_transfer(
     straight seams every ``grid_spacing`` pixels in flat areas. The ``q_i``
     are chosen exactly as without it.
 
+    No source-coordinate map (``info.coordinates`` is None): the local
+    means ``a_i`` of eq. 7 are averages over each cell's whole
+    ``neighborhood_size`` square of texture, so rendering another channel
+    exactly would need every pixel of those squares in every output pixel's
+    map (256 slots per cell at the default 16, with eq. 7's two
+    normalisations), not the few pixels per output pixel of a map; a map of
+    the ``x - p_i + q_i`` alone with the channel's global mean in place of
+    ``a_i`` would not follow the pattern. To carry other channels through a
+    transfer, stack them as extra channels of ``texture`` (and of
+    ``pattern``, e.g. the pattern itself or a constant, which then also
+    weighs in the matching).
+
     References
     ----------
     .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
@@ -1349,7 +1455,7 @@ def patchwork_transfer(
     geom.set_sources(qy, qx)
 
     if is_video:
-        out, cells, seq = _synthesize_video(geom, tex, N, spacing, gen, local, False, "patchwork_transfer")
+        out, cells, seq, _ = _synthesize_video(geom, tex, N, spacing, gen, local, False, "patchwork_transfer")
         extra = {"frame_keys": seq.keys[:, :-1], "frame_sources": seq.sources[:, :-1]}
     else:
         C = reference.shape[-1]

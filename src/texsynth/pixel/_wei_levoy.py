@@ -595,13 +595,14 @@ def _scanline_level(lv, run, bar, picked=None):
                 t.index_p = run.index(np.concatenate([full, pixels], axis=1), lv.level, i, 1)
         tabs.append(t)
     single = len(tabs) == 1
-    wrap = _WrapSearch(lv, run, tabs[0]) if run.tileable and single else None
+    wraps = [_WrapSearch(lv, run, t) for t in tabs] if run.tileable else None
     energy = 0.0
     steps = 0
     line_centers = np.stack([np.zeros(width, np.intp), np.arange(width)], 1)
     for r in range(height):
-        # tileable: the columns [start, stop) whose causal window does not wrap; the others search by _WrapSearch
-        start, stop = (0, width) if wrap is None else wrap.unwrapped(r)
+        # tileable: the columns [start, stop) where no source's causal window wraps; the others search by
+        # _WrapSearch
+        start, stop = (0, width) if wraps is None else _unwrapped(wraps, r)
         line_centers[:, 0] = r
         row = lv.out[r]
         active = [t for t in tabs if t.weight[r].any()]
@@ -613,13 +614,14 @@ def _scanline_level(lv, run, bar, picked=None):
             else:
                 t.q = q
         for j in range(start):
-            energy += wrap.solve(row, r, j, picked)
-            steps += 1
+            e, n_iter = _solve_wrapped(row, r, j, wraps, active, run.iterations, picked)
+            energy += e
+            steps += n_iter
         if single and exact:  # Wei & Levoy 2000: p = the exemplar pixel of nearest neighbourhood
             energy += _scanline_single(row, tabs[0], None if picked is None else picked[0, r], start, stop)
             steps += stop - start
         else:
-            for j in range(start, stop) if single else range(width):
+            for j in range(start, stop):
                 if single:
                     t = tabs[0]
                     k, d_k = _query_one(t.index, np.concatenate([t.q[j], row[t.cols[j]].ravel()]))
@@ -634,8 +636,9 @@ def _scanline_level(lv, run, bar, picked=None):
                 energy += e
                 steps += n_iter
         for j in range(stop, width):
-            energy += wrap.solve(row, r, j, picked)
-            steps += 1
+            e, n_iter = _solve_wrapped(row, r, j, wraps, active, run.iterations, picked)
+            energy += e
+            steps += n_iter
         bar.advance({"level": lv.level, "row": r})
     n = height * width
     return energy / n, steps / n
@@ -674,15 +677,18 @@ class _WrapSearch:
     other terms left out, ``||v_S - q_S||^2 = ||v_S||^2 - 2 v.q_S +
     ||q_S||^2``: one product with the candidates per pixel, for a few
     percent of the pixels. (This rule is texsynth's; Wei & Levoy's papers
-    were not at hand to say how they treat the wrap.)
+    were not at hand to say how they treat the wrap.) One search per source
+    of :func:`mix_textures`; eq. 1 then alternates over these distances as
+    over the causal ones (:func:`_solve_wrapped`).
     """
 
     def __init__(self, lv, run, table):
         src = table.src
         self.lv, self.table, self.src = lv, table, src
         _, _, self.full = _masks(src.size, src.shape)
-        self.vectors = _exemplar_vectors(src, lv.level, run.levels, lv.centers[0], self.full)
+        self.vectors = _exemplar_vectors(src, lv.level, run.levels, lv.centers[table.i], self.full)
         self.squares = self.vectors**2
+        self.by_pixel = SequentialExact(table.pixels)  # eq. 1's ||p - p_i||^2 term
         self.channels = lv.out.shape[-1]
         self.parent_dims = self.vectors.shape[1] - int(self.full.sum()) * self.channels
         h, w = src.size
@@ -699,8 +705,8 @@ class _WrapSearch:
             return width, width
         return w // 2, width - w // 2
 
-    def solve(self, row, r, j, picked):
-        """Pixel ``(r, j)`` becomes the candidate nearest over its synthesised neighbours; returns the distance."""
+    def distances(self, r, j):
+        """``||N(p) - N(p_i)||^2`` over the window pixels synthesised before ``(r, j)``, to every candidate."""
         height, width = self.lv.out.shape[:2]
         rows = (r + self.offsets[0]) % height
         cols = (j + self.offsets[1]) % width
@@ -713,12 +719,36 @@ class _WrapSearch:
         src = self.src
         q = _vectors(self.lv.out, self.lv.parent, np.array([[r, j]]), src.size, src.parent_size, self.full, "wrap",
                      src.parent_mask)[0] * sel
-        d = norms - 2 * (self.vectors @ q) + q @ q
-        k = int(d.argmin())
-        row[j] = self.table.pixels[k]
-        if picked is not None:
-            picked[0, r, j] = k
-        return max(float(d[k]), 0.0)
+        return norms - 2 * (self.vectors @ q) + q @ q
+
+    def nearest_with(self, distances, p):
+        """The candidate minimising ``distances + ||p - p_i||^2`` (one term of eq. 1 with ``p`` fixed)."""
+        return self.by_pixel.nearest_with(distances, 0, p)
+
+
+def _unwrapped(wraps, r):
+    """The columns ``[start, stop)`` of row ``r`` where no source's causal window wraps."""
+    spans = [w.unwrapped(r) for w in wraps]
+    start, stop = max(a for a, _ in spans), min(b for _, b in spans)
+    return (start, stop) if start < stop else (stop, stop)
+
+
+def _solve_wrapped(row, r, j, wraps, active, iterations, picked):
+    """Pixel ``(r, j)`` where a window wraps: eq. 1 over the synthesised neighbours; returns (E, iterations).
+
+    One source: its nearest candidate (Wei & Levoy 2000). Several: Wei's
+    alternation of :func:`_solve_pixel` over the :class:`_WrapSearch`
+    distances.
+    """
+    if len(wraps) > 1:
+        return _solve_pixel(row, j, r, active, iterations, True, None if picked is None else picked[:, r, j],
+                            wrapped=wraps)
+    d = wraps[0].distances(r, j)
+    k = int(d.argmin())
+    row[j] = wraps[0].table.pixels[k]
+    if picked is not None:
+        picked[0, r, j] = k
+    return max(float(d[k]), 0.0), 1
 
 
 def _query_one(index, vector):
@@ -726,9 +756,12 @@ def _query_one(index, vector):
     return idx[0, 0], d2[0, 0]
 
 
-def _solve_pixel(row, j, r, active, iterations, exact, picks=None):
+def _solve_pixel(row, j, r, active, iterations, exact, picks=None, wrapped=None):
     """Eq. 1 at one pixel; writes p into ``row[j]`` (and each source's ``p_i`` into ``picks``, if given),
     returns (E, iterations).
+
+    ``wrapped`` (tileable output, a pixel whose window wraps): each source's
+    :class:`_WrapSearch`, whose exact distances replace the causal ones.
 
     With one source of positive weight, eq. 1 is minimised directly (Wei
     2002: choose the p_i of nearest neighbourhood and set p = p_i, which is
@@ -739,6 +772,9 @@ def _solve_pixel(row, j, r, active, iterations, exact, picks=None):
     for t in active:
         a = t.weight[r, j]
         if a <= 0:
+            continue
+        if wrapped is not None:
+            terms.append((t, a, wrapped[t.i].distances(r, j)))
             continue
         lv = row[t.cols[j]].ravel()
         if exact:
@@ -769,7 +805,10 @@ def _solve_pixel(row, j, r, active, iterations, exact, picks=None):
             # fix p, choose each p_i minimising ||p - p_i||^2 + ||N_i(p) - N_i(p_i)||^2 (one term of eq. 1)
             chosen = []
             for t, _, x in terms:
-                if exact:  # + ||p - p_i||^2 ranked on the pixel part
+                if wrapped is not None:
+                    k = wrapped[t.i].nearest_with(x, p)
+                    chosen.append((k, x[k]))
+                elif exact:  # + ||p - p_i||^2 ranked on the pixel part
                     k = t.exact.nearest_with(x, 2, p)
                     chosen.append((k, x[k]))
                 else:
@@ -1380,6 +1419,7 @@ def mix_textures(
     order="scanline",
     method="auto",
     passes=2,
+    tileable=False,
     rng=None,
     progress=False,
     return_info=False,
@@ -1423,13 +1463,23 @@ def mix_textures(
     max_iterations : int
         Most alternation steps of eq. 1 per pixel (default 4: the paper found
         1 to 4 enough). Stops earlier when E stops falling.
+    tileable : bool
+        Make the output tile seamlessly, as :func:`synthesize_pixels` does:
+        in scanline order a pixel where some source's causal window wraps
+        compares, for every source, the wrapped pixels synthesised before it
+        (exact search), and eq. 1 alternates over those distances. In
+        independent order the output tiles either way; True changes nothing
+        there. Weight images should then wrap too (a left-to-right ramp
+        meets its other end at the seam).
     order, method, passes, rng, progress, return_info
         As in :func:`synthesize_pixels`.
 
     Returns
     -------
     image : numpy.ndarray
-        The mixture, ``size`` with the sources' channel layout.
+        The mixture, ``size`` with the sources' channel layout; toroidal
+        (seamless when tiled with ``tileable=True`` or in independent
+        order).
     info : PixelSynthesisInfo
         Only with ``return_info=True``.
 
@@ -1501,6 +1551,7 @@ def mix_textures(
     size = as_size(size)
     levels = _check_levels(levels)
     _check_order_method(order, method, passes, max_iterations)
+    tileable = check_bool(tileable, "tileable")
     rng = as_rng(rng)
     sizes = _per_source(neighborhood_sizes, n, "neighborhood_sizes")
     psizes = _per_source(parent_sizes, n, "parent_sizes")
@@ -1514,7 +1565,7 @@ def mix_textures(
         src.weights = w
     out, info = _synthesize(
         srcs, size, channels, dtype, levels=levels, order=order, method=method, iterations=max_iterations,
-        passes=passes, rng=rng, progress=progress, desc="Wei mixture",
+        passes=passes, rng=rng, progress=progress, desc="Wei mixture", tileable=tileable and order == "scanline",
     )
     out = restore_channels(out, grey)
     return (out, info) if return_info else out
