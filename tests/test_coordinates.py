@@ -144,6 +144,19 @@ def test_patchwork_video_map_reproduces_the_video(tileable):
     assert np.abs(np.clip(rendered, 0, 1) - out).max() < 5e-3
 
 
+def test_a_video_map_is_saved_and_loaded(tmp_path):
+    from texsynth.io import load_coordinates, save_coordinates
+
+    clip = _drifting_clip()
+    _, info = texsynth.patchwork_video(clip, 24, 4, grid_spacing=16, rng=1, return_info=True)
+    saved = load_coordinates(save_coordinates(tmp_path / "video.npz", info))
+    assert saved.coordinates.shape == info.coordinates.shape
+    assert np.array_equal(apply_coordinates(list(clip), saved.coordinates, saved.weights,
+                                            source_index=saved.source_index), apply_coordinates(list(clip), info))
+    with pytest.raises(ValueError, match="video map"):  # its weights and sources are part of it
+        save_coordinates(tmp_path / "bad.npz", info.coordinates)
+
+
 def test_patchwork_video_map_renders_another_channel_sequence():
     """A second channel of the clip (a height per input frame, not a linear function of the colour) rendered
     through the colour's map is the video patchwork_video makes of that channel with the same seed (the cells

@@ -1052,7 +1052,8 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
         A ``.npz`` file.
     coordinates : array_like or info
         The map (``docs/conventions.md``), or an info of a synthesis, whose
-        ``coordinates``, ``weights`` and ``source_index`` are saved.
+        ``coordinates``, ``weights`` and ``source_index`` are saved; a video
+        map of :func:`texsynth.patchwork_video` (``(N, H, W, K, 2)``) too.
     weights, source_index : array_like, optional
         As in :func:`texsynth.apply_coordinates` (taken from the info when
         ``coordinates`` is one).
@@ -1080,7 +1081,7 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
     >>> bool(np.array_equal(texsynth.apply_coordinates(data.load("bread")[:48, :48], saved), out))
     True
     """
-    from .core.coordinates import _check_map, _check_sources
+    from .core.coordinates import _check_map, _check_sources, _video_map
 
     path = _as_path(path)
     if path.suffix.lower() != ".npz":
@@ -1093,8 +1094,13 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
         if coordinates is None:
             raise ValueError(f"this {type(info).__name__} has no coordinates; see its docstring for the options "
                              "that record them")
-    coords, w = _check_map(coordinates, weights)
-    _check_sources(source_index, coords)
+    if np.ndim(coordinates) == 5:  # a video map (patchwork_video): checked as the one tall map it renders as
+        coords, w, sources, _ = _video_map(coordinates, weights, source_index)
+        coords, w = _check_map(coords, w)
+        _check_sources(sources, coords)
+    else:
+        coords, w = _check_map(coordinates, weights)
+        _check_sources(source_index, coords)
     arrays = {"coordinates": as_array(coordinates, "coordinates")}
     if w is not None:
         arrays["weights"] = as_array(weights, "weights")
