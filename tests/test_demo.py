@@ -33,7 +33,8 @@ def test_every_method_family_is_in_the_gallery():
     # the issues ask each method to add itself to `texsynth demo`
     slugs = " ".join(entry.slug for entry in demo.ENTRIES)
     for family in ("marble", "wood", "reaction_diffusion", "gray_scott", "pixels", "mix", "solid", "optimize",
-                   "animate", "interpolate", "patchwork", "patchwork_video", "heeger_bergen", "portilla_simoncelli"):
+                   "animate", "interpolate", "patchwork", "patchwork_video", "heeger_bergen", "portilla_simoncelli",
+                   "surface_vertex", "surface_lapped"):
         assert family in slugs, family
     # Heeger-Bergen is shown where it works and where it fails (a structured texture)
     titles = {e.slug: e.title for e in demo.ENTRIES}

@@ -8,7 +8,7 @@ import pytest
 
 import texsynth
 from texsynth import cli, demo
-from texsynth.registry import METHODS
+from texsynth.registry import METHODS, SURFACE_DEMOS
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
@@ -61,7 +61,8 @@ def test_the_command_and_the_gallery_read_the_registry():
     parser = cli.build_parser()
     commands = parser._subparsers._group_actions[0].choices
     assert set(METHODS) <= set(commands)
-    assert [e.slug for e in demo.ENTRIES] == [d.slug for m in METHODS.values() for d in m.demos]
+    assert [e.slug for e in demo.ENTRIES] == [d.slug for m in METHODS.values() for d in m.demos] + [
+        d.slug for d in SURFACE_DEMOS]
     assert len({e.slug for e in demo.ENTRIES}) == len(demo.ENTRIES)
 
 

@@ -16,7 +16,7 @@ from typing import Callable
 
 from . import data
 
-__all__ = ["Method", "Demo", "METHODS", "demos"]
+__all__ = ["Method", "Demo", "METHODS", "SURFACE_DEMOS", "demos"]
 
 
 @dataclass(frozen=True)
@@ -519,6 +519,37 @@ COORDINATE_METHODS = ("pixels", "mix", "efros-leung", "optimize", "patchwork", "
                       "wang-tiles", "patch-sampling", "seam-carve")
 
 
+def _surface_demo(mode):
+    """``make(exemplar, seed)``: a preview (two views) of ``mode`` ("vertex" or "lapped") on a test shape."""
+
+    def make(exemplar, seed):
+        import numpy as np
+
+        from .surface import lapped_textures, render_mesh, sphere, synthesize_surface, torus
+
+        if mode == "lapped":
+            mesh = lapped_textures(torus(), exemplar, rng=seed)
+        else:  # courses along the latitudes: the field turns about the vertical axis
+            mesh = synthesize_surface(sphere(2562), exemplar[:96, :96], n_vertices=8000, rng=seed,
+                                      field=lambda p: np.stack([-p[:, 1], p[:, 0], np.zeros(len(p))], axis=1))
+        return render_mesh(mesh, 384, views=2)
+
+    return make
+
+
+_TURK = ("Turk, SIGGRAPH 2001, doi:10.1145/383259.383297; Wei & Levoy, SIGGRAPH 2001, "
+         "doi:10.1145/383259.383298")
+_PRAUN = "Praun, Finkelstein & Hoppe, SIGGRAPH 2000, doi:10.1145/344779.344987"
+
+SURFACE_DEMOS = [
+    Demo("surface_vertex_brick", "vertex synthesis on a sphere, courses along the latitudes (texsynth surface)",
+         _TURK, "brick", _surface_demo("vertex")),
+    Demo("surface_lapped_brick", "lapped textures on a torus (texsynth surface --mode lapped)", _PRAUN, "brick",
+         _surface_demo("lapped")),
+]
+"""The gallery's previews of the surface family, whose command (``texsynth surface``) is not a registry method."""
+
+
 def demos():
-    """Every gallery image, in the order of :data:`METHODS`."""
-    return [d for method in METHODS.values() for d in method.demos]
+    """Every gallery image, in the order of :data:`METHODS`, then the surface previews."""
+    return [d for method in METHODS.values() for d in method.demos] + SURFACE_DEMOS
