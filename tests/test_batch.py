@@ -166,18 +166,23 @@ def test_a_killed_batch_is_finished_by_running_it_again(exemplars, tmp_path, cli
     command = [sys.executable, "-m", "texsynth", "batch", str(manifest), "-o", str(out), "--size", "96x96",
                "--workers", "1", "--threads", "--no-progress"]
     proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+
+    def outputs():  # the finished outputs: a hidden .NAME-XXXXXXXX.png is one being written
+        return [p for p in out.glob("*.png") if not p.name.startswith(".")]
+
     try:
-        while proc.poll() is None and len(list(out.glob("*.png"))) < 3:
+        while proc.poll() is None and len(outputs()) < 3:
             time.sleep(0.02)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
         proc.wait()
-    finished = {p.name: p.stat().st_mtime_ns for p in out.glob("*.png")}
+    finished = {p.name: p.stat().st_mtime_ns for p in outputs()}
     assert 3 <= len(finished) < len(rows), "the batch ended before it could be killed: give it more items"
     summary = texsynth.batch(manifest, out, size=96, client=client, progress=False)
     assert summary.count("skipped") == len(finished) and summary.count("done") == len(rows) - len(finished)
     assert all((out / name).stat().st_mtime_ns == mtime for name, mtime in finished.items())
+    assert not [p.name for p in out.iterdir() if p.name.startswith(".")]  # what the kill left is cleared
     for item in summary.items[:: 7]:  # every output is complete and equal to the item's own result
         expected = tmp_path / "expected.png"
         save_image(expected, texsynth.quilt(load_image(out.parent / item["exemplar"]), (96, 96), rng=item["seed"]),

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import glob
 import hashlib
 import io as _stdio
 import json
 import os
+import re
 import sys
 import time
 from dataclasses import dataclass, field
@@ -185,6 +187,15 @@ WORKER_CONFIG = {
 (``dask.config.set(texsynth._batch.WORKER_CONFIG)`` before it starts)."""
 
 
+def _remove_stale_temporaries(output):
+    """Remove what a killed run left of ``output``: the hidden temporary files ``.STEM-XXXXXXXX.SUFFIX`` that
+    texsynth.io writes before renaming (``kill -9`` gives no chance to remove them); only names of that form."""
+    pattern = re.compile(rf"\.{re.escape(output.stem)}-[0-9a-f]{{8}}{re.escape(output.suffix)}")
+    for path in output.parent.glob(f".{glob.escape(output.stem)}-*{glob.escape(output.suffix)}"):
+        if pattern.fullmatch(path.name) and path.is_file():
+            path.unlink(missing_ok=True)
+
+
 def _worker_share():
     """On a Dask worker with a memory limit: the methods' pre-flight checks allow what is left of it
     (the limit minus the worker's resident memory), so an item that cannot fit is refused before it
@@ -347,6 +358,7 @@ def batch(inputs, output_folder, *, methods=("patchwork",), options=None, seeds=
     items = _plan(_rows(inputs, list(methods), options, seeds, size), folder)
     folder.mkdir(parents=True, exist_ok=True)
     for item in items:
+        _remove_stale_temporaries(folder / item["output"])
         if item["status"] == "pending" and (folder / item["output"]).exists() and not overwrite:
             item["status"] = "skipped"
     start = time.perf_counter()
