@@ -9,12 +9,10 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import glob
 import hashlib
 import io as _stdio
 import json
 import os
-import re
 import sys
 import time
 from dataclasses import dataclass, field
@@ -188,12 +186,12 @@ WORKER_CONFIG = {
 
 
 def _remove_stale_temporaries(output):
-    """Remove what a killed run left of ``output``: the hidden temporary files ``.STEM-XXXXXXXX.SUFFIX`` that
-    texsynth.io writes before renaming (``kill -9`` gives no chance to remove them); only names of that form."""
-    pattern = re.compile(rf"\.{re.escape(output.stem)}-[0-9a-f]{{8}}{re.escape(output.suffix)}")
-    for path in output.parent.glob(f".{glob.escape(output.stem)}-*{glob.escape(output.suffix)}"):
-        if pattern.fullmatch(path.name) and path.is_file():
-            path.unlink(missing_ok=True)
+    """Remove what a killed run left of ``output``: the hidden temporary files texsynth.io writes before
+    renaming (``kill -9`` gives no chance to remove them)."""
+    from .io import _stale_temp_files
+
+    for path in _stale_temp_files(output):
+        path.unlink(missing_ok=True)
 
 
 def _worker_share():

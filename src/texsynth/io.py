@@ -23,6 +23,7 @@ file keeps its permission bits. Nothing is overwritten unless
 
 from __future__ import annotations
 
+import glob
 import importlib.util
 import numbers
 import os
@@ -475,11 +476,23 @@ class _CleanUpOnSigterm:
         return False
 
 
+def _temp_file_name(path, token):
+    """The hidden temporary name of ``path`` that :func:`_atomic_write` writes before renaming."""
+    return path.parent / f".{path.stem}-{token}{path.suffix}"
+
+
+def _stale_temp_files(path):
+    """The temporary files of ``path`` that a killed write left (``kill -9`` allows no clean-up)."""
+    path = Path(path)
+    pattern = re.compile(re.escape(_temp_file_name(path, "TOKEN").name).replace("TOKEN", "[0-9a-f]{8}"))
+    return [p for p in path.parent.glob(f".{glob.escape(path.stem)}-*") if pattern.fullmatch(p.name) and p.is_file()]
+
+
 def _new_temp_file(path):
     """Create an empty hidden file beside ``path`` with the mode the umask gives; return (name, mode)."""
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
     for _ in range(100):
-        tmp = path.parent / f".{path.stem}-{secrets.token_hex(4)}{path.suffix}"
+        tmp = _temp_file_name(path, secrets.token_hex(4))
         try:
             fd = os.open(tmp, flags, 0o666)  # the umask (and default ACLs) apply, as for any new file
         except FileExistsError:  # pragma: no cover - 32 random bits
