@@ -604,6 +604,32 @@ def test_channels_are_rendered_through_the_map_and_written_as_a_set(tmp_path, ca
     assert run(*argv, "--overwrite") == 0
 
 
+def test_a_video_map_is_saved_with_the_frames_and_applied_later(tmp_path, capsys):
+    """patchwork-video --coordinates writes the video map with the frames (both or neither); apply-coordinates
+    renders a channel's frames through it: the input frames give the video back, to 8-bit rounding."""
+    from texsynth.io import load_frames, save_frames
+
+    water = data.load("water")[:48, :48]
+    clip = save_frames(tmp_path / "clip", np.stack([np.roll(water, 2 * t, axis=1) for t in range(5)]))
+    out, the_map = tmp_path / "out", tmp_path / "map.npz"
+    argv = ["patchwork-video", str(clip), "-o", str(out), "--size", "32x32", "--n-frames", "4", "--grid-spacing", "16",
+            "--seed", "0", "--coordinates", str(the_map)]
+    assert run(*argv) == 0
+    assert np.load(the_map)["coordinates"].shape[:3] == (4, 32, 32)
+    again = tmp_path / "again"
+    assert run("apply-coordinates", str(the_map), str(clip), "-o", str(again)) == 0
+    # the video clips to [0, 1] and drops cells below 1/512 (as the map does not): measured 1/255 at most
+    assert np.abs(load_frames(again) - load_frames(out)).max() <= 2 / 255
+    capsys.readouterr()
+    assert run("apply-coordinates", str(the_map), str(clip), str(clip), "-o", str(tmp_path / "x")) == 2
+    assert "video map" in capsys.readouterr().err and not (tmp_path / "x").exists()
+    # a frame output that cannot be written leaves no map behind
+    (tmp_path / "blocked").mkdir()
+    (tmp_path / "blocked" / "mine.txt").write_text("not a frame")
+    assert run(*argv[:3], str(tmp_path / "blocked"), *argv[4:-1], str(tmp_path / "map2.npz"), "--overwrite") == 2
+    assert not (tmp_path / "map2.npz").exists()
+
+
 def test_coordinates_are_saved_and_applied_later(tmp_path, capsys):
     """--coordinates MAP.npz is written with the output; apply-coordinates renders a channel through it exactly
     as --channels did. A mixture takes one channel file per input (joined by '+'); seam carving blends."""

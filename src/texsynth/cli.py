@@ -39,7 +39,7 @@ import sys
 from pathlib import Path
 
 from .io import _check_suffix
-from .registry import COORDINATE_METHODS, METHODS, Method
+from .registry import COORDINATE_METHODS, METHODS, VIDEO_COORDINATE_METHODS, Method
 
 __all__ = ["main", "METHODS", "Method"]
 
@@ -184,10 +184,12 @@ def _add_method_parser(sub, name, method):
         if method.inputs == "images":
             parser.description += ("\n\nWith several inputs, each --channels/--normal-maps entry is one file per "
                                    "input joined by '+', in the inputs' order: --channels ha.png+hb.png")
+    if name in COORDINATE_METHODS or name in VIDEO_COORDINATE_METHODS:
         parser.add_argument("--coordinates", metavar="MAP.npz",
                             help="also save the source-coordinate map (coordinates, weights, source_index) to this "
                                  ".npz file, written with OUTPUT as a set; 'texsynth apply-coordinates MAP.npz "
-                                 "CHANNEL -o OUT' renders a channel through it later")
+                                 "CHANNEL -o OUT' renders a channel (for a video: the channel's frames) through it "
+                                 "later")
     params = inspect.signature(func).parameters
     shown = _option_names(method, params)
     help_text = _doc_params(func, shown)
@@ -475,6 +477,9 @@ def _write(method, result, output, overwrite, bits=None, extra=None):
 
     out = Path(output)
     if method.output == "frames":
+        if extra:  # a video's --coordinates map and the frames, both or neither (the frames last)
+            return _write_set({**{path: writer for path, (writer, _) in extra.items()},
+                               out: lambda path, replace: save_frames(path, result, overwrite=replace)}, overwrite)
         save_frames(out, result, overwrite=overwrite)
         return [out]
     if hasattr(result, "dask"):  # a lazy image (chunks): block by block, never whole in memory
@@ -737,15 +742,24 @@ def _run_apply_coordinates(args):
     import numpy as np
 
     from .core.coordinates import apply_coordinates
-    from .io import load_coordinates, save_image
+    from .io import load_coordinates, load_frames, save_frames, save_image
 
     out = Path(args.output)
     if out.resolve() in {Path(p).resolve() for p in [args.map, *args.inputs]}:
         raise CommandError(f"output {args.output!r} is also an input; choose another output path")
     if out.exists() and not args.overwrite:
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
-    _check_suffix(out)
     saved = load_coordinates(args.map)
+    if saved.coordinates.ndim == 5:  # a video map (patchwork_video): the channel is a frame sequence
+        if len(args.inputs) != 1:
+            raise CommandError(f"{args.map!r} is a video map; pass the channel's frames as one GIF, video or folder "
+                               f"of images (the input frames' order), got {len(args.inputs)} files")
+        _check_suffix(out, frames=True)
+        frames = load_frames(args.inputs[0])
+        rendered = apply_coordinates(list(frames), saved, normals=args.normal_map)
+        save_frames(out, np.clip(rendered, 0.0, 1.0), overwrite=args.overwrite)
+        return [out]
+    _check_suffix(out)
     images = _load_channels([([Path(p) for p in args.inputs], out, args.normal_map)], None)[0][0]
     several = saved.source_index is not None
     if not several and len(images) > 1:

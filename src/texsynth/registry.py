@@ -518,6 +518,10 @@ METHODS: dict[str, Method] = {
 COORDINATE_METHODS = ("pixels", "mix", "efros-leung", "optimize", "patchwork", "quilt", "quilt-transfer", "graphcut",
                       "wang-tiles", "patch-sampling", "seam-carve")
 
+#: Methods that record a video map (one map per output frame, the input frames as sources): their command takes
+#: ``--coordinates`` (``texsynth apply-coordinates`` renders a channel's frames through it), not ``--channels``.
+VIDEO_COORDINATE_METHODS = ("patchwork-video",)
+
 
 def _surface_demo(mode):
     """``make(exemplar, seed)``: a preview (two views) of ``mode`` ("vertex" or "lapped") on a test shape."""
