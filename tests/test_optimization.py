@@ -12,7 +12,7 @@ from scipy import ndimage
 from texsynth import metrics
 from texsynth.core.flows import rotation, translation, warp
 from texsynth.io import load_image
-from texsynth.optimization._kwatra import (_Exemplar, _m_step_frame, _Options, _scale_schedule, _schedule,
+from texsynth.optimization._kwatra import (_Exemplar, _frame_terms, _m_step_frame, _Options, _scale_schedule, _schedule,
                                            _solve_gradient_system)
 from texsynth.optimization import animate_texture, optimize_texture
 from texsynth.core.neighborhood import extract, grid_centers
@@ -425,7 +425,8 @@ def test_frame_m_step_never_worse_than_the_current_neighbourhoods(bread):
         mp = extract(mask[..., None], centers, 8, mode="valid")
         return (g * (xp - v) ** 2).sum(axis=(1, 2, 3)) + 3.0 * (mp * (v - tp) ** 2).sum(axis=(1, 2, 3))
 
-    new, rho = _m_step_frame(ex, x, centers, "valid", zidx, constraint, None, search=True)
+    terms = _frame_terms(ex, centers, "valid", constraint, x.shape[-1])
+    new, rho = _m_step_frame(ex, x, centers, "valid", zidx, terms, None, search=True)
     before, after = criterion(zidx), criterion(new)
     assert np.all(after <= before * (1 + 1e-5))
     assert np.mean(after) < 0.5 * np.mean(before)  # random z_p: the search improves most of them

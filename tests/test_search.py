@@ -540,6 +540,26 @@ def test_nearest_candidates_picks_the_nearest_of_each_list(form):
     np.testing.assert_allclose(d2, wtrue.min(1), atol=1e-9)
 
 
+def test_nearest_candidates_scores_a_repeated_candidate_once_and_keeps_the_first():
+    from texsynth.core.search import nearest_candidates
+
+    v = patches("jcjohnson/bread.png", 5, ((0, 30), (0, 30)))
+    queries = patches("jcjohnson/bread.png", 5, ((60, 69), (60, 69)))
+    n = len(queries)
+    rng = np.random.default_rng(3)
+    cands = rng.integers(len(v), size=(n, 6))
+    # coherent candidates agree: each row repeats some of its own entries, the nearest among them too
+    true = ((v[cands] - queries[:, None]) ** 2).sum(-1)
+    best = true.argmin(1)
+    cands[:, 4] = cands[np.arange(n), best]
+    cands[:, 5] = cands[np.arange(n), rng.integers(4, size=n)]
+    true = ((v[cands] - queries[:, None]) ** 2).sum(-1)
+    choice, d2 = nearest_candidates(queries, cands, vectors=v)
+    np.testing.assert_array_equal(choice, true.argmin(1))  # the first of the equal columns
+    assert np.all(choice <= best)
+    np.testing.assert_allclose(d2, true.min(1), atol=1e-9)
+
+
 # --------------------------------------------------------------------------- registry, profiles, the switch
 def test_every_registered_backend_answers_through_the_same_protocol():
     from texsynth.core import search

@@ -1083,7 +1083,23 @@ def _m_step_constrained(ex, x, centers, mode, zidx, constraint, q, mp, sel, new,
     return new, rho
 
 
-def _m_step_frame(ex, x, centers, mode, zidx, constraint, prior, search):
+def _frame_terms(ex, centers, mode, constraint, channels):
+    """The parts of Algorithm 2's M-step criterion that only the constraint sets, fixed for a stage:
+    ``W_p = g + λ m_p`` and ``λ m_p x^c_p`` per centre (float32), or None without a constraint."""
+    if constraint is None:
+        return None
+    m, t, lam = constraint
+    w, n = ex.size, len(centers)
+    nv = w * w * channels
+    lm = lam * np.repeat(extract(m[..., None], centers, w, mode=mode).reshape(n, -1), channels, axis=1)
+    lm = lm.astype(np.float32)
+    tp = extract(t, centers, w, mode=mode).reshape(n, -1).astype(np.float32, copy=False)
+    wq = np.repeat(ex.weights.astype(np.float32)[None], n, axis=0)
+    wq[:, :nv] += lm
+    return wq, lm * tp
+
+
+def _m_step_frame(ex, x, centers, mode, zidx, terms, prior, search):
     """Algorithm 2's M-step for an animation frame, over coherent candidates.
 
     The candidates for each ``z_p`` are the current ``z_p``, the previous
@@ -1096,22 +1112,18 @@ def _m_step_frame(ex, x, centers, mode, zidx, constraint, prior, search):
     ``ρ(x_p, v) + λ E_c = ||v - b_p||^2_{W_p} + const_p`` with
     ``W_p = g + λ m_p`` and ``b_p = (g x_p + λ m_p x^c_p) / W_p`` (values
     only; the differences keep ``x_p``'s), in float32; ties keep the current
-    ``z_p``. Returns the new indices and ``ρ_p`` in float64.
+    ``z_p``. ``terms`` is :func:`_frame_terms` of the constraint (None: no
+    constraint). Returns the new indices and ``ρ_p`` in float64.
     """
-    w, n, channels = ex.size, len(centers), x.shape[-1]
-    q = _features(extract(x, centers, w, mode=mode), ex.mu).astype(np.float32, copy=False)
+    n = len(centers)
+    q = _features(extract(x, centers, ex.size, mode=mode), ex.mu).astype(np.float32, copy=False)
     weights = ex.weights.astype(np.float32)
     wq, b = np.broadcast_to(weights, q.shape), q
-    if constraint is not None:
-        m, t, lam = constraint
-        nv = w * w * channels
-        lm = (lam * np.repeat(extract(m[..., None], centers, w, mode=mode).reshape(n, -1), channels, axis=1))
-        lm = lm.astype(np.float32)
-        tp = extract(t, centers, w, mode=mode).reshape(n, -1).astype(np.float32, copy=False)
-        wq = wq.copy()
-        wq[:, :nv] += lm
+    if terms is not None:
+        wq, lmtp = terms
+        nv = lmtp.shape[1]
         b = q.copy()
-        b[:, :nv] = (weights[:nv] * q[:, :nv] + lm * tp) / wq[:, :nv]
+        b[:, :nv] = (weights[:nv] * q[:, :nv] + lmtp) / wq[:, :nv]
     cols = [c for c in (zidx, prior) if c is not None]
     if cols:
         cols += _coherent_candidates(ex, centers, cols[0])
@@ -1282,6 +1294,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
 
     coords = opts.coords  # animation frame: the previous frame's correspondence, warped
     prior = None if coords is None else ex.lookup(coords[centers[:, 0], centers[:, 1]] - w // 2, 0)
+    frame_terms = None if coords is None else _frame_terms(ex, centers, mode, constraint, ex.image.shape[-1])
 
     # hard constraints (λ = ∞) are in x_p already: the M-step is the plain nearest neighbour, and the
     # E-step weighs each neighbourhood by its confidence (Wexler et al. 2007)
@@ -1340,7 +1353,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
         # searched once per stage (PatchMatch from the prior, or the index); later iterations rank
         # coherent candidates
         memo.searched += len(centers) if zidx is None else 0
-        return _m_step_frame(ex, x, centers, mode, zidx, constraint, prior,
+        return _m_step_frame(ex, x, centers, mode, zidx, frame_terms, prior,
                              search=(frame_field if use_field else True) if zidx is None else False)
 
     # animation frames: the E-step may assemble the z_p with a narrower fall-off (frame_falloff)

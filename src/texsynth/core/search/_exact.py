@@ -187,7 +187,8 @@ def nearest_candidates(queries, candidates, *, vectors=None, weights=None):
     Notes
     -----
     Integer candidates are scored by direct differences, one column at a
-    time; candidate vectors (patches extracted on the fly, which nothing
+    time, each candidate once per row (a repeat scores ``inf``, so ties keep
+    the first); candidate vectors (patches extracted on the fly, which nothing
     else stores) by ``||c||^2 - 2 c.q`` in one pass, ``||q||^2`` added to the
     winner only.
 
@@ -208,10 +209,12 @@ def nearest_candidates(queries, candidates, *, vectors=None, weights=None):
     dims = vectors.shape[1]
     w = np.ones(dims, vectors.dtype) if weights is None else weights
     spec = "ij,ij,ij->i" if w.ndim == 2 else "ij,ij,j->i"
-    scores = np.empty(candidates.shape, dtype=np.result_type(vectors, queries, w))
+    scores = np.full(candidates.shape, np.inf, dtype=np.result_type(vectors, queries, w))
     for j in range(candidates.shape[1]):
-        d = vectors[candidates[:, j]] - queries
-        scores[:, j] = np.einsum(spec, d, d, w)
+        # a candidate repeated in its row (coherent candidates often agree) is scored once
+        r = rows if j == 0 else np.flatnonzero(np.all(candidates[:, j, None] != candidates[:, :j], axis=1))
+        d = vectors[candidates[r, j]] - queries[r]
+        scores[r, j] = np.einsum(spec, d, d, w if w.ndim == 1 else w[r])
     choice = np.argmin(scores, axis=1)
     return choice, scores[rows, choice]
 

@@ -168,8 +168,8 @@ class _Problem:
 
     def to_ids(self, r, c):
         """Flat exemplar ids of top-left corners ``(r, c)``, clamped into the exemplar."""
-        np.clip(r, 0, self.eny - 1, out=r)
-        np.clip(c, 0, self.enx - 1, out=c)
+        np.minimum(np.maximum(r, 0, out=r), self.eny - 1, out=r)  # ufuncs: np.clip's overhead is per call
+        np.minimum(np.maximum(c, 0, out=c), self.enx - 1, out=c)
         return r * self.enx + c
 
     # ----------------------------------------------------------------- the field
@@ -246,17 +246,17 @@ class _Problem:
         better = d < worst[rows]
         if not better.any():
             return
-        rows, cols, d = rows[better], cols[better], d[better]
         if self.k == 1:
-            # per row the nearest candidate (the first of equals): sort by (row, d)
-            o = np.lexsort((cols, d, rows))
-            first = np.ones(o.shape[0], dtype=bool)
-            first[1:] = rows[o][1:] != rows[o][:-1]
-            o = o[first]
-            qq = q[rows[o]]
-            field.ids[qq, 0] = cand[rows[o], cols[o]]
-            field.d2[qq, 0] = d[o]
+            # per row the nearest candidate (the first of equals)
+            dense = np.full(cand.shape, np.inf, dtype=d.dtype)
+            dense[rows[better], cols[better]] = d[better]
+            j = np.argmin(dense, axis=1)
+            top = dense[np.arange(j.shape[0]), j]
+            take = np.flatnonzero(top < np.inf)
+            field.ids[q[take], 0] = cand[take, j[take]]
+            field.d2[q[take], 0] = top[take]
             return
+        rows, cols, d = rows[better], cols[better], d[better]
         self.merge(field, q, rows, cand[rows, cols], d)
 
     def merge(self, field, q, rows, ids, d):
@@ -349,6 +349,7 @@ class _Neighbors:
 
     def __init__(self, centers, shape, mode):
         self.centers, self.shape, self.wrap = centers, shape, mode == "wrap"
+        self._scans = {}
         n = centers.shape[0]
         rows, gi = np.unique(centers[:, 0], return_inverse=True)
         cols, gj = np.unique(centers[:, 1], return_inverse=True)
@@ -365,6 +366,17 @@ class _Neighbors:
                 self.diagonals = np.split(order, bounds[1:])
         if self.grid is None:
             self._irregular()
+
+    def scan(self, forward):
+        """Grid: every query's left and upper neighbours (``forward``; else right and lower), ``(N, 2)``,
+        -1 where there is none, and the offsets from them ``(N, 2, 2)``; computed once per direction."""
+        if forward not in self._scans:
+            q = np.arange(self.centers.shape[0])
+            dirs = ((0, -1), (-1, 0)) if forward else ((0, 1), (1, 0))
+            nbrs = np.stack([self.toward(q, di, dj) for di, dj in dirs], axis=1)
+            shifts = np.stack([self.shift(q, np.maximum(nbrs[:, j], 0)) for j in range(2)], axis=1)
+            self._scans[forward] = nbrs, shifts
+        return self._scans[forward]
 
     def shift(self, q, nb):
         """Offsets ``centre(q) - centre(nb)`` (shortest way round in wrap mode)."""
@@ -421,13 +433,11 @@ def _iterate(problem, field, it, rng):
     if nb.grid is None:
         return _iterate_parallel(problem, field, it, rng)
     forward = it % 2 == 0
-    dirs = ((0, -1), (-1, 0)) if forward else ((0, 1), (1, 0))
+    nbrs, shifts = nb.scan(forward)
     for q in nb.diagonals if forward else nb.diagonals[::-1]:
         if q.shape[0] == 0:
             continue
-        nbrs = np.stack([nb.toward(q, di, dj) for di, dj in dirs], axis=1)
-        shifts = np.stack([nb.shift(q, np.maximum(nbrs[:, j], 0)) for j in range(2)], axis=1)
-        problem.propagate(field, q, nbrs, shifts)
+        problem.propagate(field, q, nbrs[q], shifts[q])
         problem.random_search(field, q, rng)
 
 
