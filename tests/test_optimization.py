@@ -404,6 +404,22 @@ def test_rotating_frames_stay_sharp_and_follow_the_flow():
         assert follow < 0.15 * ignore, (i, follow, ignore)
 
 
+def test_field_m_step_takes_an_output_that_overshoots_the_unit_range(bread):
+    # an up-sampled level or the gradient solve can leave x a little outside [0, 1]; the PatchMatch
+    # M-step measures distances to x as it is (it raised "float images must lie in [0, 1]" once,
+    # from make_tileable of the brick photo)
+    from texsynth.optimization._kwatra import _m_step_field
+
+    opts = _Options(r=0.8, mu=0.0, spacing=0.25, max_iterations=1, tolerance=0.0, method="patchmatch")
+    ex = _Exemplar(bread, np.ones(bread.shape[:2]), 8, opts, np.random.default_rng(0))
+    x = texture("jcjohnson/bread.png", 40, 8, 8) * 1.2 - 0.1  # values in about [-0.1, 1.1]
+    centers = grid_centers((40, 40), 8, 2, mode="valid")
+    start = ex.centers(np.random.default_rng(1).integers(len(ex), size=len(centers)))
+    new, rho = _m_step_field(ex, x, centers, "valid", start, 2, np.random.default_rng(2))
+    want = (ex.g[None, :, :, None] * (extract(x, centers, 8, mode="valid") - ex.patches(new)) ** 2).sum(axis=(1, 2, 3))
+    np.testing.assert_allclose(rho, want, rtol=1e-4)  # rho is the distance to the overshooting x
+
+
 def test_frame_m_step_never_worse_than_the_current_neighbourhoods(bread):
     # the coherent-candidate M-step of animation frames keeps z_p unless a candidate
     # scores strictly better on ρ(x_p, v) + λ E_c, and the index's answer is a

@@ -881,13 +881,10 @@ class _Completeness:
         pad = w - 1 if mode == "wrap" else 0
         image = np.pad(x, ((0, pad), (0, pad), (0, 0)), mode="wrap") if pad else x
         start = None if current is None else _unwrap(current, x.shape[:2], w, pad)[:, None]
-        if ex.guided:  # guide channels: more than 4 channels, values above 1
-            field, d2 = _patchmatch_checked(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
-                                            iterations=iterations, exemplar_mask=None, pixel_weights=ex.g,
-                                            mode="valid", penalty=None, rng=rng)
-        else:
-            field, d2 = search.patchmatch(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
-                                          iterations=iterations, pixel_weights=ex.g, rng=rng)
+        # float (H, W, C) arrays: x may overshoot [0, 1] a little, and has guide channels when guided
+        field, d2 = _patchmatch_checked(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
+                                        iterations=iterations, exemplar_mask=None, pixel_weights=ex.g,
+                                        mode="valid", penalty=None, rng=rng)
         found = field[:, 0]
         if pad:
             found = np.mod(found, x.shape[:2])
@@ -1027,10 +1024,10 @@ def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None)
             idx = ex.grid[c[:, 0] - w // 2, c[:, 1] - w // 2]
             return occurrence.penalty[idx] + occurrence.copy_penalty(ex, idx, centers[q])
     mask = None if ex.valid.all() else ex.valid
-    # with guide channels (``ex.guided``) the images may have more than 4 channels and values above 1
-    run = _patchmatch_checked if ex.guided else search.patchmatch
-    field, d2 = run(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
-                    exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng)
+    # x is float (H, W, C), with values beyond [0, 1] where an up-sampled level or the gradient solve
+    # overshoots, and more than 4 channels with guide channels (``ex.guided``): the checked entry
+    field, d2 = _patchmatch_checked(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
+                                    exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng)
     corner = field[:, 0] - w // 2
     new = ex.grid[corner[:, 0], corner[:, 1]]
     rho = d2[:, 0].astype(np.float64) if penalty is None else _rho_at(ex, x, centers, mode, new)

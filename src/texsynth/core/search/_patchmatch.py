@@ -772,10 +772,12 @@ def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iteration
 
 
 #: :func:`resolve_field`: problems up to this much work (exemplar patches times queries times the
-#: patch dimension, what an exact search computes: about 0.1 s of BLAS on two cores) take an index in
-#: ``"auto"`` (texture optimization of 64 -> 96 px photographs: completeness 0.25-0.71 of a
-#: random-block mosaic's with the index, 0.18-1.83 with PatchMatch; docs/methods/optimization.md).
-FIELD_MIN_VALUES = 2**31
+#: patch dimension, what an exact search computes: about 0.03 s of BLAS on two cores) take an index in
+#: ``"auto"``. Lowered from 2**31 (2026-11-24): with PatchMatch on the stages between 2**29 and
+#: 2**31 values, texture optimization of 8 photographs 64 -> 96 px and 7 of them 128 -> 256 px was
+#: 14-25 % faster, with completeness and large-scale spectrum distance as often better as worse and
+#: verbatim copies as large or smaller (docs/methods/search.md).
+FIELD_MIN_VALUES = 2**29
 
 #: Values of ``method`` for :func:`nearest_field`.
 FIELD_METHODS = ("auto", "exact", "kdtree", "tsvq", "patchmatch")
