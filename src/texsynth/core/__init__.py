@@ -18,6 +18,8 @@
                                    rendered through a synthesis
 :mod:`texsynth.core.fields`        orientation and scale fields over an output, bilinear
                                    sampling in local frames and its adjoint (splatting)
+:mod:`texsynth.core.convolve`      linear convolution by FFT (``scipy.signal.fftconvolve``'s
+                                   values without importing ``scipy.signal``)
 =============================  ==========================================================
 
 The core imports no algorithm family; the families import the core (see
@@ -26,4 +28,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve"])

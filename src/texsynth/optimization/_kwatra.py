@@ -93,6 +93,7 @@ from ..core._validate import (as_float_array, as_image, as_rng, as_size, check_b
                               check_positive_float, check_positive_int, restore_channels, with_channels)
 from ..core.em import expectation_maximization, irls_weights
 from ..core.fields import as_field, frames, level_field, sample, scatter, taps
+from ..core.convolve import fft_convolve
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
@@ -789,11 +790,9 @@ class _Occurrence:
     """
 
     def __init__(self, ex, centers, weight, copy_limit):
-        from scipy.signal import correlate
-
         n = len(centers)
         g = ex.g / ex.g.sum()
-        self.kernel = correlate(ex.g, g, mode="full")  # (2w-1, 2w-1), A(0) = sum g^2 / sum g
+        self.kernel = fft_convolve(ex.g, g[::-1, ::-1])  # correlation, (2w-1, 2w-1), A(0) = sum g^2 / sum g
         self.self_weight = float(self.kernel[ex.size - 1, ex.size - 1])
         self.shape = ex.view.shape[:2]
         omega = n * float(ex.g.sum()) / len(ex)
@@ -811,11 +810,9 @@ class _Occurrence:
         self.copy_factor = _COPY_PENALTY * variance * float(ex.weights.sum())
 
     def update(self, ex, zidx):
-        from scipy.signal import fftconvolve
-
         count = np.zeros(self.shape)
         np.add.at(count, (ex.corner[zidx, 0], ex.corner[zidx, 1]), 1.0)
-        occ = fftconvolve(count, self.kernel, mode="same")
+        occ = fft_convolve(count, self.kernel, mode="same")
         self.penalty = self.factor * np.maximum(occ[ex.corner[:, 0], ex.corner[:, 1]], 0.0)
         self.own = self.factor * self.self_weight  # a z_p's own share of its occurrence
         self.offsets = None

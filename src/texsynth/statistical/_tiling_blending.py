@@ -73,11 +73,11 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import fftconvolve
 from scipy.special import ndtr, ndtri
 
 from ..core._validate import (as_array, as_image, as_rng, as_size, check_in_range, check_memory, max_threads,
                               restore_channels, with_channels)
+from ..core.convolve import fft_convolve
 
 __all__ = ["tile_and_blend", "tile_and_blend_at", "TileBlendInfo"]
 
@@ -169,7 +169,7 @@ def _sampling_density(shape, edge, low):
     reach = int(np.ceil(edge))
     dy, dx = np.mgrid[-reach : reach + 1, -reach : reach + 1]
     hexagon = ((np.abs(dy) <= edge * _SQRT3 / 2) & (_SQRT3 * np.abs(dx) + np.abs(dy) <= _SQRT3 * edge)).astype(float)
-    return np.maximum(fftconvolve(centres, hexagon, mode="same"), 0.0)
+    return np.maximum(fft_convolve(centres, hexagon, mode="same"), 0.0)
 
 
 def _prepare(ex, tile_scale):
