@@ -14,8 +14,8 @@
   pasted splotches, baked into a texture atlas.
 """
 
-from ._mesh import Mesh, as_mesh
-from ._meshio import read_mesh, write_mesh
+from ._mesh import Mesh
+from ._meshio import as_mesh, read_mesh, write_mesh
 from ._render import PROJECTIONS, render_mesh
 from ._shapes import SCANNED_MESHES, bumpy, scanned_mesh, sphere, torus
 from ._retile import retile

@@ -50,7 +50,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..core._validate import as_rng
-from ._mesh import as_mesh
+from ._meshio import as_mesh
 
 __all__ = ["tangent_field", "FIELDS"]
 

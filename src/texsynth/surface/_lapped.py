@@ -66,7 +66,7 @@ from ..core._progress import Progress
 from ..core._validate import as_image, as_rng, check_memory, check_positive_float, check_positive_int
 from ..core.pyramid import gaussian_pyramid, max_levels
 from ._field import check_field, field_vectors
-from ._mesh import as_mesh
+from ._meshio import as_mesh
 
 __all__ = ["lapped_textures", "LappedInfo", "default_splotch"]
 

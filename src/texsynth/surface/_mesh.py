@@ -5,8 +5,10 @@ or a texture image indexed by per-face-corner uv coordinates. It is immutable
 (its arrays are read-only), so derived quantities -- normals, areas, edges,
 adjacency -- are computed once on first use and cached.
 
-:func:`as_mesh` is the public boundary: it accepts a :class:`Mesh`, a
-``(vertices, faces)`` pair or a file path, and refuses meshes the surface
+:func:`~texsynth.surface.as_mesh` is the public boundary (in
+``_meshio``, since it also reads a file path; :func:`checked` here does the
+rest): it accepts a :class:`Mesh`, a ``(vertices, faces)`` pair or a file
+path, and refuses meshes the surface
 methods cannot work on (empty, NaN coordinates, out-of-range indices,
 zero-area faces, unused vertices, edges shared by more than two faces) with a
 ValueError that names the parameter, counts the offenders, gives the first one
@@ -17,7 +19,6 @@ warning (the normals flip there) rather than an error.
 from __future__ import annotations
 
 import dataclasses
-import os
 import warnings
 from dataclasses import dataclass
 from functools import cached_property
@@ -27,7 +28,7 @@ import scipy.sparse
 
 from ..core._validate import as_array, as_float_array, as_image
 
-__all__ = ["Mesh", "as_mesh"]
+__all__ = ["Mesh", "checked"]
 
 # a face is degenerate when twice its area is below this fraction of the squared bounding-box diagonal
 _DEGENERATE_AREA = 1e-14
@@ -321,52 +322,10 @@ def _check(mesh, name):
                       "trimesh.repair.fix_winding, or MeshLab's 'Re-Orient all faces coherently')", stacklevel=3)
 
 
-def as_mesh(value, name="mesh"):
-    """Check a mesh and return it as a :class:`Mesh`.
-
-    Parameters
-    ----------
-    value : Mesh, (vertices, faces) tuple, str or os.PathLike
-        A mesh, a pair of arrays ``(N, 3)`` and ``(M, 3)``, or the path of a
-        mesh file (read with :func:`texsynth.surface.read_mesh`).
-    name : str
-        Parameter name used in error messages.
-
-    Returns
-    -------
-    Mesh
-        ``value`` itself when it is a valid :class:`Mesh`.
-
-    Raises
-    ------
-    TypeError
-        For anything else, or arrays of the wrong type.
-    ValueError
-        For an empty mesh, NaN or infinite vertices, face indices out of
-        range, zero-area faces, isolated vertices, or edges shared by more
-        than two faces: the message names ``name``, counts the offenders,
-        gives the first and says how to fix it.
-
-    Warns
-    -----
-    UserWarning
-        If two faces run along their shared edge in the same direction (their
-        orientations disagree, so the normals flip between them); the mesh is
-        still returned. The checks run once per mesh object.
-
-    Examples
-    --------
-    >>> as_mesh(([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5]], [[0, 1, 2]]), "surface")
-    Traceback (most recent call last):
-    ...
-    ValueError: surface has 1 isolated vertices that no face uses (first: vertex 3); remove the unused vertices with surface.compact()
-    """
+def checked(value, name="mesh"):
+    """:func:`~texsynth.surface.as_mesh` of a :class:`Mesh` or a ``(vertices, faces)`` pair (no path)."""
     if isinstance(value, Mesh):
         mesh = value
-    elif isinstance(value, (str, bytes, os.PathLike)):
-        from ._meshio import read_mesh
-
-        mesh = read_mesh(value)
     elif isinstance(value, (tuple, list)) and len(value) == 2:
         try:
             mesh = Mesh(*value)

@@ -19,6 +19,7 @@ Normals, groups, materials other than the texture, and lines are ignored.
 from __future__ import annotations
 
 import importlib
+import os
 import re
 import warnings
 from pathlib import Path
@@ -27,9 +28,9 @@ import numpy as np
 
 from ..core._validate import check_bool
 from ..io import _as_path, _atomic_write, _prepare_target, load_image, save_image
-from ._mesh import Mesh, as_mesh
+from ._mesh import Mesh, checked
 
-__all__ = ["read_mesh", "write_mesh"]
+__all__ = ["as_mesh", "read_mesh", "write_mesh"]
 
 _NATIVE = {".obj", ".ply"}
 _PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
@@ -505,6 +506,51 @@ def _write_other(path, mesh, overwrite):
 
 
 # ---------------------------------------------------------------------------- public
+def as_mesh(value, name="mesh"):
+    """Check a mesh and return it as a :class:`Mesh`.
+
+    Parameters
+    ----------
+    value : Mesh, (vertices, faces) tuple, str or os.PathLike
+        A mesh, a pair of arrays ``(N, 3)`` and ``(M, 3)``, or the path of a
+        mesh file (read with :func:`texsynth.surface.read_mesh`).
+    name : str
+        Parameter name used in error messages.
+
+    Returns
+    -------
+    Mesh
+        ``value`` itself when it is a valid :class:`Mesh`.
+
+    Raises
+    ------
+    TypeError
+        For anything else, or arrays of the wrong type.
+    ValueError
+        For an empty mesh, NaN or infinite vertices, face indices out of
+        range, zero-area faces, isolated vertices, or edges shared by more
+        than two faces: the message names ``name``, counts the offenders,
+        gives the first and says how to fix it.
+
+    Warns
+    -----
+    UserWarning
+        If two faces run along their shared edge in the same direction (their
+        orientations disagree, so the normals flip between them); the mesh is
+        still returned. The checks run once per mesh object.
+
+    Examples
+    --------
+    >>> as_mesh(([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5]], [[0, 1, 2]]), "surface")
+    Traceback (most recent call last):
+    ...
+    ValueError: surface has 1 isolated vertices that no face uses (first: vertex 3); remove the unused vertices with surface.compact()
+    """
+    if isinstance(value, (str, bytes, os.PathLike)):
+        value = read_mesh(value)
+    return checked(value, name)
+
+
 def read_mesh(path):
     """Read a triangle mesh from a file.
 

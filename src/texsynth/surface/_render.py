@@ -22,7 +22,7 @@ import numbers
 import numpy as np
 
 from ..core._validate import as_size, check_in_range, check_memory
-from ._mesh import as_mesh
+from ._meshio import as_mesh
 
 __all__ = ["render_mesh", "PROJECTIONS"]
 

@@ -61,7 +61,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..core._validate import as_rng, check_memory, check_positive_float, check_positive_int
-from ._mesh import Mesh, as_mesh
+from ._mesh import Mesh
+from ._meshio import as_mesh
 
 __all__ = ["retile", "mesh_hierarchy", "lattice_spacing", "closest_points"]
 

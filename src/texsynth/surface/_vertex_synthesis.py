@@ -97,7 +97,7 @@ from ..core.neighborhood import extract, gaussian_falloff, multilevel_vectors, p
 from ..core.pyramid import gaussian_pyramid
 from ..core.search import KCoherence, PatchIndex, check_method, nearest_candidates
 from ._field import check_field, field_vectors
-from ._mesh import as_mesh
+from ._meshio import as_mesh
 from ._retile import _resolve_count, lattice_spacing, mesh_hierarchy
 
 __all__ = ["synthesize_surface", "SurfaceSynthesisInfo", "CANDIDATES", "PRESETS"]
