@@ -1,6 +1,6 @@
 """Wei-Levoy pixel synthesis with all candidates against k-coherent candidates (Ashikhmin, Tong et al.).
 
-Run: python benchmarks/bench_kcoherent.py [--figure]   (from the repository root)
+Run: python benchmarks/bench_kcoherent.py [--figure] [--mix]   (from the repository root)
 
 Targets: ``synthesize_pixels`` 128^2 -> 512^2 colour in at most 10 s with the elements of a brick
 wall kept (issue 16); Ashikhmin / k-coherent 128^2 -> 512^2 colour in at most 5 s (issue 18).
@@ -15,7 +15,9 @@ mosaic of the same size (below 1: better than the mosaic), and the largest verba
 fraction of the exemplar.
 
 ``--figure`` also writes ``docs/_static/kcoherent.png``: per photograph the exemplar and the
-three outputs' top-left 256x256, side by side.
+three outputs' top-left 256x256, side by side. ``--mix`` also times Wei's mixture of
+``bricks_1`` and ``cobblestones_2`` (128x128 crops) along a ramp at the same size, with all
+candidates and with k-coherent ones.
 """
 
 import argparse
@@ -25,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from texsynth import metrics, synthesize_pixels
+from texsynth import metrics, mix_textures, synthesize_pixels
 from texsynth.io import load_image, save_image
 
 HERE = Path(__file__).resolve().parent
@@ -38,6 +40,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--figure", action="store_true")
+    parser.add_argument("--mix", action="store_true", help="also time a two-photo mixture (all vs k-coherent)")
     args = parser.parse_args()
     print(f"# {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     print("| photo | candidates | seconds | completeness / mosaic | energy / mosaic | largest copy |")
@@ -60,6 +63,22 @@ def main():
         rows.append(np.concatenate([np.pad(p, ((4, 4), (4, 4), (0, 0)), constant_values=1.0) for p in panels], 1))
     if args.figure:
         save_image(HERE.parent / "docs" / "_static" / "kcoherent.png", np.concatenate(rows, 0), overwrite=True)
+    if args.mix:
+        mixture(args.size)
+
+
+def mixture(size):
+    """Wei's mixture of the brick wall and a paving along a left-to-right ramp: all candidates, then
+    k-coherent ones (issue 16); the outputs go to benchmarks/output/kcoherent_mix_*.png."""
+    a, b = (np.ascontiguousarray(load_image(HERE / "photos" / f"{p}.png")[:128, :128, :3])
+            for p in ("bricks_1", "cobblestones_2"))
+    ramp = np.broadcast_to(np.linspace(0.0, 1.0, size), (size, size))
+    for label, options in (("all", {}), ("k-coherent", dict(candidates="k-coherent"))):
+        start = time.perf_counter()
+        out = mix_textures([a, b], size, weights=[1 - ramp, ramp], rng=0, **options)
+        print(f"mixture bricks_1 + cobblestones_2 -> {size}², {label}: {time.perf_counter() - start:.1f} s", flush=True)
+        (HERE / "output").mkdir(exist_ok=True)
+        save_image(HERE / "output" / f"kcoherent_mix_{label}.png", np.clip(out, 0, 1), overwrite=True)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 
 Targets (issue 7): single source 64x64 -> 200x200 <= 5 s; two-source mixture
 128x128 <= 15 s; solid 64^3 from a 64x64 exemplar <= 60 s. Also the speed-up of
-approximate (kd-tree, TSVQ) over exact search and its effect on texture energy:
+approximate (kd-tree, TSVQ) and k-coherent candidates (mixture, issue 16) over exact search and its effect on texture energy:
 "vs exact" is the exact row's time over this row's (same case, order and size),
 "E/exact" this row's energy over the exact row's.
 
@@ -66,6 +66,10 @@ def mix_rows(quick):
         out, sec = timed(lambda: mix_textures([brick, gravel], n, weights=[1 - ramp, ramp], order=order,
                                               method=search, rng=0))
         rows.append((f"mix 2x64 -> {n} ramp {order}", search, sec, texture_energy(out[:, :32], brick), noise))
+    # k-coherent candidates (Ashikhmin, Tong et al.): compared with the scanline exact row of the same case
+    out, sec = timed(lambda: mix_textures([brick, gravel], n, weights=[1 - ramp, ramp], candidates="k-coherent",
+                                          rng=0))
+    rows.append((f"mix 2x64 -> {n} ramp scanline", "k-coherent", sec, texture_energy(out[:, :32], brick), noise))
     return rows
 
 

@@ -211,6 +211,44 @@ def test_ramp_profile_goes_smoothly_from_one_source_to_the_other():
     assert jump_step > 0.6  # the measure tells a hard switch from a ramp
 
 
+# ---------------------------------------------------------------- k-coherent mixtures
+def test_k_coherent_mixture_of_one_source_is_k_coherent_wei_levoy(bread):
+    for k in (1, 2):
+        ref = synthesize_pixels(bread, 24, levels=2, candidates="k-coherent", k=k, rng=5)
+        assert np.array_equal(ref, mix_textures([bread], 24, levels=2, candidates="k-coherent", k=k, rng=5))
+        # a second source of weight 0 goes through the alternation over candidates and changes nothing
+        wood = _load("jcjohnson/wood.png")
+        mixed = mix_textures([bread, wood], 24, weights=[1.0, 0.0], levels=2, candidates="k-coherent", k=k, rng=5)
+        assert np.array_equal(ref, mixed)
+
+
+def test_k_coherent_ramp_goes_from_one_source_to_the_other(brick, gravel):
+    h, w = 32, 48
+    ramp = np.tile(np.linspace(0, 1, w), (h, 1))
+    out, info = mix_textures([brick, gravel], (h, w), weights=[1 - ramp, ramp], levels=2, candidates="k-coherent",
+                             rng=0, return_info=True)
+    left, right = out[:, :16], out[:, -16:]
+    assert texture_energy(left, brick, patch_size=6) < texture_energy(right, brick, patch_size=6)
+    assert texture_energy(right, gravel, patch_size=6) < texture_energy(left, gravel, patch_size=6)
+    # each source keeps its own map: the map of the heavier source at each pixel, in its bounds
+    assert info.coordinates.shape == (h, w, 2, 2)
+    assert np.array_equal(info.source_index[:, 0, 0], np.zeros(h)) and np.array_equal(info.source_index[:, -1, 0],
+                                                                                         np.ones(h))
+    assert info.coordinates.min() >= 0 and info.coordinates[..., 0].max() < 32
+    # where one source has all the weight, p is that source's pixel at p_i
+    src = brick[info.coordinates[:, 0, 0, 0], info.coordinates[:, 0, 0, 1]]
+    np.testing.assert_allclose(out[:, 0], src, atol=1e-6)
+
+
+def test_k_coherent_mixture_needs_scanline_order_and_no_tiling(brick, gravel):
+    with pytest.raises(ValueError, match="order='scanline'"):
+        mix_textures([brick, gravel], 24, candidates="k-coherent", order="independent")
+    with pytest.raises(ValueError, match="tileable=True is not implemented"):
+        mix_textures([brick, gravel], 24, candidates="k-coherent", tileable=True)
+    with pytest.raises(ValueError, match="candidates"):
+        mix_textures([brick, gravel], 24, candidates="coherent")
+
+
 # ---------------------------------------------------------------- per-source neighbourhoods
 def test_per_source_neighborhood_sizes_are_used(brick, gravel):
     kw = dict(levels=2, rng=0)

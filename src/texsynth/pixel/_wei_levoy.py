@@ -58,7 +58,8 @@ from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memor
                               restore_channels, with_channels)
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import KCoherence, PatchIndex, SequentialExact, nearest_candidates, neighbor_sources
+from ..core.search import (KCoherence, PatchIndex, SequentialExact, candidate_sq_distances, nearest_candidates,
+                           neighbor_sources)
 
 __all__ = [
     "synthesize_pixels",
@@ -515,7 +516,7 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
             lv = _Level(level, out_pyr[level], out_pyr[level + 1] if level + 1 < levels else None, sources,
                         tables[level], weights[level])
             if candidates == "k-coherent":
-                parent_cells = None if cells is None else tables[level + 1][0][cells]
+                parent_cells = None if cells is None else [tables[level + 1][i][c] for i, c in enumerate(cells)]
                 energy, iters, cells = _coherent_level(lv, run, bar, parent_cells)
             elif order == "scanline":
                 with _one_blas_thread():
@@ -531,8 +532,8 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
             info.stage_seconds[f"level {level}"] = time.perf_counter() - t_level
     info.energy, info.iterations = np.asarray(energies), np.asarray(steps)
     if cells is not None:
-        info.coordinates = tables[0][0][cells]
-    elif picked is not None and len(sources) == 1:
+        picked[:] = cells  # k-coherent: each source's p_i at the finest level
+    if picked is not None and len(sources) == 1:
         info.coordinates = tables[0][0][picked[0]].astype(np.int64)
     elif picked is not None:  # p = sum_i a_i p_i: source i's p_i with weight a_i, largest first
         coords = np.stack([tables[0][i][picked[i]] for i in range(len(sources))], axis=2).astype(np.int64)
@@ -883,8 +884,41 @@ def _predicted_cells(parent_cells, cen, shape):
     return grid[..., 0] * (last[1] - origin[1] + 1) + grid[..., 1]
 
 
+class _CoherentSource:
+    """One source at one level of the k-coherent scanline synthesis: its k-coherence sets and its map."""
+
+    def __init__(self, lv, run, i, parent_cells):
+        src, cen = self.src, self.cen = lv.sources[i], lv.centers[i]
+        height, width, _ = lv.out.shape
+        above, left, full = _masks(src.size, src.shape)
+        self.causal = above | left
+        grid = tuple(int(v) for v in cen[-1] - cen[0] + 1)
+        self.vectors = _exemplar_vectors(src, lv.level, run.levels, cen, self.causal)
+        self.pixels = src.pyramid[lv.level][cen[:, 0], cen[:, 1]]
+        similar = full.copy()
+        similar[src.size[0] // 2, src.size[1] // 2] = True  # x's own pixel counts in "similar to x"
+        self.sets = KCoherence(_exemplar_vectors(src, lv.level, run.levels, cen, similar) if run.k > 1 else None,
+                               grid, run.k, method=run.method, profile=run.profile,
+                               rng=np.random.default_rng([run.seed, lv.level, 3] + ([i] if i else [])))
+        self.draw = np.random.default_rng([run.seed, lv.level] + ([i] if i else []))
+        if parent_cells is None:  # Ashikhmin: every pixel starts from a random exemplar position
+            self.cells = self.draw.integers(0, len(cen), size=(height, width))
+            self.offsets = _offsets(self.causal)
+        else:
+            self.cells = _predicted_cells(parent_cells, cen, (height, width))
+            self.offsets = np.concatenate([_offsets(self.causal), _offsets(similar & ~self.causal)])
+        self.flat_cells = self.cells.reshape(-1)
+
+    def candidates(self, lv, centers):
+        """The pixels' candidates ``(M, K)`` (cells) and their query vectors."""
+        cands = self.sets.candidates(neighbor_sources(self.cells, centers, self.offsets), self.offsets, rng=self.draw)
+        src = self.src
+        q = _vectors(lv.out, lv.parent, centers, src.size, src.parent_size, self.causal, "wrap", src.parent_mask)
+        return cands, q
+
+
 def _coherent_level(lv, run, bar, parent_cells):
-    """One level in scanline order with k-coherent candidates; returns (E, steps per pixel, cells).
+    """One level in scanline order with k-coherent candidates; returns (E, steps per pixel, cells per source).
 
     Each pixel is compared only with the k-coherence sets of the positions
     its neighbours' sources suggest (``s(p + d) - d``): the causal
@@ -893,44 +927,102 @@ def _coherent_level(lv, run, bar, parent_cells):
     level predicts them. The distance is Wei & Levoy's: the causal
     neighbourhood at this level joined to the parent's full one. Pixels on
     one wavefront of the scanline order have no causal neighbour in common
-    with each other, so they are chosen together.
+    with each other, so they are chosen together. With several sources each
+    keeps its own source map, and eq. 1 alternates over each source's
+    candidates (:func:`_coherent_mixture`).
     """
-    src, cen = lv.sources[0], lv.centers[0]
+    srcs = [_CoherentSource(lv, run, i, None if parent_cells is None else parent_cells[i])
+            for i in range(len(lv.sources))]
     height, width, _ = lv.out.shape
-    above, left, full = _masks(src.size, src.shape)
-    causal = above | left
-    grid = tuple(int(v) for v in cen[-1] - cen[0] + 1)
-    vectors = _exemplar_vectors(src, lv.level, run.levels, cen, causal)
-    pixels = src.pyramid[lv.level][cen[:, 0], cen[:, 1]]
-    similar = full.copy()
-    similar[src.size[0] // 2, src.size[1] // 2] = True  # x's own pixel counts in "similar to x"
-    sets = KCoherence(_exemplar_vectors(src, lv.level, run.levels, cen, similar) if run.k > 1 else None, grid,
-                      run.k, method=run.method, profile=run.profile, rng=np.random.default_rng([run.seed, lv.level, 3]))
-    draw = np.random.default_rng([run.seed, lv.level])
-    if parent_cells is None:  # Ashikhmin: every pixel starts from a random exemplar position
-        cells = draw.integers(0, len(cen), size=(height, width))
-        offsets = _offsets(causal)
-    else:
-        cells = _predicted_cells(parent_cells, cen, (height, width))
-        offsets = np.concatenate([_offsets(causal), _offsets(similar & ~causal)])
-    flat_out, flat_cells = lv.out.reshape(-1, lv.out.shape[-1]), cells.reshape(-1)
-    flat_out[:] = pixels[flat_cells]
-    step = src.size[1] // 2 + 1
+    flat_out = lv.out.reshape(-1, lv.out.shape[-1])
+    weights = [w.reshape(-1) for w in lv.weights]
+    flat_out[:] = sum(w[:, None] * c.pixels[c.flat_cells] for w, c in zip(weights, srcs))
+    if len(srcs) == 1:
+        flat_out[:] = srcs[0].pixels[srcs[0].flat_cells]  # bit for bit what one source gives
+    step = max(c.src.size[1] // 2 + 1 for c in srcs)  # every source's causal neighbours on earlier wavefronts
     order, bounds = _wavefronts(height, width, step)
-    energy = 0.0
+    energy, steps = 0.0, 0.0
     for t in range(len(bounds) - 1):
         pix = order[bounds[t] : bounds[t + 1]]
         centers = np.stack(np.divmod(pix, width), 1)
-        cands = sets.candidates(neighbor_sources(cells, centers, offsets), offsets, rng=draw)
-        q = _vectors(lv.out, lv.parent, centers, src.size, src.parent_size, causal, "wrap", src.parent_mask)
-        choice, d2 = nearest_candidates(q, cands, vectors=vectors)
-        best = cands[np.arange(len(pix)), choice]
-        flat_cells[pix] = best
-        flat_out[pix] = pixels[best]
-        energy += float(d2.sum())
+        found = [c.candidates(lv, centers) for c in srcs]
+        if len(srcs) == 1:
+            (cands, q), c = found[0], srcs[0]
+            choice, d2 = nearest_candidates(q, cands, vectors=c.vectors)
+            best = cands[np.arange(len(pix)), choice]
+            c.flat_cells[pix] = best
+            flat_out[pix] = c.pixels[best]
+            energy += float(d2.sum())
+            steps += len(pix)
+        else:
+            nds = [candidate_sq_distances(q, cands, c.vectors) for (cands, q), c in zip(found, srcs)]
+            colours = [c.pixels[cands] for (cands, _), c in zip(found, srcs)]
+            a = np.stack([w[pix] for w in weights])
+            p, e, ks, n = _coherent_mixture(a, nds, colours, run.iterations)
+            for (cands, _), c, k in zip(found, srcs, ks):
+                c.flat_cells[pix] = cands[np.arange(len(pix)), k]
+            flat_out[pix] = p
+            energy += float(e.sum())
+            steps += float(n.sum())
         if t >= width - 1 and (t - width + 1) % step == 0:  # row (t - width + 1) / step is complete
             bar.advance({"level": lv.level, "row": (t - width + 1) // step})
-    return energy / (height * width), 1.0, cells
+    return energy / (height * width), steps / (height * width), [c.cells for c in srcs]
+
+
+def _coherent_mixture(a, nds, colours, iterations):
+    """Eq. 1 for ``M`` pixels over each source's own candidates: ``(p, E, picks, steps)``.
+
+    ``a`` ``(S, M)`` the weights (sum 1 per pixel), ``nds[i]`` ``(M, K_i)``
+    the neighbourhood distances to source ``i``'s candidates (``inf`` for a
+    repeat), ``colours[i]`` ``(M, K_i, C)`` their pixels. As in the full
+    search (:func:`_solve_pixel`): from each source's direct solution (its
+    nearest neighbourhood), fix ``p`` and choose each ``p_i`` minimising
+    ``||p - p_i||^2 + ||N_i(p) - N_i(p_i)||^2``, set ``p`` to the weighted
+    average, until E stops falling or ``iterations`` steps; keep the start of
+    lowest E. A source of weight 0 at a pixel keeps its nearest
+    neighbourhood (its map continues from there).
+    """
+    m = a.shape[1]
+    rows = np.arange(m)
+    direct = [np.argmin(nd, axis=1) for nd in nds]
+
+    def blend(ks):
+        picked = [col[rows, k] for col, k in zip(colours, ks)]
+        p = sum(w[:, None] * c for w, c in zip(a, picked))
+        e = sum(w * (((p - c) ** 2).sum(axis=1) + nd[rows, k]) for w, c, nd, k in zip(a, picked, nds, ks))
+        return p, e
+
+    best_p, best_e = blend(direct)
+    best_k = [k.copy() for k in direct]
+    best_e[:] = np.inf
+    steps = np.zeros(m)
+    for start in range(len(nds)):
+        sel = np.flatnonzero(a[start] > 0)
+        p = colours[start][sel, direct[start][sel]]
+        e = np.full(len(sel), np.inf)
+        ks = [k[sel].copy() for k in direct]
+        todo = np.arange(len(sel))
+        for _ in range(iterations):
+            r = sel[todo]
+            new = [np.where(a[i, r] > 0, np.argmin(nd[r] + ((col[r] - p[todo, None]) ** 2).sum(axis=2), axis=1),
+                            direct[i][r]) for i, (nd, col) in enumerate(zip(nds, colours))]
+            picked = [col[r, k] for col, k in zip(colours, new)]
+            p_new = sum(a[i, r, None] * c for i, c in enumerate(picked))
+            e_new = sum(a[i, r] * (((p_new - c) ** 2).sum(axis=1) + nds[i][r, k])
+                        for i, (c, k) in enumerate(zip(picked, new)))
+            steps[r] += 1
+            better = e_new < e[todo] * (1.0 - _STOP_TOLERANCE)  # E still falling
+            if not better.any():
+                break
+            todo, p_new, e_new = todo[better], p_new[better], e_new[better]
+            p[todo], e[todo] = p_new, e_new
+            for i in range(len(ks)):
+                ks[i][todo] = new[i][better]
+        win = e < best_e[sel]
+        best_p[sel[win]], best_e[sel[win]] = p[win], e[win]
+        for i in range(len(ks)):
+            best_k[i][sel[win]] = ks[i][win]
+    return best_p, best_e, best_k, steps
 
 
 @dataclass
@@ -1341,15 +1433,8 @@ def synthesize_pixels(
     size = as_size(size)
     levels = _check_levels(levels)
     _check_order_method(order, method, passes)
-    _choice(candidates, CANDIDATES, "candidates")
-    k = check_positive_int(k, "k")
-    if candidates == "k-coherent" and order != "scanline":
-        raise ValueError("candidates='k-coherent' is implemented in order='scanline' only; pass order='scanline' "
-                         "or candidates='all'")
     tileable = check_bool(tileable, "tileable")
-    if tileable and candidates == "k-coherent":
-        raise ValueError("tileable=True is not implemented with candidates='k-coherent'; pass candidates='all' "
-                         "(or order='independent', which tiles)")
+    k = _check_candidates(candidates, k, order, tileable)
     rng = as_rng(rng)
     sources, channels, dtype, grey = _prepare(
         [exemplar], ["exemplar"], [neighborhood_size], [parent_size], [None], levels, "neighborhood_size",
@@ -1363,6 +1448,19 @@ def synthesize_pixels(
     )
     out = restore_channels(out, grey)
     return (out, info) if return_info else out
+
+
+def _check_candidates(candidates, k, order, tileable):
+    """``k`` checked, and ``candidates`` with the options it works with; a ValueError naming the fix."""
+    _choice(candidates, CANDIDATES, "candidates")
+    k = check_positive_int(k, "k")
+    if candidates == "k-coherent" and order != "scanline":
+        raise ValueError("candidates='k-coherent' is implemented in order='scanline' only; pass order='scanline' "
+                         "or candidates='all'")
+    if tileable and candidates == "k-coherent":
+        raise ValueError("tileable=True is not implemented with candidates='k-coherent'; pass candidates='all' "
+                         "(or order='independent', which tiles)")
+    return k
 
 
 def _check_weights(weights, n, size):
@@ -1419,6 +1517,8 @@ def mix_textures(
     order="scanline",
     method="auto",
     passes=2,
+    candidates="all",
+    k=1,
     tileable=False,
     rng=None,
     progress=False,
@@ -1471,6 +1571,18 @@ def mix_textures(
         independent order the output tiles either way; True changes nothing
         there. Weight images should then wrap too (a left-to-right ramp
         meets its other end at the seam).
+    candidates : {"all", "k-coherent"}
+        ``"all"`` (default, the paper's): each ``p_i`` among all of source
+        ``i``'s neighbourhoods. ``"k-coherent"``: among the k-coherent
+        candidates of its own source map only, as :func:`synthesize_pixels`
+        chooses them (Ashikhmin 2001; Tong et al. 2002): each source keeps
+        the map of where its ``p_i`` came from, and eq. 1 alternates over
+        the candidates that map's neighbours suggest (their neighbourhood
+        distances computed once per pixel). Scanline order only; not with
+        ``tileable=True``.
+    k : int
+        ``candidates="k-coherent"`` only: size of the k-coherence sets, as
+        in :func:`synthesize_pixels` (default 1).
     order, method, passes, rng, progress, return_info
         As in :func:`synthesize_pixels`.
 
@@ -1552,6 +1664,7 @@ def mix_textures(
     levels = _check_levels(levels)
     _check_order_method(order, method, passes, max_iterations)
     tileable = check_bool(tileable, "tileable")
+    k = _check_candidates(candidates, k, order, tileable)
     rng = as_rng(rng)
     sizes = _per_source(neighborhood_sizes, n, "neighborhood_sizes")
     psizes = _per_source(parent_sizes, n, "parent_sizes")
@@ -1565,7 +1678,8 @@ def mix_textures(
         src.weights = w
     out, info = _synthesize(
         srcs, size, channels, dtype, levels=levels, order=order, method=method, iterations=max_iterations,
-        passes=passes, rng=rng, progress=progress, desc="Wei mixture", tileable=tileable and order == "scanline",
+        passes=passes, rng=rng, progress=progress, desc="Wei mixture", candidates=candidates, k=k,
+        tileable=tileable and order == "scanline",
     )
     out = restore_channels(out, grey)
     return (out, info) if return_info else out

@@ -12,7 +12,8 @@ neighbourhood is closest to this one?*, and asks it here:
     synthesis: the rows above first, the pixels to the left one at a time).
 :func:`nearest_candidates`
     The nearest of each query's own candidate list (coherent candidates,
-    random subsets).
+    random subsets); :func:`candidate_sq_distances` the distances to all of
+    them, for a choice that weighs other terms too (a mixture's eq. 1).
 :func:`sq_distances`
     Weighted squared distances of given pairs (a query and its match).
 :class:`MaskedIndex`
@@ -62,7 +63,7 @@ measured tuning; :func:`use` makes ``"auto"`` mean one backend everywhere.
 
 from . import _exact, _kdtree, _tsvq  # noqa: F401  (each registers its backend)
 from ._common import sq_distances
-from ._exact import SequentialExact, exact_chunk_rows, nearest_candidates
+from ._exact import SequentialExact, candidate_sq_distances, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
 from ._masked import MASKED_METHODS, MaskedIndex, masked_sq_distances
 from ._template import TemplateSearch, WindowSearch, within_radius, within_tolerance
@@ -75,7 +76,7 @@ from ._registry import methods as _methods
 METHODS = _methods()
 
 __all__ = [
-    "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "sq_distances",
+    "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "candidate_sq_distances", "sq_distances",
     "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "TemplateSearch", "within_tolerance", "within_radius",
     "KCoherence", "neighbor_sources", "COHERENT_MODES", "patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",

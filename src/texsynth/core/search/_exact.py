@@ -17,7 +17,7 @@ import numpy as np
 from ._common import best_k_of_pairs, pair_sq_distances
 from ._registry import register
 
-__all__ = ["exact_chunk_rows", "SequentialExact", "nearest_candidates"]
+__all__ = ["exact_chunk_rows", "SequentialExact", "nearest_candidates", "candidate_sq_distances"]
 
 # preferred size of one brute-force distance block (bytes), and fewest query rows
 _CACHE_BLOCK = 16 * 2**20
@@ -206,17 +206,37 @@ def nearest_candidates(queries, candidates, *, vectors=None, weights=None):
         score = np.einsum("nkd,nkd->nk", c, c) - 2 * np.einsum("nkd,nd->nk", c, q)
         choice = np.argmin(score, axis=1)
         return choice, score[rows, choice] + np.einsum("nd,nd->n", q, q)
+    scores = candidate_sq_distances(queries, candidates, vectors, weights)
+    choice = np.argmin(scores, axis=1)
+    return choice, scores[rows, choice]
+
+
+def candidate_sq_distances(queries, candidates, vectors, weights=None):
+    """Weighted squared distances ``(M, K)`` from each query to each of its own candidates (rows of
+    ``vectors``); a candidate repeated in its row is scored once, its repeats ``inf``.
+
+    The scoring of :func:`nearest_candidates` (same arguments), for callers
+    that weigh the distances with other terms before choosing (Wei's eq. 1 of
+    a mixture).
+
+    Examples
+    --------
+    >>> v = np.array([[0.0], [1.0], [5.0]])
+    >>> candidate_sq_distances(np.array([[4.0]]), np.array([[0, 2, 0]]), v)
+    array([[16.,  1., inf]])
+    """
+    candidates = np.asarray(candidates)
     dims = vectors.shape[1]
     w = np.ones(dims, vectors.dtype) if weights is None else weights
     spec = "ij,ij,ij->i" if w.ndim == 2 else "ij,ij,j->i"
     scores = np.full(candidates.shape, np.inf, dtype=np.result_type(vectors, queries, w))
+    rows = np.arange(queries.shape[0])
     for j in range(candidates.shape[1]):
         # a candidate repeated in its row (coherent candidates often agree) is scored once
         r = rows if j == 0 else np.flatnonzero(np.all(candidates[:, j, None] != candidates[:, :j], axis=1))
         d = vectors[candidates[r, j]] - queries[r]
         scores[r, j] = np.einsum(spec, d, d, w if w.ndim == 1 else w[r])
-    choice = np.argmin(scores, axis=1)
-    return choice, scores[rows, choice]
+    return scores
 
 
 register("exact", _Exact.build, summary="brute force by chunked BLAS, memory-bounded, exact re-ranking")
