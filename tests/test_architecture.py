@@ -98,6 +98,19 @@ def test_import_texsynth_loads_no_family_and_no_numpy():
     assert "texsynth.pixel" not in out and "texsynth.optimization" not in out and out.strip().endswith("False"), out
 
 
+def test_texture_optimization_loads_neither_ruiters_nor_the_statistical_family():
+    # the optimization family's Ruiters names load on first use: texture optimization in a fresh process
+    # (every command-line call) does not pay for the statistical family and scipy.signal (about 0.4 s)
+    code = ("import sys, texsynth; texsynth.optimize_texture; "
+            "print([m for m in ('texsynth.optimization._ruiters', 'texsynth.statistical') if m in sys.modules])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
+    import texsynth
+    import texsynth.optimization as family
+
+    assert family.interpolate_textures is texsynth.interpolate_textures and "linear_blend" in dir(family)
+
+
 def test_public_names_resolve_to_their_family():
     import texsynth
 

@@ -13,17 +13,15 @@
 """
 
 from ..core._deprecate import warn
+from ..core._lazy import attach
 from ._kwatra import AnimationInfo, OptimizationInfo, StageInfo, animate_texture, optimize_texture
 from ._completion import inpaint, make_tileable, uncrop
-from ._ruiters import (
-    InterpolationInfo,
-    edge_feature_map,
-    interpolate_neighborhoods,
-    interpolate_textures,
-    linear_blend,
-    ridge_feature_map,
-    transition_alpha_map,
-)
+
+# Ruiters et al. load on first use: their module imports the statistical family (0.1 s), which
+# texture optimization does not need
+_RUITERS = ("interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
+            "linear_blend", "transition_alpha_map", "InterpolationInfo")
+_ruiters_getattr = attach(__name__, names={name: "._ruiters" for name in _RUITERS})[0]
 
 __all__ = [
     "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo", "inpaint", "uncrop",
@@ -42,4 +40,8 @@ def __getattr__(name):
 
         warn(f"texsynth.optimization.{name} is deprecated; use {_MOVED[name]}.{name} instead")
         return getattr(importlib.import_module(_MOVED[name]), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return _ruiters_getattr(name)
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_RUITERS))
