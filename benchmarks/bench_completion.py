@@ -5,10 +5,11 @@ Run: python benchmarks/bench_completion.py [--figure]   (from the repository roo
 On the top-left 512x512 of colour photographs of ``benchmarks/photos``, seed 0:
 
 - **hole filling**: a disc of radius 80 px (20 106 pixels) centred at (250, 270) is filled by
-  ``texsynth.inpaint`` and by the resynthesizer engine (Harrison's C engine, PyPI
-  ``resynthesizer``: GIMP's "Heal selection", its source the rest of the image);
+  ``texsynth.inpaint``, by the resynthesizer engine (Harrison's C engine, PyPI
+  ``resynthesizer``: GIMP's "Heal selection", its source the rest of the image) and by a
+  PatchMatch inpainting package (PyPI ``pypatchmatch``, MIT, 7x7 patches);
 - **uncrop**: the central 256x256 of the same crop is extended to 512x512 by ``texsynth.uncrop``
-  and by resynthesizer filling the canvas around it (GIMP's "Uncrop").
+  and by both peers filling the canvas around it (GIMP's "Uncrop").
 
 Each line: wall time; the sharpness (mean absolute difference of 4-neighbours) of the filled
 pixels over the known pixels' (a fill that averages is blurred: a Gaussian blur of sigma 1 px
@@ -17,7 +18,7 @@ known and filled pixels over the same measure inside the known pixels (1: the bo
 smooth as the texture; above 1: a visible edge).
 
 ``--figure`` writes ``docs/_static/completion.png``: per photograph the input (hole in magenta),
-texsynth's and resynthesizer's fills, then the uncrops of both.
+the three fills (texsynth, resynthesizer, pypatchmatch), then the three uncrops.
 """
 
 import argparse
@@ -45,6 +46,16 @@ def resynthesize(image, hole):
     picture = Image.fromarray(np.round(image * 255).astype(np.uint8))
     mask = Image.fromarray(np.where(hole, 255, 0).astype(np.uint8))
     return np.asarray(resynthesizer.resynthesize(picture, mask, params), dtype=np.float32) / 255.0
+
+
+def patchmatch_fill(image, hole):
+    """PyPatchMatch (PyPI ``pypatchmatch``, MIT: Barnes et al.'s PatchMatch inpainting, coarse to fine) filling
+    the pixels of ``hole`` from the rest of ``image``, with 7x7 patches (``patch_size=3``, its examples' value)."""
+    from patchmatch import patch_match
+
+    patch_match.set_random_seed(0)
+    picture = np.round(image * 255).astype(np.uint8)
+    return patch_match.inpaint(picture, hole.astype(np.uint8) * 255, patch_size=3).astype(np.float32) / 255.0
 
 
 def sharpness(img, where):
@@ -79,12 +90,12 @@ def main():
         canvas = np.zeros_like(image)
         canvas[128:384, 128:384] = image[128:384, 128:384]
         panels = [shown]
-        for task, mask, run_ours, run_peer in (
-            ("hole", hole, lambda: texsynth.inpaint(image, hole, rng=0), lambda: resynthesize(image, hole)),
-            ("uncrop", outside, lambda: texsynth.uncrop(image[128:384, 128:384], 512, rng=0),
-             lambda: resynthesize(canvas, outside)),
+        for task, mask, run_ours, image_in in (
+            ("hole", hole, lambda: texsynth.inpaint(image, hole, rng=0), image),
+            ("uncrop", outside, lambda: texsynth.uncrop(image[128:384, 128:384], 512, rng=0), canvas),
         ):
-            for method, run in (("texsynth", run_ours), ("resynthesizer", run_peer)):
+            for method, run in (("texsynth", run_ours), ("resynthesizer", lambda: resynthesize(image_in, mask)),
+                                ("pypatchmatch", lambda: patchmatch_fill(image_in, mask))):
                 start = time.perf_counter()
                 out = run()
                 seconds = time.perf_counter() - start
