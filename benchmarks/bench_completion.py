@@ -1,6 +1,7 @@
 """Hole filling and uncrop: texsynth.inpaint / texsynth.uncrop against the resynthesizer engine, in one run.
 
-Run: python benchmarks/bench_completion.py [--figure]   (from the repository root; needs the bench extra)
+Run: python benchmarks/bench_completion.py [--figure] [--photos NAME ...]   (from the repository root; needs the
+bench extra)
 
 On the top-left 512x512 of colour photographs of ``benchmarks/photos``, seed 0:
 
@@ -74,6 +75,7 @@ def seam(img, hole):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--figure", action="store_true")
+    parser.add_argument("--photos", nargs="+", default=PHOTOS, help="names in benchmarks/photos (default: %(default)s)")
     args = parser.parse_args()
     print(f"# {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     print("| photo | task | method | seconds | sharpness of the fill / known | seam |")
@@ -83,7 +85,7 @@ def main():
     outside = np.ones((512, 512), bool)
     outside[128:384, 128:384] = False
     figure = []
-    for photo in PHOTOS:
+    for photo in args.photos:
         image = np.ascontiguousarray(load_image(HERE / "photos" / f"{photo}.png")[:512, :512, :3]).astype(np.float32)
         shown = image.copy()
         shown[hole] = [1.0, 0.0, 1.0]
