@@ -79,6 +79,23 @@ def test_a_last_stage_of_small_neighbourhoods_joins_the_fill_to_the_known_pixels
     assert seam(out) < 0.92 * seam(without)
 
 
+def test_known_pixels_map_to_their_own_place_in_the_image(texture):
+    # the source-coordinate map of a completion: a known pixel is the image's own pixel (for uncrop,
+    # shifted by where the image lands), so apply_coordinates renders another channel of the image
+    # unchanged there
+    image = texture("jcjohnson/bread.png", 48)
+    hole = disc(image.shape, (24, 24), 8)
+    out, info = texsynth.inpaint(image, hole, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0,
+                                 return_info=True)
+    rows, cols = np.nonzero(~hole)
+    assert np.array_equal(info.coordinates[rows, cols], np.stack([rows, cols], 1))
+    out, info = texsynth.uncrop(image, (64, 64), position=(4, 10), neighborhood_sizes=(8,), levels=1,
+                                max_iterations=2, rng=0, return_info=True)
+    assert np.array_equal(info.coordinates[4:52, 10:58], np.stack(np.mgrid[:48, :48], -1))
+    channel = np.random.default_rng(0).random(image.shape[:2])
+    assert np.array_equal(texsynth.apply_coordinates(channel, info)[4:52, 10:58], channel)
+
+
 def test_inpaint_copies_only_from_the_sample_mask(texture):
     left = texture("jcjohnson/bread.png", 64)  # golden bread
     right = np.repeat(texture("lcv/metal.pgm", 64)[..., None], 3, axis=2) * 0.5  # dark grey metal

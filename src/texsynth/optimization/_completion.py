@@ -119,13 +119,17 @@ def _check_sources(allowed, smallest, name):
         )
 
 
-def _complete(exemplar, target, known, allowed, sizes, levels, grey, return_info, tileable=False, **options):
+def _complete(exemplar, target, known, allowed, sizes, levels, grey, return_info, tileable=False, origin=(0, 0),
+              **options):
     """Texture optimization with the ``known`` pixels of ``target`` as hard constraints; those pixels
-    pasted back bit for bit, the exemplar's channel layout restored."""
+    pasted back bit for bit, the exemplar's channel layout restored. The known pixels are the exemplar's
+    own, placed at ``origin``: the source-coordinate map says so for them."""
     out, info = optimize_texture(exemplar, known.shape, mask=known, target=target, exemplar_mask=allowed,
                                  neighborhood_sizes=sizes, levels=levels, return_info=True,
                                  **dict(_FIXED, tileable=tileable), **options)
     out[known] = target[known]
+    rows, cols = np.nonzero(known)
+    info.coordinates[rows, cols] = np.stack([rows - origin[0], cols - origin[1]], axis=1)
     out = out[..., 0] if grey else out
     return (out, info) if return_info else out
 
@@ -263,7 +267,7 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
     known[top : top + h, left : left + w] = True
     sizes, levels = _schedule(channels, shape, ~known, neighborhood_sizes, levels)
     _check_sources(allowed, min(sizes), "sample_mask")
-    return _complete(channels, canvas, known, allowed, sizes, levels, grey, return_info,
+    return _complete(channels, canvas, known, allowed, sizes, levels, grey, return_info, origin=(top, left),
                      confidence=WEXLER_CONFIDENCE, max_iterations=max_iterations, method=method, rng=rng, progress=progress)
 
 
