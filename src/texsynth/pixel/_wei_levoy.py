@@ -936,9 +936,10 @@ def _coherent_level(lv, run, bar, parent_cells):
     height, width, _ = lv.out.shape
     flat_out = lv.out.reshape(-1, lv.out.shape[-1])
     weights = [w.reshape(-1) for w in lv.weights]
-    flat_out[:] = sum(w[:, None] * c.pixels[c.flat_cells] for w, c in zip(weights, srcs))
     if len(srcs) == 1:
-        flat_out[:] = srcs[0].pixels[srcs[0].flat_cells]  # bit for bit what one source gives
+        flat_out[:] = srcs[0].pixels[srcs[0].flat_cells]
+    else:
+        flat_out[:] = sum(w[:, None] * c.pixels[c.flat_cells] for w, c in zip(weights, srcs))
     step = max(c.src.size[1] // 2 + 1 for c in srcs)  # every source's causal neighbours on earlier wavefronts
     order, bounds = _wavefronts(height, width, step)
     energy, steps = 0.0, 0.0
@@ -983,18 +984,18 @@ def _coherent_mixture(a, nds, colours, iterations):
     neighbourhood (its map continues from there).
     """
     m = a.shape[1]
-    rows = np.arange(m)
     direct = [np.argmin(nd, axis=1) for nd in nds]
 
-    def blend(ks):
-        picked = [col[rows, k] for col, k in zip(colours, ks)]
-        p = sum(w[:, None] * c for w, c in zip(a, picked))
-        e = sum(w * (((p - c) ** 2).sum(axis=1) + nd[rows, k]) for w, c, nd, k in zip(a, picked, nds, ks))
+    def blend(r, ks):
+        """p = sum_i a_i p_i at pixels ``r`` with picks ``ks``, and E there."""
+        picked = [col[r, k] for col, k in zip(colours, ks)]
+        p = sum(a[i, r, None] * c for i, c in enumerate(picked))
+        e = sum(a[i, r] * (((p - c) ** 2).sum(axis=1) + nds[i][r, k]) for i, (c, k) in enumerate(zip(picked, ks)))
         return p, e
 
-    best_p, best_e = blend(direct)
+    best_p = np.zeros((m, colours[0].shape[-1]))  # every pixel has a source of weight > 0: all are set below
+    best_e = np.full(m, np.inf)
     best_k = [k.copy() for k in direct]
-    best_e[:] = np.inf
     steps = np.zeros(m)
     for start in range(len(nds)):
         sel = np.flatnonzero(a[start] > 0)
@@ -1006,10 +1007,7 @@ def _coherent_mixture(a, nds, colours, iterations):
             r = sel[todo]
             new = [np.where(a[i, r] > 0, np.argmin(nd[r] + ((col[r] - p[todo, None]) ** 2).sum(axis=2), axis=1),
                             direct[i][r]) for i, (nd, col) in enumerate(zip(nds, colours))]
-            picked = [col[r, k] for col, k in zip(colours, new)]
-            p_new = sum(a[i, r, None] * c for i, c in enumerate(picked))
-            e_new = sum(a[i, r] * (((p_new - c) ** 2).sum(axis=1) + nds[i][r, k])
-                        for i, (c, k) in enumerate(zip(picked, new)))
+            p_new, e_new = blend(r, new)
             steps[r] += 1
             better = e_new < e[todo] * (1.0 - _STOP_TOLERANCE)  # E still falling
             if not better.any():

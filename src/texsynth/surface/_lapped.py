@@ -203,8 +203,8 @@ class _Paster:
         member[seed] = True
         faces = added = np.array([seed])
         vertex_uv = np.full((len(self.mesh.vertices), 2), np.nan)
-        vertex_uv[corners[seed]] = self.parametrize(faces, seed)[0]
-        solved = 1
+        uv_solved = self.parametrize(faces, seed)
+        vertex_uv[corners[seed]] = uv_solved[0]
         while True:
             ring = np.flatnonzero((self.graph[added].sum(axis=0).A1 > 0) & ~member & facing)
             if ring.shape[0] == 0:
@@ -218,10 +218,11 @@ class _Paster:
             member[added] = True
             fresh = np.isnan(vertex_uv[corners[added], 0])
             vertex_uv[corners[added][fresh]] = uv[touches][fresh]
-            if len(faces) >= _RESOLVE * solved:  # the least squares again, over the grown patch
-                vertex_uv[corners[faces]] = self.parametrize(faces, seed)
-                solved = len(faces)
-        return faces, self.parametrize(faces, seed)
+            if len(faces) >= _RESOLVE * len(uv_solved):  # the least squares again, over the grown patch
+                uv_solved = self.parametrize(faces, seed)
+                vertex_uv[corners[faces]] = uv_solved
+        # the final patch solved (unless the last ring's solve already was of it)
+        return faces, uv_solved if len(uv_solved) == len(faces) else self.parametrize(faces, seed)
 
     def extend(self, ring, vertex_uv):
         """(R, 3, 2) corner uv of faces beside the patch: each face's frame projection, shifted to agree with
