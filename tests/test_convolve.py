@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from texsynth.core.convolve import fft_convolve
+from texsynth.core.convolve import correlate_bank, fft_convolve
 
 
 @pytest.mark.parametrize("shapes", [((249, 249), (127, 127)), ((33, 40), (15, 15)), ((100, 80), (7, 10)),
@@ -31,6 +31,27 @@ def test_bad_mode_and_shapes_are_refused():
         fft_convolve(np.ones((3, 3)), np.ones((2, 2)), mode="valid")
     with pytest.raises(ValueError, match="2-D arrays"):
         fft_convolve(np.ones(3), np.ones((2, 2)))
+
+
+@pytest.mark.parametrize("image_shape, kernel_shape", [((37, 45, 3), (5, 7, 9, 3)), ((16, 16, 1), (2, 16, 16, 1)),
+                                                      ((20, 9, 2), (3, 1, 9, 2))])
+def test_correlate_bank_is_every_patch_dotted_with_every_kernel(image_shape, kernel_shape):
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    rng = np.random.default_rng(2)
+    image, kernels = rng.random(image_shape), rng.standard_normal(kernel_shape)
+    patches = np.moveaxis(sliding_window_view(image, kernel_shape[1:3], axis=(0, 1)), 2, -1)
+    want = np.einsum("yxuvc,juvc->jyx", patches, kernels)
+    got = correlate_bank(image, kernels)
+    assert got.shape == want.shape and got.dtype == np.float64
+    np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-10)
+
+
+def test_correlate_bank_refuses_mismatched_shapes():
+    with pytest.raises(ValueError, match="same C"):
+        correlate_bank(np.ones((8, 8, 3)), np.ones((2, 3, 3, 1)))
+    with pytest.raises(ValueError, match="do not fit"):
+        correlate_bank(np.ones((8, 8, 1)), np.ones((2, 9, 3, 1)))
 
 
 def test_texture_optimization_does_not_load_scipy_signal():
