@@ -305,6 +305,18 @@ def test_interpolate_alpha_options_are_exclusive_and_ramp_is_an_alias(tmp_path, 
 
 
 # --------------------------------------------------------------------------- optimize, animate
+def test_optimize_with_k_coherent_candidates(tmp_path):
+    ex = save_image(tmp_path / "ex.png", data.load("bumpy")[:32, :32])
+    out = tmp_path / "kc.png"
+    assert run("optimize", str(ex), "-o", str(out), "--size", "40x40", "--candidates", "k-coherent", "--k", "2",
+               "--levels", "1", "--max-iterations", "2", "--seed", "0") == 0
+    assert load_image(out).shape == (40, 40, 3)
+    # a clear error naming the clash, nothing written
+    assert run("optimize", str(ex), "-o", str(tmp_path / "bad.png"), "--candidates", "k-coherent",
+               "--method", "exact") == 2
+    assert not (tmp_path / "bad.png").exists()
+
+
 def test_optimize_with_an_rgba_mask_and_tileable(tmp_path, monkeypatch):
     import texsynth.optimization as optimization
 

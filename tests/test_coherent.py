@@ -161,3 +161,60 @@ def test_k_coherent_bad_options(texture):
         texsynth.synthesize_pixels(ex, 20, levels=2, candidates="k-coherent", k=0)
     with pytest.raises(ValueError, match="k=100000"):
         texsynth.synthesize_pixels(ex, 20, levels=2, candidates="k-coherent", k=100000)
+
+
+# --------------------------------------------------------------------------- texture optimization's M-step
+def test_optimization_m_step_offers_the_sets_after_the_first_search(texture, monkeypatch):
+    """Every M-step but the synthesis's first (from random neighbourhoods) searches over the stage's
+    k-coherence sets, with no random search; the energy still never rises within a stage."""
+    import texsynth
+    import texsynth.optimization._kwatra as kw
+    from texsynth.core.search import _patchmatch as pm
+
+    calls = []
+    checked = kw._patchmatch_checked
+
+    def spy(*args, sets=None, **kwargs):
+        calls.append(sets)
+        return checked(*args, sets=sets, **kwargs)
+
+    random_searches = []
+    search = pm._Problem.random_search
+    monkeypatch.setattr(kw, "_patchmatch_checked", spy)
+    monkeypatch.setattr(pm._Problem, "random_search",
+                        lambda self, *a: (random_searches.append(self.sets is None), search(self, *a))[1])
+    ex = texture("jcjohnson/bread.png", 64)
+    out, info = texsynth.optimize_texture(ex, 96, candidates="k-coherent", k=3, copy_limit=None,
+                                          completeness_weight=0, histogram_matching=False, rng=0, return_info=True)
+    assert out.shape == (96, 96, 3) and calls[0] is None and all(s is not None for s in calls[1:])
+    for sets in calls[1:]:
+        assert sets.shape[1] == 3 and np.array_equal(sets[:, 0], np.arange(len(sets)))
+    assert any(random_searches) and not all(random_searches)  # the first search only
+    for s in range(len(info.stages)):
+        e = info.energy[info.stage == s]
+        assert np.all(np.diff(e) <= 1e-9 * e[0])
+
+
+def test_optimization_k_coherent_is_deterministic_and_differs_by_k(texture):
+    import texsynth
+
+    ex = texture("jcjohnson/bread.png", 48)
+    a = texsynth.optimize_texture(ex, 64, candidates="k-coherent", rng=1)
+    np.testing.assert_array_equal(a, texsynth.optimize_texture(ex, 64, candidates="k-coherent", rng=1))
+    assert not np.array_equal(a, texsynth.optimize_texture(ex, 64, candidates="k-coherent", k=1, rng=1))
+    assert not np.array_equal(a, texsynth.optimize_texture(ex, 64, rng=1))
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"candidates": "coherent"}, "candidates must be one of 'all', 'k-coherent'"),
+    ({"candidates": "k-coherent", "k": 0}, "k must be"),
+    ({"candidates": "k-coherent", "k": 2.5}, "k must be"),
+    ({"candidates": "k-coherent", "gradient_weight": 1.0}, "does not combine with gradient_weight"),
+    ({"candidates": "k-coherent", "preset": "paper"}, "does not combine with preset='paper'"),
+    ({"candidates": "k-coherent", "method": "exact"}, "does not combine with method='exact'"),
+])
+def test_optimization_k_coherent_bad_options(texture, kwargs, match):
+    import texsynth
+
+    with pytest.raises((ValueError, TypeError), match=match):
+        texsynth.optimize_texture(texture("jcjohnson/bread.png", 32), 40, **kwargs)

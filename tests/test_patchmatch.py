@@ -486,6 +486,31 @@ def test_bounds_follow_an_exemplar_changed_in_place(texture, monkeypatch):
     np.testing.assert_array_equal(got[0], want[0])
 
 
+@pytest.mark.parametrize("channels, patch, m", [(3, 12, 16), (1, 8, 4), (3, 4, 48)])
+def test_project_patches_gives_m_shortened_differences(texture, channels, patch, m):
+    """m columns (at most the patch dimension), one row per patch position, and squared distances
+    between rows never above the weighted distances between the patches."""
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    from texsynth.core.search import project_patches
+
+    image = texture("embark/multiexample/2.jpg")[:40, :40]
+    image = image[..., :channels] if channels == 3 else image[..., :1]
+    g = gaussian_falloff(patch)
+    proj = project_patches(image, patch, m, pixel_weights=g)
+    n = (41 - patch) ** 2
+    assert proj.shape == (n, min(m, patch * patch * channels))
+    patches = np.moveaxis(sliding_window_view(image, (patch, patch), axis=(0, 1)), 2, -1).reshape(n, -1)
+    w = np.repeat(g.ravel(), channels)
+    rng = np.random.default_rng(0)
+    a, b = rng.integers(n, size=(2, 2000))
+    exact = (((patches[a] - patches[b]) ** 2) * w).sum(1)
+    bound = ((proj[a] - proj[b]) ** 2).sum(1)
+    assert np.all(bound <= exact * (1 + 1e-9) + 1e-12)
+    with pytest.raises(ValueError, match="exemplar must be"):
+        project_patches(image[: patch - 1, : patch - 1], patch, m)
+
+
 def test_a_negative_penalty_is_refused():
     """The bounds rule a candidate out by its distance alone, which is sound for costs >= 0 only."""
     with pytest.raises(ValueError, match="penalty must return one finite, non-negative cost"):

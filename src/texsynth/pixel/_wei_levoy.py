@@ -58,8 +58,8 @@ from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memor
                               restore_channels, with_channels)
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import (KCoherence, PatchIndex, SequentialExact, candidate_sq_distances, nearest_candidates,
-                           neighbor_sources)
+from ..core.search import (CANDIDATES, KCoherence, PatchIndex, SequentialExact, candidate_sq_distances,
+                           nearest_candidates, neighbor_sources)
 
 __all__ = [
     "synthesize_pixels",
@@ -75,9 +75,6 @@ __all__ = [
 ORDERS = ("scanline", "independent")
 #: Neighbourhood footprints inside the ``(h, w)`` box: the whole box, or the inscribed disc (ellipse).
 SHAPES = ("square", "disc")
-#: Which exemplar neighbourhoods a pixel is compared with: all of them (Wei & Levoy 2000), or the
-#: k-coherent candidates of its neighbours' sources (Ashikhmin 2001, Tong et al. 2002).
-CANDIDATES = ("all", "k-coherent")
 
 try:  # installed with scikit-learn; tiny per-pixel BLAS calls run faster on one thread
     from threadpoolctl import threadpool_limits as _threadpool_limits

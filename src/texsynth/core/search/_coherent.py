@@ -65,7 +65,12 @@ import numpy as np
 from .._validate import as_rng, check_memory, check_positive_int
 from ._index import _DEFAULT_MEMORY_BUDGET, PatchIndex
 
-__all__ = ["KCoherence", "neighbor_sources", "COHERENT_MODES"]
+__all__ = ["KCoherence", "neighbor_sources", "COHERENT_MODES", "CANDIDATES"]
+
+#: Values of an algorithm's ``candidates``: which exemplar neighbourhoods a query is compared with,
+#: all of them (through an index or PatchMatch), or the k-coherent candidates of its neighbours'
+#: sources (Ashikhmin 2001, Tong et al. 2002).
+CANDIDATES = ("all", "k-coherent")
 
 #: What replaces a shifted candidate that leaves the grid: a random cell (Ashikhmin), the
 #: nearest edge cell, the cell it wraps around to (a tileable exemplar), or its mirror image.

@@ -34,7 +34,7 @@ from ..neighborhood import MODES, patch_shape
 from ._kdtree import _pca
 from ._registry import _forced
 
-__all__ = ["patchmatch", "nearest_field", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field"]
+__all__ = ["patchmatch", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field"]
 
 #: Ratio between the radii of successive random-search windows (Barnes et al. 2009, Sec. 3.2: alpha = 1/2).
 ALPHA = 0.5
@@ -137,6 +137,7 @@ class _Problem:
             self.wsqrt = np.repeat(np.sqrt(w).ravel(), channels).astype(dtype)
         self.block = max(16, _BLOCK_BYTES // (self.dim * np.dtype(dtype).itemsize))
         self.neighbors = _Neighbors(self.centers, self.shape, mode)
+        self.sets = None  # k-coherence sets (_patchmatch_checked's sets)
         bound_bytes = self.eny * self.enx * _BOUND_COMPONENTS * 8
         self.bound = _Bound(self) if self.dim >= _BOUND_MIN_DIM and bound_bytes <= _BOUND_MAX_BYTES else None
 
@@ -319,6 +320,8 @@ class _Problem:
         cand = self.to_ids(r, c)
         # no neighbour that way: offer what is held, which is skipped
         cand[~has] = field.ids[q][:, None, :].repeat(has.shape[1], axis=1)[~has]
+        if self.sets is not None:  # k-coherence: each continuation and the patches most like it
+            cand = self.sets[cand]
         self.offer(field, q, cand.reshape(q.shape[0], -1))
 
     def random_search(self, field, q, rng):
@@ -326,8 +329,11 @@ class _Problem:
 
         ``w`` is the larger side of the exemplar's patch positions, ``i = 0,
         1, ...`` while ``w alpha^i >= 1``; each window is clipped to the
-        exemplar and sampled uniformly inside.
+        exemplar and sampled uniformly inside. None with k-coherence sets
+        (they take its place, Tong et al. 2002).
         """
+        if self.sets is not None:
+            return
         radii = _radii(max(self.eny, self.enx))
         held = field.ids[q]  # (n, k)
         r0, c0 = np.divmod(held, self.enx)
@@ -380,6 +386,70 @@ class _Bound:
         return np.einsum("ij,ij->i", diff, diff) <= worst * self.slack
 
 
+def project_patches(exemplar, patch_size, n_components=16, *, pixel_weights=None):
+    """Every patch of an exemplar projected on the leading principal components of its patches.
+
+    Compact descriptors of the patches: what PatchMatch's distance bounds
+    compare, and what texture optimization's k-coherence sets are found
+    among. The components are those of a sample of 1024 (weighted) patches
+    (a fixed seed: the same exemplar gives the same projections).
+
+    Parameters
+    ----------
+    exemplar : numpy.ndarray
+        Float ``(H, W, C)``.
+    patch_size : int or (int, int)
+    n_components : int
+        ``m``, at most the patch dimension.
+    pixel_weights : numpy.ndarray, optional
+        ``(ph, pw)`` weights of the patch pixels in the distance (the
+        projections are of ``sqrt(weights) * patch``).
+
+    Returns
+    -------
+    numpy.ndarray
+        float64 ``((H - ph + 1) * (W - pw + 1), m)``, row-major top-left
+        corners; squared distances between rows are lower bounds of the
+        weighted squared distances between the patches.
+
+    Examples
+    --------
+    >>> img = np.random.default_rng(0).random((20, 20, 3))
+    >>> project_patches(img, 5, 4).shape
+    (256, 4)
+    """
+    ph, pw = patch_shape(patch_size)
+    ex = np.ascontiguousarray(exemplar, dtype=np.float64)
+    if ex.ndim != 3 or ph > ex.shape[0] or pw > ex.shape[1]:
+        raise ValueError(f"exemplar must be (H, W, C) and hold a ({ph}, {pw}) patch, got shape {ex.shape}")
+    m = check_positive_int(n_components, "n_components")
+    view = np.moveaxis(sliding_window_view(ex, (ph, pw), axis=(0, 1)), 2, -1)
+    wsqrt = np.ones(ph * pw * ex.shape[-1])
+    if pixel_weights is not None:
+        wsqrt = np.repeat(np.sqrt(_check_pixel_weights(pixel_weights, (ph, pw))).ravel(), ex.shape[-1])
+    enx = view.shape[1]
+    ids = np.arange(view.shape[0] * enx)
+    return _projections(ex, view, enx, ids, wsqrt, min(m, wsqrt.shape[0]))[2]
+
+
+def _projections(exemplar, eview, enx, ids, wsqrt, m):
+    """The components of a sample of patches ``ids`` as ``(dim, m)`` kernels, the sample mean's
+    projection, and every patch's projection ``(eny * enx, m)`` less that mean's."""
+    ph, pw = eview.shape[2:4]
+    # a fixed generator: the same exemplar, the same projections
+    rng = np.random.default_rng(0)
+    sample = ids[rng.choice(ids.shape[0], size=min(_BOUND_SAMPLES, ids.shape[0]), replace=False)]
+    er, ec = np.divmod(sample, enx)
+    x = eview[er, ec].reshape(sample.shape[0], -1).astype(np.float64) * wsqrt
+    mean = x.mean(axis=0)
+    _, vt, _ = _pca(x - mean, min(m, *x.shape), rng)
+    basis = np.linalg.qr(vt[:m].T)[0].T  # re-orthonormalised, so a projection can only shorten a difference
+    kernels = np.ascontiguousarray((basis * wsqrt).T)  # (dim, m): patch @ kernels = B (w^1/2 patch)
+    offset = basis @ mean
+    proj = correlate_bank(exemplar, kernels.T.reshape(-1, ph, pw, exemplar.shape[-1]))
+    return kernels, offset, np.ascontiguousarray(proj.reshape(proj.shape[0], -1).T) - offset
+
+
 def _bound_exemplar(problem):
     """The exemplar side of :class:`_Bound`: the weighted components as a ``(dim, m)`` matrix, the
     projection of the sample mean, and every allowed exemplar patch's projection ``(eny * enx, m)``.
@@ -394,20 +464,9 @@ def _bound_exemplar(problem):
     key = (digest.hexdigest(), problem.exemplar.shape, problem.patch)
     if key in _BOUND_CACHE:
         return _BOUND_CACHE[key]
-    ph, pw = problem.patch
-    # a fixed generator: the bound changes the work, never the field, so it need not follow rng
-    rng = np.random.default_rng(0)
-    ids = problem.allowed_ids
-    sample = ids[rng.choice(ids.shape[0], size=min(_BOUND_SAMPLES, ids.shape[0]), replace=False)]
-    er, ec = np.divmod(sample, problem.enx)
-    x = problem.eview[er, ec].reshape(sample.shape[0], -1).astype(np.float64) * wsqrt
-    mean = x.mean(axis=0)
-    _, vt, _ = _pca(x - mean, min(_BOUND_COMPONENTS, *x.shape), rng)
-    basis = np.linalg.qr(vt.T)[0].T  # re-orthonormalised, so a projection can only shorten a difference
-    kernels = np.ascontiguousarray((basis * wsqrt).T)  # (dim, m): patch @ kernels = B (w^1/2 patch)
-    offset = basis @ mean
-    proj = correlate_bank(problem.exemplar, kernels.T.reshape(-1, ph, pw, problem.exemplar.shape[-1]))
-    entry = kernels, offset, np.ascontiguousarray(proj.reshape(proj.shape[0], -1).T) - offset
+    # the components of the allowed patches; a fixed seed: the bound changes the work, never the field
+    entry = _projections(problem.exemplar, problem.eview, problem.enx, problem.allowed_ids, wsqrt,
+                         _BOUND_COMPONENTS)
     _BOUND_CACHE.clear()
     _BOUND_CACHE[key] = entry
     return entry
@@ -872,11 +931,18 @@ def _run(problem, init, iterations, rng):
 
 
 def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iterations, exemplar_mask, pixel_weights,
-                        mode, penalty, rng):
+                        mode, penalty, rng, sets=None):
     """:func:`patchmatch` of float ``(H, W, C)`` arrays the caller has checked, with any number of channels
-    and values beyond [0, 1] (texture optimization's guide channels, weighted)."""
+    and values beyond [0, 1] (texture optimization's guide channels, weighted).
+
+    ``sets``: k-coherence sets ``(eny * enx, k)`` of the exemplar's patch positions (row-major top-left
+    corners, :class:`~texsynth.core.search.KCoherence` over :func:`project_patches`): every propagated
+    candidate is offered with its set, and the random search is left out, so an iteration is Tong et
+    al.'s k-coherent search in PatchMatch's scan order.
+    """
     problem = _Problem(image, exemplar, patch_size, centers, 1, exemplar_mask, pixel_weights, mode, penalty,
                        checked=True)
+    problem.sets = sets
     return _run(problem, init, iterations, rng)
 
 
