@@ -12,9 +12,15 @@ With ``--caps``: what the cost caps cost in quality. The alpha = 0.5 256x256 run
 defaults (``max_feature_points=24, max_neighborhoods=1024``) and with both doubled (48, 2048),
 two seeds each: time, stage times, and texture energy against I1 and I2.
 
+With ``--candidates``: the alpha = 0.5 run with the paper's correspondences (``candidates="all"``,
+every neighbourhood of the other texture) and with k-coherent ones, side by side: time, stage
+times, texture energy against I1 and I2, and the mean weighted distance of each stage's
+correspondences over exact search's. ``--candidates --photos A B --side N``: only the
+correspondences, between the top-left N x N of two photographs of ``benchmarks/photos``.
+
 With ``--save DIR`` the 256x256 texture and the strip are written there as PNG (to look at).
 
-Run:  python benchmarks/bench_interpolation.py [--quick] [--caps] [--save DIR]
+Run:  python benchmarks/bench_interpolation.py [--quick] [--caps] [--candidates [--photos A B --side N]] [--save DIR]
 """
 
 import argparse
@@ -50,10 +56,16 @@ def main():
     parser.add_argument("--quick", action="store_true", help="64x64 exemplars, stages (2,17),(1,17), 3 iterations")
     parser.add_argument("--caps", action="store_true",
                         help="alpha = 0.5 with default and doubled max_feature_points / max_neighborhoods")
+    parser.add_argument("--candidates", action="store_true",
+                        help="alpha = 0.5 with the paper's correspondences and with k-coherent ones")
+    parser.add_argument("--photos", nargs=2, help="--candidates: only the correspondences of these two photos")
+    parser.add_argument("--side", type=int, default=256, help="--photos: the crops' side")
     parser.add_argument("--save", type=Path, help="folder for the outputs (PNG)")
     args = parser.parse_args()
     if args.caps:
         return caps(args.quick)
+    if args.candidates:
+        return candidates(args.quick, args.photos, args.side)
     n = 64 if args.quick else 128
     opts = dict(stages=((2, 17), (1, 17)), max_iterations=3) if args.quick else {}
     a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
@@ -97,6 +109,48 @@ def caps(quick):
             row(f"points={points} neighborhoods={hoods} seed={seed}", seconds, info,
                 (texture_energy(mid, a), texture_energy(mid, b)))
             print(f"    pairs per stage {info.pairs}, N' per stage {info.kept}, load average {load():.2f}")
+
+
+def candidates(quick, photos=None, side=256):
+    """The paper's correspondences against k-coherent ones: the whole interpolation, then each stage's pairs
+    (``photos``: only the pairs, between two photographs of benchmarks/photos)."""
+    import warnings
+
+    from texsynth.core.neighborhood import all_patches
+    from texsynth.optimization._ruiters import _check_inputs, _correspondences, _stage_textures
+
+    n = 64 if quick else 128
+    opts = dict(stages=((2, 17), (1, 17)), max_iterations=3) if quick else {}
+    a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
+    b = load_image(TEXTURES / "rohitrango" / "t7.png")[:n, :n, :3]
+    if photos:
+        here = Path(__file__).resolve().parent / "photos"
+        a, b = (load_image(here / f"{p}.png")[:side, :side, :3] for p in photos)
+        print(f"candidates: correspondences {photos[0]} <-> {photos[1]}, {side}x{side}; load average {load():.2f}")
+    else:
+        print(f"candidates: exemplars {n}x{n} brick <-> slate, alpha = 0.5 -> {2 * n}x{2 * n}; load average "
+              f"{load():.2f}")
+    for label in ("all", "k-coherent") if not photos else ():
+        t0 = time.perf_counter()
+        mid, info = interpolate_textures(a, b, 0.5, size=2 * n, rng=0, return_info=True, candidates=label, **opts)
+        row(f"candidates={label}", time.perf_counter() - t0, info, (texture_energy(mid, a), texture_energy(mid, b)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # no feature maps given: colour-only pairs
+        p = _check_inputs(a, b, features=None, distance_weight=1.0, k=1, keep_fraction=0.5, feature_weight=0.5,
+                          max_feature_points=24, max_neighborhoods=1024, max_set_size=16384, rpm_options=None,
+                          method="auto")
+    for r, s in opts.get("stages", ((2, 33), (2, 17), (1, 17))):
+        t1, t2 = _stage_textures(p, r, s)
+        v1, v2 = all_patches(t1.image, s), all_patches(t2.image, s)
+        found = {}
+        for label in ("all", "k-coherent"):
+            t0 = time.perf_counter()
+            c1, c2 = _correspondences(t1, t2, s, p.channel_weights, 1, np.random.default_rng(0), "exact", label)
+            seconds = time.perf_counter() - t0
+            d = (((v1[c1[:, 0], c1[:, 1]] - v2[c2[:, 0], c2[:, 1]]) ** 2) * p.channel_weights).sum((1, 2, 3))
+            found[label] = (seconds, float(d.mean()))
+        print(f"    stage (r={r}, s={s}): exact search {found['all'][0]:.2f} s, k-coherent {found['k-coherent'][0]:.2f} s, "
+              f"mean distance {found['k-coherent'][1] / found['all'][1]:.3f}x exact's")
 
 
 if __name__ == "__main__":

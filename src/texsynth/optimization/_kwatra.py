@@ -97,7 +97,7 @@ from ..core.convolve import fft_convolve
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
-from ..core.search import CANDIDATES, KCoherence, PatchIndex, nearest_candidates, project_patches, sq_distances
+from ..core.search import CANDIDATES, PatchIndex, coherence_sets, nearest_candidates, sq_distances
 from ..core.search._patchmatch import _patchmatch_checked
 from ..core.neighborhood import PatchSum, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
@@ -140,10 +140,6 @@ _COARSEST_SIDE = 32
 # previous stage's field carried over, or from random neighbourhoods) and in each later one (from the
 # current z_p)
 _FIELD_ITERATIONS_FIRST = 4
-# candidates="k-coherent": the neighbourhoods' principal components the k-coherence sets are found in
-_COHERENCE_COMPONENTS = 8
-# ... and how far (in pixels, Chebyshev) a member of a set lies from the neighbourhood itself at least
-_COHERENCE_MIN_DISTANCE = 2
 _FIELD_ITERATIONS = 1
 # E-step: neighbourhood values added into the output at a time (32 MB of float64)
 _E_STEP_VALUES = 2**22
@@ -1045,26 +1041,6 @@ def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None,
     return new, rho
 
 
-def _coherence_sets(ex, k, rng):
-    """The k-coherence sets (Tong et al. 2002) of one stage's exemplar neighbourhoods, ``(Ny * Nx, k)``.
-
-    Tong et al. compare whole neighbourhoods; here their projections on the
-    8 leading principal components of the exemplar's fall-off weighted
-    neighbourhoods (:func:`~texsynth.core.search.project_patches`, the
-    descriptors of PatchMatch's distance bounds), searched by the PCA
-    kd-tree, which keeps the sets affordable at 16- to 64-pixel
-    neighbourhoods (0.3-1.0 s for the 37 000-58 000 neighbourhoods of a 256
-    px exemplar; 16 components took twice as long); the candidates they give
-    are ranked by the exact distance. Members lie at least 2 pixels from
-    the neighbourhood itself: the one a pixel over is always the most
-    similar and adds nothing. A farther exclusion (the grid spacing) asks
-    the kd-tree for the whole excluded square and took 10-50x as long.
-    """
-    vectors = project_patches(ex.image, ex.size, _COHERENCE_COMPONENTS, pixel_weights=ex.g)
-    return KCoherence(vectors, ex.view.shape[:2], k=min(k, len(vectors)), min_distance=_COHERENCE_MIN_DISTANCE,
-                      rng=rng).sets
-
-
 def _carried_field(record, level, centers):
     """The last stage's ``z_p`` carried to ``centers`` at ``level``: each centre's exemplar position as
     the nearest old centre's source plus the offset to it (Section 3.2's up-sampling, for the field)."""
@@ -1347,7 +1323,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
     n = len(centers)
     sets = None
     if opts.candidates == "k-coherent" and use_field and coords is None:
-        sets = _coherence_sets(ex, opts.k, rng)
+        sets = coherence_sets(ex.image, ex.size, opts.k, pixel_weights=ex.g, rng=rng)
     carried = None
     if (use_field or stack) and x is not None:  # the last stage's field, or random neighbourhoods after a given image
         carried = rng.integers(len(ex), size=n)

@@ -53,7 +53,8 @@ from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_siz
                               check_memory, check_positive_float, check_positive_int, restore_channels,
                               with_channels)
 from ..core import search
-from ..core.search import PatchIndex
+from ..core.search import CANDIDATES, PatchIndex, coherence_sets
+from ..core.search._patchmatch import _patchmatch_checked
 from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.em import expectation_maximization
 from ..statistical import interpolate_statistics, ps_statistics, ps_step
@@ -70,6 +71,10 @@ __all__ = [
 ]
 
 _EPS = 1e-3  # ε² of the IRLS weights (texsynth.optimization.irls_weights): finite for perfect matches
+# candidates="k-coherent": the size of the k-coherence sets of the correspondences, and the iterations over
+# them after one PatchMatch iteration from random matches
+_CORRESPONDENCE_SET = 4
+_CORRESPONDENCE_ITERATIONS = 3
 
 
 @dataclass
@@ -303,10 +308,15 @@ def _prepare_texture(colour, feature, size, max_neighborhoods):
     return _Texture(img, feature, corners, mean, std, stride)
 
 
-def _correspondences(t1, t2, size, channel_weights, k, rng, method="auto"):
+def _correspondences(t1, t2, size, channel_weights, k, rng, method="auto", candidates="all"):
     """Pairs (corner in I1, corner in I2): k nearest in both directions (Section 4.1)."""
     pairs = []
     for src, dst, flip in ((t1, t2, False), (t2, t1, True)):
+        if candidates == "k-coherent":
+            other = _coherent_matches(src, dst, size, channel_weights, k, rng)
+            mine = np.repeat(src.corners, k, axis=0)
+            pairs.append(np.concatenate([other, mine], 1) if flip else np.concatenate([mine, other], 1))
+            continue
         view = all_patches(dst.image, size)  # every neighbourhood of the other texture
         vecs = view.reshape(-1, size * size * view.shape[-1]).astype(np.float32)
         weights = np.tile(channel_weights, size * size)
@@ -320,6 +330,23 @@ def _correspondences(t1, t2, size, channel_weights, k, rng, method="auto"):
         pairs.append(np.concatenate([other, mine], 1) if flip else np.concatenate([mine, other], 1))
     pairs = np.unique(np.concatenate(pairs), axis=0)
     return pairs[:, :2], pairs[:, 2:]
+
+
+def _coherent_matches(src, dst, size, channel_weights, k, rng):
+    """The k nearest neighbourhoods of ``dst`` (top-left corners, ``(M k, 2)``) for the capped corners of
+    ``src``, by k-coherent search: the queries lie on a grid, so a neighbour's match shifted by the offset
+    to it is a candidate, offered with its k-coherence set (Tong et al. 2002), in PatchMatch's scan order;
+    one PatchMatch iteration from random matches gives the search something to continue."""
+    scale = np.sqrt(channel_weights)  # W_C as a scaling of the channels: the same weighted distance
+    a, b = src.image * scale, dst.image * scale
+    centres = src.corners + size // 2
+    common = dict(centers=centres, exemplar_mask=None, pixel_weights=None, mode="valid", penalty=None, rng=rng,
+                  k=k)
+    field, _ = _patchmatch_checked(a, b, size, init=None, iterations=1, **common)
+    sets = coherence_sets(b, size, _CORRESPONDENCE_SET, rng=rng)
+    field, _ = _patchmatch_checked(a, b, size, init=field, iterations=_CORRESPONDENCE_ITERATIONS, sets=sets,
+                                   **common)
+    return field.reshape(-1, 2) - size // 2
 
 
 def _feature_points(feature, corners, size, max_points, rng):
@@ -436,7 +463,7 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
     ``max_set_size`` caps the result.
     """
     t0 = time.perf_counter()
-    c1, c2 = _correspondences(t1, t2, size, params.channel_weights, params.k, rng, params.method)
+    c1, c2 = _correspondences(t1, t2, size, params.channel_weights, params.k, rng, params.method, params.candidates)
     info.add("correspondences", t0)
     t0 = time.perf_counter()
     margin = max(t1.stride, t2.stride) // 2 + 1
@@ -496,7 +523,8 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
 def interpolate_neighborhoods(a, b, alpha, neighborhood_size, *, features=None, resolution=1, distance_weight=1.0,
                               k=1,
                               keep_fraction=0.5, feature_weight=0.5, max_feature_points=24,
-                              max_neighborhoods=1024, max_set_size=16384, rpm_options=None, method="auto", rng=None):
+                              max_neighborhoods=1024, max_set_size=16384, rpm_options=None, method="auto",
+                              candidates="all", rng=None):
     """The interpolated neighbourhood set ``N'`` for one (r, s) (Sections 4.1-4.2).
 
     ``neighborhood_size`` is ``s`` and ``resolution`` is ``r`` of a stage;
@@ -514,7 +542,7 @@ def interpolate_neighborhoods(a, b, alpha, neighborhood_size, *, features=None, 
     p = _check_inputs(a, b, features=features, distance_weight=distance_weight, k=k, keep_fraction=keep_fraction,
                       feature_weight=feature_weight, max_feature_points=max_feature_points,
                       max_neighborhoods=max_neighborhoods, max_set_size=max_set_size, rpm_options=rpm_options,
-                      method=method)
+                      method=method, candidates=candidates)
     alpha = check_in_range(alpha, "alpha", 0.0, 1.0)
     rng = as_rng(rng)
     t1, t2 = _stage_textures(p, resolution, neighborhood_size)
@@ -553,10 +581,11 @@ class _Inputs:
     max_set_size: int
     rpm: dict  # options of tps_rpm
     method: str  # search backend
+    candidates: str = "all"  # "k-coherent": correspondences by k-coherent search
 
 
 def _check_inputs(a, b, *, features, distance_weight, k, keep_fraction, feature_weight, max_feature_points,
-                  max_neighborhoods, max_set_size, rpm_options, method):
+                  max_neighborhoods, max_set_size, rpm_options, method, candidates="all"):
     a, grey_a = with_channels(as_image(a, "a", min_size=8))
     b, grey_b = with_channels(as_image(b, "b", min_size=8))
     if a.shape[-1] != b.shape[-1]:
@@ -590,7 +619,14 @@ def _check_inputs(a, b, *, features, distance_weight, k, keep_fraction, feature_
         max_set_size=check_positive_int(max_set_size, "max_set_size"),
         rpm=_check_rpm_options(rpm_options),
         method=search.check_method(method),
+        candidates=_check_candidates(candidates),
     )
+
+
+def _check_candidates(candidates):
+    if not isinstance(candidates, str) or candidates not in CANDIDATES:
+        raise ValueError(f"candidates must be one of {', '.join(map(repr, CANDIDATES))}, got {candidates!r}")
+    return candidates
 
 
 def _check_rpm_options(rpm_options):
@@ -837,8 +873,8 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
                          max_feature_points=24, max_neighborhoods=1024, max_set_size=16384, alpha_steps=20, alpha_weight=4.0,
                          statistics_bands=5, relative_grid_spacing=0.25, candidate_stride=2, relaxation_radius=2,
                          spring_weight=0.002, mean_shift_bandwidth=0.03, mean_shift_iterations=3,
-                         tolerance=0.0, statistics_step=True, rpm_options=None, method="auto", rng=None, progress=False,
-                         return_info=False):
+                         tolerance=0.0, statistics_step=True, rpm_options=None, method="auto", candidates="all",
+                         rng=None, progress=False, return_info=False):
     """Interpolate two textures by warping and blending their neighbourhoods (Ruiters et al. 2010).
 
     Parameters
@@ -943,6 +979,19 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
         (``"auto"``: exact up to 20000 neighbourhoods of the other texture,
         kd-tree above) and of the synthesis in ``N'`` (``"auto"``: exact up
         to a few thousand neighbourhoods, kd-tree above).
+    candidates : {"all", "k-coherent"}
+        How the correspondences (Section 4.1) are searched. ``"all"``
+        (default, the paper): every neighbourhood of the other texture,
+        through ``method``. ``"k-coherent"``: k-coherent search (Ashikhmin
+        2001; Tong et al. 2002, :doi:`10.1145/566654.566634`, not at hand):
+        the capped neighbourhoods lie on a grid, so a grid neighbour's match
+        shifted by the offset to it is a candidate, offered with its
+        k-coherence set of 4 (:func:`~texsynth.core.search.coherence_sets`),
+        in PatchMatch's scan order, 3 iterations after one PatchMatch
+        iteration from random matches (which gives the search something to
+        continue); the ``k`` nearest found are kept. Approximate, and cheaper
+        where the other texture has many neighbourhoods (see
+        docs/methods/interpolation.md).
     rpm_options : dict, optional
         Options of :func:`texsynth.core.tps.tps_rpm`; defaults here anneal faster
         than Chui and Rangarajan's (``anneal_rate=0.8,
@@ -1067,7 +1116,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     p = _check_inputs(a, b, features=features, distance_weight=distance_weight, k=k, keep_fraction=keep_fraction,
                       feature_weight=feature_weight, max_feature_points=max_feature_points,
                       max_neighborhoods=max_neighborhoods, max_set_size=max_set_size, rpm_options=rpm_options,
-                      method=method)
+                      method=method, candidates=candidates)
     info.colour_only = p.colour_only
     rng = as_rng(rng)
     alpha_map = None

@@ -931,16 +931,16 @@ def _run(problem, init, iterations, rng):
 
 
 def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iterations, exemplar_mask, pixel_weights,
-                        mode, penalty, rng, sets=None):
+                        mode, penalty, rng, sets=None, k=1):
     """:func:`patchmatch` of float ``(H, W, C)`` arrays the caller has checked, with any number of channels
     and values beyond [0, 1] (texture optimization's guide channels, weighted).
 
     ``sets``: k-coherence sets ``(eny * enx, k)`` of the exemplar's patch positions (row-major top-left
-    corners, :class:`~texsynth.core.search.KCoherence` over :func:`project_patches`): every propagated
+    corners, :func:`~texsynth.core.search.coherence_sets`): every propagated
     candidate is offered with its set, and the random search is left out, so an iteration is Tong et
     al.'s k-coherent search in PatchMatch's scan order.
     """
-    problem = _Problem(image, exemplar, patch_size, centers, 1, exemplar_mask, pixel_weights, mode, penalty,
+    problem = _Problem(image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty,
                        checked=True)
     problem.sets = sets
     return _run(problem, init, iterations, rng)
