@@ -509,6 +509,8 @@ def test_project_patches_gives_m_shortened_differences(texture, channels, patch,
     assert np.all(bound <= exact * (1 + 1e-9) + 1e-12)
     with pytest.raises(ValueError, match="exemplar must be"):
         project_patches(image[: patch - 1, : patch - 1], patch, m)
+    with pytest.raises(ValueError, match="n_components"):  # refused before anything is allocated
+        project_patches(np.broadcast_to(image[:1, :1], (10**5, 10**5, image.shape[-1])), patch, m)
 
 
 def test_a_negative_penalty_is_refused():

@@ -419,10 +419,15 @@ def project_patches(exemplar, patch_size, n_components=16, *, pixel_weights=None
     (256, 4)
     """
     ph, pw = patch_shape(patch_size)
-    ex = np.ascontiguousarray(exemplar, dtype=np.float64)
-    if ex.ndim != 3 or ph > ex.shape[0] or pw > ex.shape[1]:
-        raise ValueError(f"exemplar must be (H, W, C) and hold a ({ph}, {pw}) patch, got shape {ex.shape}")
+    shape = np.shape(exemplar)
+    if len(shape) != 3 or ph > shape[0] or pw > shape[1]:
+        raise ValueError(f"exemplar must be (H, W, C) and hold a ({ph}, {pw}) patch, got shape {shape}")
     m = check_positive_int(n_components, "n_components")
+    positions = (shape[0] - ph + 1) * (shape[1] - pw + 1)
+    # a float64 copy of the exemplar, the projections, their FFT bank's output and one transposed copy
+    check_memory(8.0 * (2 * np.prod(shape) + 3.0 * positions * min(m, ph * pw * shape[2])), m, "n_components",
+                 "the patch projections", also={"exemplar": shape})
+    ex = np.ascontiguousarray(exemplar, dtype=np.float64)
     view = np.moveaxis(sliding_window_view(ex, (ph, pw), axis=(0, 1)), 2, -1)
     wsqrt = np.ones(ph * pw * ex.shape[-1])
     if pixel_weights is not None:
