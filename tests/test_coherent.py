@@ -212,6 +212,8 @@ def test_optimization_k_coherent_is_deterministic_and_differs_by_k(texture):
     ({"candidates": "k-coherent", "gradient_weight": 1.0}, "does not combine with gradient_weight"),
     ({"candidates": "k-coherent", "preset": "paper"}, "does not combine with preset='paper'"),
     ({"candidates": "k-coherent", "method": "exact"}, "does not combine with method='exact'"),
+    ({"candidates": "k-coherent", "mask": np.ones((40, 40)), "target": np.zeros((40, 40, 3)),
+      "constraint_weight": 10.0}, "does not combine with soft constraints"),
 ])
 def test_optimization_k_coherent_bad_options(texture, kwargs, match):
     import texsynth

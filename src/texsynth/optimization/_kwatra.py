@@ -2222,6 +2222,9 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     if opts.confidence is not None and (problem.constraint is None or not np.isinf(problem.constraint[2])):
         raise ValueError("confidence weighs neighbourhoods by their distance to the known pixels of hard "
                          "constraints: pass mask=, target= and constraint_weight=float('inf'), or confidence=None")
+    if opts.candidates == "k-coherent" and problem.constraint is not None and not np.isinf(problem.constraint[2]):
+        raise ValueError("candidates='k-coherent' does not combine with soft constraints (Algorithm 2 takes the "
+                         "index M-step); pass candidates='all', or constraint_weight=float('inf') for hard ones")
     if opts.fields and opts.mu > 0:
         raise ValueError(f"gradient_weight={opts.mu:g} does not combine with orientation/scale fields (the "
                          f"gradient E-step solves on the pixel grid, not in rotated frames); pass "

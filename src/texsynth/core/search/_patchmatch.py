@@ -47,8 +47,8 @@ _QUERY_CACHE_BYTES = 256 * 2**20
 _IRREGULAR_NEIGHBORS = 4
 # distance bounds (see _Bound): patches of at least this many values are first compared by their
 # projections on this many leading principal components of the exemplar's patches, estimated from
-# this many of them (16 components: 256 -> 1024 px texture optimization 14.4 s, against 15.0 s with
-# 8 and 16.5 s with 64; docs/methods/search.md)
+# this many of them (16 components: 256 -> 1024 px texture optimization 14.3 s, against 14.7 s with
+# 8, 15.1 s with 64 and 16.4 s without bounds; benchmarks/bench_bounds.py, docs/methods/search.md)
 _BOUND_MIN_DIM = 256
 _BOUND_COMPONENTS = 16
 _BOUND_SAMPLES = 1024
@@ -827,7 +827,8 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
         patch leaves the image in ``"valid"`` mode, ``k`` larger than the
         allowed exemplar patches, an ``exemplar_mask`` that leaves no patch
         free, ``init`` or ``pixel_weights`` of the wrong shape, an unknown
-        ``mode``, or a field too large for the free memory.
+        ``mode``, a ``penalty`` that returns negative or non-finite costs,
+        or a field too large for the free memory.
 
     See Also
     --------
