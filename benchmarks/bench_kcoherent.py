@@ -21,7 +21,9 @@ candidates and with k-coherent ones. ``--optimize PHOTO ...`` instead times text
 optimization 256² -> 1024² of each photograph with its defaults (``candidates="all"``: PatchMatch
 M-steps) and with ``candidates="k-coherent"``, ``k=1`` and ``k=4``, scored on a 512² part as
 ``quality_study.py`` scores (completeness over a random-block mosaic's, largest copy, large-scale
-spectrum distance and the mosaic's); the outputs go to ``benchmarks/output/kcoherent_opt_*.png``.
+spectrum distance and the mosaic's); the outputs go to ``benchmarks/output/kcoherent_opt_*.png``, and
+with ``--figure`` the middle 256² of each output of the photographs whose licence allows it
+(``quality_study.FIGURE``) to ``docs/_static/kcoherent_optimize.png``, one row per photograph.
 """
 
 import argparse
@@ -50,7 +52,7 @@ def main():
     args = parser.parse_args()
     print(f"# {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     if args.optimize:
-        return optimization(args.optimize)
+        return optimization(args.optimize, args.figure)
     print("| photo | candidates | seconds | completeness / mosaic | energy / mosaic | largest copy |")
     print("|---|---|---|---|---|---|")
     rows = []
@@ -75,20 +77,22 @@ def main():
         mixture(args.size)
 
 
-def optimization(photos):
+def optimization(photos, figure=False):
     """Texture optimization's M-step over all candidates (PatchMatch) against k-coherent ones."""
     import sys
 
     import texsynth
 
     sys.path.insert(0, str(HERE))
-    from quality_study import load, scores
+    from quality_study import FIGURE, load, scores
 
+    rows = []
     texsynth.optimize_texture(load(photos[0], 64), 96, rng=0)  # warm-up: imports, caches
     print("| photo | candidates | seconds | completeness / mosaic | largest copy | large-scale | mosaic's |")
     print("|---|---|---|---|---|---|---|")
     for photo in photos:
         exemplar = load(photo, 256)
+        panels = [exemplar]
         for label, options in (("all", {}), ("k-coherent k=1", dict(candidates="k-coherent", k=1)),
                                ("k-coherent k=4", dict(candidates="k-coherent", k=4))):
             start = time.perf_counter()
@@ -100,6 +104,11 @@ def optimization(photos):
             (HERE / "output").mkdir(exist_ok=True)
             tag = label.replace(" ", "").replace("=", "")
             save_image(HERE / "output" / f"kcoherent_opt_{photo}_{tag}.png", np.clip(out, 0, 1), overwrite=True)
+            panels.append(np.clip(out[384:640, 384:640], 0, 1))
+        if photo in FIGURE:
+            rows.append(np.concatenate([np.pad(p, ((4, 4), (4, 4), (0, 0)), constant_values=1.0) for p in panels], 1))
+    if figure and rows:
+        save_image(HERE.parent / "docs" / "_static" / "kcoherent_optimize.png", np.concatenate(rows, 0), overwrite=True)
 
 
 def mixture(size):
