@@ -97,7 +97,7 @@ from ..core.convolve import fft_convolve
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
-from ..core.search import CANDIDATES, PatchIndex, coherence_sets, nearest_candidates, sq_distances
+from ..core.search import PatchIndex, check_candidates, coherence_sets, nearest_candidates, sq_distances
 from ..core.search._patchmatch import _patchmatch_checked
 from ..core.neighborhood import PatchSum, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
@@ -1533,8 +1533,7 @@ def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tole
                    histogram_matching=False, paper=False, coarse_copy_limit=False, fields=False, confidence=None,
                    candidates="all", k=4):
     """The scalar options of :func:`optimize_texture`, checked, as an :class:`_Options`."""
-    if not isinstance(candidates, str) or candidates not in CANDIDATES:
-        raise ValueError(f"candidates must be one of {', '.join(map(repr, CANDIDATES))}, got {candidates!r}")
+    candidates = check_candidates(candidates)
     k = check_positive_int(k, "k")
     if candidates == "k-coherent":
         # the k-coherent M-step is PatchMatch's propagation with the sets in place of its random search:

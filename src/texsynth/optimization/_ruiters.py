@@ -53,7 +53,7 @@ from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_siz
                               check_memory, check_positive_float, check_positive_int, restore_channels,
                               with_channels)
 from ..core import search
-from ..core.search import CANDIDATES, PatchIndex, coherence_sets
+from ..core.search import PatchIndex, check_candidates, coherence_sets
 from ..core.search._patchmatch import _patchmatch_checked
 from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.em import expectation_maximization
@@ -619,14 +619,8 @@ def _check_inputs(a, b, *, features, distance_weight, k, keep_fraction, feature_
         max_set_size=check_positive_int(max_set_size, "max_set_size"),
         rpm=_check_rpm_options(rpm_options),
         method=search.check_method(method),
-        candidates=_check_candidates(candidates),
+        candidates=check_candidates(candidates),
     )
-
-
-def _check_candidates(candidates):
-    if not isinstance(candidates, str) or candidates not in CANDIDATES:
-        raise ValueError(f"candidates must be one of {', '.join(map(repr, CANDIDATES))}, got {candidates!r}")
-    return candidates
 
 
 def _check_rpm_options(rpm_options):

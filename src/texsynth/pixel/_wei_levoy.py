@@ -59,7 +59,7 @@ from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memor
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
 from ..core.search import (CANDIDATES, KCoherence, PatchIndex, SequentialExact, candidate_sq_distances,
-                           nearest_candidates, neighbor_sources)
+                           check_candidates, nearest_candidates, neighbor_sources)
 
 __all__ = [
     "synthesize_pixels",
@@ -1447,7 +1447,7 @@ def synthesize_pixels(
 
 def _check_candidates(candidates, k, order, tileable):
     """``k`` checked, and ``candidates`` with the options it works with; a ValueError naming the fix."""
-    _choice(candidates, CANDIDATES, "candidates")
+    check_candidates(candidates)
     k = check_positive_int(k, "k")
     if candidates == "k-coherent" and order != "scanline":
         raise ValueError("candidates='k-coherent' is implemented in order='scanline' only; pass order='scanline' "

@@ -67,7 +67,7 @@ from ._exact import SequentialExact, candidate_sq_distances, exact_chunk_rows, n
 from ._index import PatchIndex, nearest
 from ._masked import MASKED_METHODS, MaskedIndex, masked_sq_distances
 from ._template import TemplateSearch, WindowSearch, within_radius, within_tolerance
-from ._coherent import CANDIDATES, COHERENT_MODES, KCoherence, coherence_sets, neighbor_sources
+from ._coherent import CANDIDATES, COHERENT_MODES, KCoherence, check_candidates, coherence_sets, neighbor_sources
 from ._patchmatch import (
     FIELD_METHODS,
     FIELD_MIN_VALUES,
@@ -86,6 +86,6 @@ METHODS = _methods()
 __all__ = [
     "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "candidate_sq_distances", "sq_distances",
     "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "TemplateSearch", "within_tolerance", "within_radius",
-    "KCoherence", "neighbor_sources", "coherence_sets", "COHERENT_MODES", "CANDIDATES", "patchmatch", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
+    "KCoherence", "neighbor_sources", "coherence_sets", "check_candidates", "COHERENT_MODES", "CANDIDATES", "patchmatch", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]

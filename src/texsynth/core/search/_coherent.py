@@ -66,12 +66,21 @@ from .._validate import as_rng, check_memory, check_positive_int
 from ._index import _DEFAULT_MEMORY_BUDGET, PatchIndex
 from ._patchmatch import project_patches
 
-__all__ = ["KCoherence", "neighbor_sources", "coherence_sets", "COHERENT_MODES", "CANDIDATES"]
+__all__ = ["KCoherence", "neighbor_sources", "coherence_sets", "check_candidates", "COHERENT_MODES", "CANDIDATES"]
 
 #: Values of an algorithm's ``candidates``: which exemplar neighbourhoods a query is compared with,
 #: all of them (through an index or PatchMatch), or the k-coherent candidates of its neighbours'
 #: sources (Ashikhmin 2001, Tong et al. 2002).
 CANDIDATES = ("all", "k-coherent")
+
+
+def check_candidates(candidates):
+    """``candidates`` itself if it is one of :data:`CANDIDATES`, else a ValueError listing them."""
+    if not isinstance(candidates, str) or candidates not in CANDIDATES:
+        raise ValueError(f"candidates must be one of {', '.join(map(repr, CANDIDATES))}, got {candidates!r}")
+    return candidates
+
+
 # coherence_sets: the patches' principal components the sets are found among, and how far (pixels,
 # Chebyshev) a member lies from the patch itself at least
 _SET_COMPONENTS = 8
