@@ -191,3 +191,28 @@ def test_patch_sum_in_parts_equals_accumulate():
         part = (rows[:, None] * ncols + np.arange(ncols)).ravel()
         acc.add(patches[part], centers[part], pixel_weights=gaussian_falloff(6))
     np.testing.assert_allclose(acc.average()[0], whole, rtol=1e-12)
+
+
+@pytest.mark.parametrize("mode", ["valid", "wrap"])
+def test_patch_sum_on_threads_is_bit_identical(monkeypatch, mode):
+    # the block path splits each phase's grid rows among threads; the patches of a phase do not overlap,
+    # so every pixel receives the same additions in the same order: the same sums, bit for bit (a race or
+    # a wrong split would change or lose some of them)
+    from texsynth.core import neighborhood
+
+    rng = np.random.default_rng(3)
+    shape = (61, 47)
+    centers = grid_centers(shape, 8, 2, mode=mode)
+    patches = rng.random((len(centers), 8, 8, 3))
+    aw = rng.random(len(centers))
+    sums = []
+    for threads in (1, 2, 3):
+        monkeypatch.setattr(neighborhood, "_THREADED_VALUES", 0)
+        monkeypatch.setattr(neighborhood, "max_threads", lambda t=threads: t)
+        acc = PatchSum(shape, 3, mode=mode)
+        acc.add(patches, centers, patch_weights=aw, pixel_weights=gaussian_falloff(8))
+        sums.append((acc.sums.copy(), acc.total.copy()))
+    for s, t in sums[1:]:
+        assert np.array_equal(s, sums[0][0]) and np.array_equal(t, sums[0][1])
+    reference = accumulate(patches, centers, shape, patch_weights=aw, pixel_weights=gaussian_falloff(8), mode=mode)[0]
+    np.testing.assert_allclose(acc.average()[0], reference, rtol=1e-12)

@@ -602,3 +602,36 @@ def test_any_shape_gives_a_sorted_exact_field_or_a_named_error(h, w, eh, ew, cha
     assert all(len(set(row)) == k for row in flat.tolist())
     centers = dense_centers((h, w), patch) if mode == "valid" else np.argwhere(np.ones((h, w), bool))
     np.testing.assert_allclose(d2, naive_sq(image, exemplar, centers, field, patch, mode=mode), rtol=1e-9, atol=1e-12)
+
+
+def test_query_patches_gathered_into_the_workspace():
+    # the query patches of a regular grid are one strided copy, into the memory a workspace keeps: the same
+    # values as fancy indexing, the same array again for a search of the same size, a new one for another
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    from texsynth.core.search._patchmatch import _gather, _patchmatch_checked
+
+    rng = np.random.default_rng(5)
+    img = rng.random((40, 37, 3)).astype(np.float32)
+    view = np.moveaxis(sliding_window_view(img, (6, 6), axis=(0, 1)), 2, -1)
+    rows, cols = (v.ravel() for v in np.meshgrid(np.arange(0, 34, 3), np.arange(1, 31, 4), indexing="ij"))
+    workspace = {}
+    first = _gather(view, rows, cols, workspace)
+    assert np.array_equal(first, view[rows, cols])
+    again = _gather(view, rows, cols + 1, workspace)
+    assert again is first and np.array_equal(again, view[rows, cols + 1])
+    other = _gather(view, rows[: len(rows) // 2], cols[: len(cols) // 2], workspace)
+    assert other is not first and np.array_equal(other, view[rows[: len(rows) // 2], cols[: len(cols) // 2]])
+    scattered = rng.permutation(len(rows))  # no grid in row-major order: fancy indexing, no workspace
+    assert np.array_equal(_gather(view, rows[scattered], cols[scattered], workspace), view[rows, cols][scattered])
+
+    exemplar = rng.random((24, 24, 3)).astype(np.float32)
+    centers = grid_centers(img.shape[:2], 6, 3, mode="wrap")
+    kwargs = dict(centers=centers, init=None, iterations=2, exemplar_mask=None, pixel_weights=gaussian_falloff(6),
+                  mode="wrap", penalty=None)
+    plain = _patchmatch_checked(img, exemplar, 6, rng=np.random.default_rng(1), **kwargs)
+    kept = {}
+    for _ in range(2):  # the second search reuses the first one's memory
+        reused = _patchmatch_checked(img, exemplar, 6, rng=np.random.default_rng(1), workspace=kept, **kwargs)
+        assert np.array_equal(plain[0], reused[0]) and np.array_equal(plain[1], reused[1])
+    assert kept["queries"].shape[0] == len(centers)

@@ -32,7 +32,8 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from ._deprecate import renamed_parameters
-from ._validate import as_size, check_memory
+from ._parallel import parallel_for
+from ._validate import as_size, check_memory, max_threads
 
 __all__ = [
     "MODES",
@@ -48,6 +49,9 @@ __all__ = [
 ]
 
 MODES = ("valid", "wrap", "reflect")
+# PatchSum adds a grid's patches on several threads from this many values on (below, a thread costs more
+# than it saves)
+_THREADED_VALUES = 2**20
 
 
 def patch_shape(patch_size, name="patch_size"):
@@ -341,9 +345,8 @@ class PatchSum:
 
     def average(self, dtype=np.float64):
         """The weighted average ``(H, W, C)`` (0 where nothing was added) and the total weight ``(H, W)``."""
-        covered = self.total > 0
         out = np.zeros_like(self.sums)
-        out[covered] = self.sums[covered] / self.total[covered, None]
+        np.divide(self.sums, self.total[..., None], out=out, where=self.total[..., None] > 0)
         return out.astype(dtype, copy=False), self.total
 
     def _scatter(self, patches, rows, cols, aw, pw):
@@ -379,18 +382,26 @@ class PatchSum:
         z = patches.reshape(nr, nc, h, w, ch)
         a = aw.reshape(nr, nc)
         b = pw.reshape((nr, nc, h, w) if pw.shape[0] == n else (1, 1, h, w))
-        for ri in rphases:
+        # a phase's patches do not overlap, so its grid rows can be added by several threads at once, each
+        # into its own rows of the image (the same additions in the same order: the same sums, bit for bit)
+        threads = max_threads() if patches.size >= _THREADED_VALUES else 1
+
+        def add_rows(ri, ci, cols):
             rows = _index((r[ri, None] - h // 2 + np.arange(h)).ravel(), self.shape[0], self.mode, "patches")
+            sel = np.ix_(ri, ci)
+            wt = a[sel][:, :, None, None] * (b[sel] if b.shape[0] > 1 else b)
+            wt = wt.transpose(0, 2, 1, 3).reshape(rows.shape[0], cols.shape[0])
+            block = z[sel].transpose(0, 2, 1, 3, 4).reshape(rows.shape[0], cols.shape[0], ch)
+            block *= wt[..., None]
+            for at, part in _spans(rows, cols, self.shape):
+                self.total[at] += wt[part]
+                self.sums[at] += block[part]
+
+        for ri in rphases:
+            parts = np.array_split(ri, min(threads, ri.shape[0]))
             for ci in cphases:
                 cols = _index((c[ci, None] - w // 2 + np.arange(w)).ravel(), self.shape[1], self.mode, "patches")
-                sel = np.ix_(ri, ci)
-                wt = a[sel][:, :, None, None] * (b[sel] if b.shape[0] > 1 else b)
-                wt = wt.transpose(0, 2, 1, 3).reshape(rows.shape[0], cols.shape[0])
-                block = z[sel].transpose(0, 2, 1, 3, 4).reshape(rows.shape[0], cols.shape[0], ch)
-                block *= wt[..., None]
-                for at, part in _spans(rows, cols, self.shape):
-                    self.total[at] += wt[part]
-                    self.sums[at] += block[part]
+                parallel_for(lambda i: add_rows(parts[i], ci, cols), len(parts), threads)
 
 
 def _spans(rows, cols, shape):

@@ -87,10 +87,11 @@ import numpy as np
 from scipy import fft as sfft
 
 from ..core._deprecate import renamed_parameters
+from ..core._parallel import parallel_for
 from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_float_array, as_image, as_rng, as_size, check_bool, check_in_range, check_memory,
-                              check_positive_float, check_positive_int, restore_channels, with_channels)
+                              check_positive_float, check_positive_int, max_threads, restore_channels, with_channels)
 from ..core.em import expectation_maximization, irls_weights
 from ..core.fields import as_field, frames, level_field, sample, scatter, taps
 from ..core.convolve import fft_convolve
@@ -908,10 +909,14 @@ def _rho_at(ex, x, at, mode, zidx, warp=None):
     """``ρ`` between the output neighbourhoods centred at ``at`` and the exemplar's ``zidx``, in parts."""
     out = np.empty(len(at))
     step = max(1, _E_STEP_VALUES // ex.weights.shape[0])
-    for a in range(0, len(at), step):
-        p = slice(a, a + step)
+
+    def part(i):  # each part's own rows of ``out``: the parts may run on several threads
+        p = slice(i * step, (i + 1) * step)
         q = _features(_neighbourhoods(x, at[p], ex.size, mode, warp), ex.mu)
         out[p] = sq_distances(q, _features(ex.patches(zidx[p]), ex.mu), ex.weights)
+
+    parts = -(-len(at) // step)
+    parallel_for(part, parts, max_threads() if parts > 1 else 1)
     return out
 
 
@@ -1007,7 +1012,7 @@ def _m_step(ex, x, centers, mode, zidx, constraint, memo=None, tolerance=0.0, oc
     return new, rho
 
 
-def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None, sets=None):
+def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None, sets=None, workspace=None):
     """M-step by PatchMatch (Barnes et al. 2009): every ``z_p`` from a field warm-started at ``start``.
 
     With k-coherence ``sets`` (``candidates="k-coherent"``), the random
@@ -1020,8 +1025,9 @@ def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None,
     ``z_p`` only by a strictly nearer one (the same weighted distance ``ρ_p``
     with the fall-off), so the step never raises the energy. With an
     ``occurrence`` penalty or copy limit, candidates are ranked by ``ρ_p``
-    plus the penalty instead, as in :func:`_m_step`. Returns the new indices
-    and their ``ρ_p``.
+    plus the penalty instead, as in :func:`_m_step`. ``workspace``: the
+    stage's dict that PatchMatch copies the ``x_p`` into (reused, not fresh
+    memory, in every M-step). Returns the new indices and their ``ρ_p``.
     """
     w = ex.size
     penalty = None
@@ -1034,7 +1040,7 @@ def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None,
     # overshoots, and more than 4 channels with guide channels (``ex.guided``): the checked entry
     field, d2 = _patchmatch_checked(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
                                     exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng,
-                                    sets=sets)
+                                    sets=sets, workspace=workspace)
     corner = field[:, 0] - w // 2
     new = ex.grid[corner[:, 0], corner[:, 1]]
     rho = d2[:, 0].astype(np.float64) if penalty is None else _rho_at(ex, x, centers, mode, new)
@@ -1278,6 +1284,14 @@ def _histogram_groups(ex, n_colours, free, shape, guide=None, labels=None):
     return groups
 
 
+def _match_channel(image, c, where, targets):
+    """Give channel ``c`` of ``image`` (at ``where``, or everywhere if None) the histogram ``targets``, in place."""
+    if where is None:
+        image[..., c] = match_to_targets(image[..., c], targets, False)[0]
+    else:
+        image[..., c][where] = match_to_targets(image[..., c][where], targets, False)[0]
+
+
 # --------------------------------------------------------------------------- one stage
 def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, guide=None, fields=None, labels=None):
     """Algorithm 1 (or 2) at one level with one neighbourhood size; ``guide`` ``(H, W, G)``: the output
@@ -1324,6 +1338,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
     sets = None
     if opts.candidates == "k-coherent" and use_field and coords is None:
         sets = coherence_sets(ex.image, ex.size, opts.k, pixel_weights=ex.g, rng=rng)
+    workspace = {}  # the M-steps' PatchMatch copies the x_p into the same memory every time
     carried = None
     if (use_field or stack) and x is not None:  # the last stage's field, or random neighbourhoods after a given image
         carried = rng.integers(len(ex), size=n)
@@ -1350,7 +1365,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
             # neighbourhoods, has none worth continuing and searches at random
             first = stage.m_steps == 1 and not record["stages"]
             return _m_step_field(ex, x, centers, mode, ex.centers(start), its, rng, occurrence,
-                                 None if first else sets)
+                                 None if first else sets, workspace)
         if coords is None:
             occ = None
             if occurrence is not None and zidx is not None:
@@ -1388,6 +1403,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
         # with hard constraints only the pixels nothing constrains are matched (uncrop, hole filling)
         free = None if constraint is None else constraint[0] < 1e-6
         groups = _histogram_groups(ex, n_colours, free, shape, guide, labels)
+    threads = max_threads() if groups else 1  # the channels are matched at once (sorting releases the GIL)
 
     def e_step(state, omega, it):
         nonlocal current
@@ -1404,11 +1420,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
         current = _e_step(ex, zidx, centers, shape, omega[:n] if confidence is None else omega[:n] * confidence,
                           mode, mu, constraint, current, g=g, votes=votes, warp=warp)
         for where, targets in groups:  # the exemplar's colour histograms, against the E-step's wash-out
-            for c, t in enumerate(targets):
-                if where is None:
-                    current[..., c] = match_to_targets(current[..., c], t, False)[0]
-                else:
-                    current[..., c][where] = match_to_targets(current[..., c][where], t, False)[0]
+            parallel_for(lambda c: _match_channel(current, c, where, targets[c]), len(targets), threads)
         if guide is not None:  # the output's guide channels are given: reset after every E-step
             current[..., n_colours:] = guide
         return current
@@ -2234,7 +2246,7 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     _check_memory(problem.shape, problem.ex.shape[-1], opts)
     _check_constraint_memory(problem)
     rng = as_rng(rng)
-    x, info = _synthesize(problem, opts, rng, progress=progress, desc="optimize_texture")
+    x, info = _synthesize(problem, opts, rng, progress=progress, desc="optimize_texture", coordinates=return_info)
     if margin:
         x = x[: shape[0], : shape[1]]
         w = info.stages[-1].size  # the neighbourhoods that lie inside the output
@@ -2250,8 +2262,11 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     return (out, info) if return_info else out
 
 
-def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc):
-    """Coarse-to-fine driver (Section 3.2); ``cache`` keeps indexes across calls (animation frames)."""
+def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc, coordinates=True):
+    """Coarse-to-fine driver (Section 3.2); ``cache`` keeps indexes across calls (animation frames).
+
+    ``coordinates=False`` leaves the info's source-coordinate map out (nobody will see it).
+    """
     cache = {} if cache is None else cache
     ex, shape = problem.ex, problem.shape
     ex_pyr, valid_pyr, out_shapes, cons_pyr, init_pyr = _pyramids(
@@ -2296,7 +2311,7 @@ def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc):
         energy=np.asarray(record["energy"]), mse=np.asarray(record["mse"]),
         stage=np.asarray(record["stage"], dtype=int), stages=record["stages"],
         centers=record["centers"], sources=record["sources"] * (2 ** record["stages"][-1].level),
-        coordinates=_dominant_sources(*last) if level == 0 else None,
+        coordinates=_dominant_sources(*last) if level == 0 and coordinates else None,
     )
     return x, info
 

@@ -69,12 +69,12 @@ References
 from __future__ import annotations
 
 import time
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.special import ndtr, ndtri
 
+from ..core._parallel import parallel_for
 from ..core._validate import (as_array, as_image, as_rng, as_size, check_in_range, check_memory, max_threads,
                               restore_channels, with_channels)
 from ..core.convolve import fft_convolve
@@ -533,11 +533,7 @@ def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, r
         for r0 in starts[part::parts]:
             block(r0, work)
 
-    if parts > 1:
-        with ThreadPoolExecutor(max_workers=parts) as pool:  # numpy's loops release the GIL
-            list(pool.map(run, range(parts)))
-    else:
-        run(0)
+    parallel_for(run, parts, parts)  # numpy's loops release the GIL
     stages["synthesis"] = time.perf_counter() - t
     image = restore_channels(image, grey)
     if not return_info:

@@ -69,7 +69,7 @@ class _Problem:
     """
 
     def __init__(self, image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty=None,
-                 checked=False):
+                 checked=False, workspace=None):
         if penalty is not None and not callable(penalty):
             raise TypeError(f"penalty must be a callable penalty(queries, centres) -> costs, got {penalty!r}")
         self.penalty = penalty
@@ -129,7 +129,7 @@ class _Problem:
         self.qr, self.qc = corners[:, 0].copy(), corners[:, 1].copy()
         self.queries = None
         if n * self.dim * np.dtype(dtype).itemsize <= _QUERY_CACHE_BYTES:
-            self.queries = self.qview[self.qr, self.qc].reshape(n, self.dim)
+            self.queries = _gather(self.qview, self.qr, self.qc, workspace).reshape(n, self.dim)
 
         self.wsqrt = None
         if pixel_weights is not None:
@@ -384,6 +384,36 @@ class _Bound:
         """Which candidates ``ids`` of queries ``q`` may be nearer than ``worst`` (their bound is not above it)."""
         diff = self.queries[q] - self.exemplar[ids]
         return np.einsum("ij,ij->i", diff, diff) <= worst * self.slack
+
+
+def _gather(view, rows, cols, workspace=None):
+    """``view[rows, cols]``; by one strided copy where ``(rows, cols)`` is a regular grid in row-major order.
+
+    A regular grid of patches of a sliding-window view is itself a strided view, copied in one pass. With a
+    ``workspace`` dict the copy goes into the array it keeps under ``"queries"`` (made or replaced when the
+    shape changes): the searches of one EM stage fill the same memory again instead of taking hundreds of
+    megabytes of fresh pages from the system each time (texture optimization 256 -> 1024 px: 12.8 s
+    against 13.3-14.2 s).
+    """
+    if rows.shape[0] == 0:
+        return view[rows, cols]
+    r, c = np.unique(rows), np.unique(cols)
+    step_r, step_c = (int(np.diff(v[:2])[0]) if v.shape[0] > 1 else 1 for v in (r, c))
+    grid = (r.shape[0] * c.shape[0] == rows.shape[0]
+            and np.array_equal(r, r[0] + step_r * np.arange(r.shape[0]))
+            and np.array_equal(c, c[0] + step_c * np.arange(c.shape[0]))
+            and np.array_equal(rows, np.repeat(r, c.shape[0])) and np.array_equal(cols, np.tile(c, r.shape[0])))
+    if not grid:
+        return view[rows, cols]
+    patches = view[r[0] : r[-1] + 1 : step_r, c[0] : c[-1] + 1 : step_c]
+    shape = (rows.shape[0],) + view.shape[2:]
+    if workspace is None:
+        return np.ascontiguousarray(patches).reshape(shape)
+    out = workspace.get("queries")
+    if out is None or out.shape != shape or out.dtype != patches.dtype:
+        out = workspace["queries"] = np.empty(shape, patches.dtype)
+    np.copyto(out.reshape(patches.shape), patches)
+    return out
 
 
 def project_patches(exemplar, patch_size, n_components=16, *, pixel_weights=None):
@@ -937,7 +967,7 @@ def _run(problem, init, iterations, rng):
 
 
 def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iterations, exemplar_mask, pixel_weights,
-                        mode, penalty, rng, sets=None, k=1):
+                        mode, penalty, rng, sets=None, k=1, workspace=None):
     """:func:`patchmatch` of float ``(H, W, C)`` arrays the caller has checked, with any number of channels
     and values beyond [0, 1] (texture optimization's guide channels, weighted).
 
@@ -945,9 +975,12 @@ def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iteration
     corners, :func:`~texsynth.core.search.coherence_sets`): every propagated
     candidate is offered with its set, and the random search is left out, so an iteration is Tong et
     al.'s k-coherent search in PatchMatch's scan order.
+
+    ``workspace``: a dict the caller keeps across searches of the same size (one EM stage) and never
+    shares between searches running at once; the query patches are copied into the memory it holds.
     """
     problem = _Problem(image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty,
-                       checked=True)
+                       checked=True, workspace=workspace)
     problem.sets = sets
     return _run(problem, init, iterations, rng)
 
