@@ -48,10 +48,13 @@ _IRREGULAR_NEIGHBORS = 4
 # distance bounds (see _Bound): patches of at least this many values are first compared by their
 # projections on this many leading principal components of the exemplar's patches, estimated from
 # this many of them (16 components: 256 -> 1024 px texture optimization 14.3 s, against 14.7 s with
-# 8, 15.1 s with 64 and 16.4 s without bounds; benchmarks/bench_bounds.py, docs/methods/search.md)
+# 8, 15.1 s with 64 and 16.4 s without bounds; 512 samples: 12.2-12.6 s against 13.2-13.3 s with
+# 1024 and 12.6-12.8 s with 256, the same output; benchmarks/bench_bounds.py, docs/methods/search.md)
 _BOUND_MIN_DIM = 256
 _BOUND_COMPONENTS = 16
-_BOUND_SAMPLES = 1024
+_BOUND_SAMPLES = 512
+# project_patches (the k-coherence sets' descriptors): components from this many patches
+_PROJECTION_SAMPLES = 1024
 # the exemplar's projections are kept for the next search of the same exemplar while they take at
 # most this much (a 724 x 724 exemplar); larger exemplars are searched without bounds
 _BOUND_MAX_BYTES = 64 * 2**20
@@ -464,16 +467,16 @@ def project_patches(exemplar, patch_size, n_components=16, *, pixel_weights=None
         wsqrt = np.repeat(np.sqrt(_check_pixel_weights(pixel_weights, (ph, pw))).ravel(), ex.shape[-1])
     enx = view.shape[1]
     ids = np.arange(view.shape[0] * enx)
-    return _projections(ex, view, enx, ids, wsqrt, min(m, wsqrt.shape[0]))[2]
+    return _projections(ex, view, enx, ids, wsqrt, min(m, wsqrt.shape[0]), _PROJECTION_SAMPLES)[2]
 
 
-def _projections(exemplar, eview, enx, ids, wsqrt, m):
-    """The components of a sample of patches ``ids`` as ``(dim, m)`` kernels, the sample mean's
-    projection, and every patch's projection ``(eny * enx, m)`` less that mean's."""
+def _projections(exemplar, eview, enx, ids, wsqrt, m, samples):
+    """The components of a sample of ``samples`` patches ``ids`` as ``(dim, m)`` kernels, the sample
+    mean's projection, and every patch's projection ``(eny * enx, m)`` less that mean's."""
     ph, pw = eview.shape[2:4]
     # a fixed generator: the same exemplar, the same projections
     rng = np.random.default_rng(0)
-    sample = ids[rng.choice(ids.shape[0], size=min(_BOUND_SAMPLES, ids.shape[0]), replace=False)]
+    sample = ids[rng.choice(ids.shape[0], size=min(samples, ids.shape[0]), replace=False)]
     er, ec = np.divmod(sample, enx)
     x = eview[er, ec].reshape(sample.shape[0], -1).astype(np.float64) * wsqrt
     mean = x.mean(axis=0)
@@ -501,7 +504,7 @@ def _bound_exemplar(problem):
         return _BOUND_CACHE[key]
     # the components of the allowed patches; a fixed seed: the bound changes the work, never the field
     entry = _projections(problem.exemplar, problem.eview, problem.enx, problem.allowed_ids, wsqrt,
-                         _BOUND_COMPONENTS)
+                         _BOUND_COMPONENTS, _BOUND_SAMPLES)
     _BOUND_CACHE.clear()
     _BOUND_CACHE[key] = entry
     return entry
