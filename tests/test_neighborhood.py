@@ -216,3 +216,19 @@ def test_patch_sum_on_threads_is_bit_identical(monkeypatch, mode):
         assert np.array_equal(s, sums[0][0]) and np.array_equal(t, sums[0][1])
     reference = accumulate(patches, centers, shape, patch_weights=aw, pixel_weights=gaussian_falloff(8), mode=mode)[0]
     np.testing.assert_allclose(acc.average()[0], reference, rtol=1e-12)
+
+
+def test_patches_within_matches_the_windows_minimum():
+    # the summed-area table must give exactly the patches whose every pixel is True (the brute-force minimum
+    # over all_patches' windows), for masks with isolated and clustered holes and non-square patches
+    from texsynth.core.neighborhood import patches_within
+
+    rng = np.random.default_rng(7)
+    for _ in range(40):
+        shape = tuple(int(v) for v in rng.integers(4, 30, 2))
+        mask = rng.random(shape) > rng.choice([0.02, 0.2, 0.6])
+        size = tuple(int(v) for v in rng.integers(1, min(shape) + 1, 2))
+        brute = all_patches(mask[..., None].astype(float), size).min(axis=(2, 3, 4)) > 0.5
+        assert np.array_equal(patches_within(mask, size), brute)
+    assert patches_within(np.ones((5, 6), bool), (5, 6)).tolist() == [[True]]
+    assert not patches_within(np.zeros((5, 6), bool), 1).any()

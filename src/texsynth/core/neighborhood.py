@@ -39,6 +39,7 @@ __all__ = [
     "MODES",
     "patch_shape",
     "all_patches",
+    "patches_within",
     "extract",
     "accumulate",
     "PatchSum",
@@ -129,6 +130,31 @@ def _patch_coords(centers, size, shape, mode):
 
 
 @renamed_parameters(size="patch_size")
+def patches_within(mask, patch_size):
+    """Which patches lie wholly on the True pixels of a mask: ``(H - h + 1, W - w + 1)`` bool by top-left corner.
+
+    One summed-area table of the False pixels, so the cost does not grow with the patch size (a
+    minimum over every window of :func:`all_patches` reads ``h w`` values per patch).
+
+    Parameters
+    ----------
+    mask : array_like of bool
+        ``(H, W)``; True where a patch may lie.
+    patch_size : int or (int, int)
+
+    Examples
+    --------
+    >>> m = np.ones((4, 5), bool); m[1, 3] = False
+    >>> patches_within(m, 2).astype(int).tolist()
+    [[1, 1, 0, 0], [1, 1, 0, 0], [1, 1, 1, 1]]
+    """
+    h, w = patch_shape(patch_size)
+    m = np.asarray(mask, dtype=bool)
+    bad = np.zeros((m.shape[0] + 1, m.shape[1] + 1), dtype=np.int64)
+    bad[1:, 1:] = np.cumsum(np.cumsum(~m, axis=0), axis=1)
+    return (bad[h:, w:] - bad[:-h, w:] - bad[h:, :-w] + bad[:-h, :-w]) == 0
+
+
 def all_patches(image, patch_size, *, mode="valid"):
     """Every patch of an image, as a read-only view (no copy).
 

@@ -67,7 +67,7 @@ import math
 import numpy as np
 
 from ..core._validate import as_image, as_size, check_memory, check_positive_int, with_channels
-from ..core.neighborhood import all_patches
+from ..core.neighborhood import patches_within
 from ._kwatra import WEXLER_CONFIDENCE, _check_mask, _check_sizes, _is_auto, _scale_schedule, optimize_texture
 
 __all__ = ["inpaint", "uncrop", "make_tileable"]
@@ -112,7 +112,7 @@ def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
 
 def _check_sources(allowed, smallest, name):
     """Refuse a sampling area with no whole neighbourhood of the smallest size."""
-    if not (all_patches(allowed[..., None].astype(np.float64), smallest).min(axis=(2, 3, 4)) > 0.5).any():
+    if not patches_within(allowed > 0.5, smallest).any():
         raise ValueError(
             f"{name} leaves no {smallest}x{smallest} block of pixels to copy from; allow a larger sampling area "
             f"or pass smaller neighborhood_sizes"

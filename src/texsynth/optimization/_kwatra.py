@@ -100,7 +100,7 @@ from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
 from ..core.search import PatchIndex, check_candidates, coherence_sets, nearest_candidates, sq_distances
 from ..core.search._patchmatch import _patchmatch_checked
-from ..core.neighborhood import PatchSum, all_patches, extract, gaussian_falloff, grid_centers
+from ..core.neighborhood import PatchSum, all_patches, extract, gaussian_falloff, grid_centers, patches_within
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
 from ..core.scale import feature_scale
 
@@ -425,7 +425,7 @@ class _Exemplar:
         self.guided = guided  # the last channels are guides (may exceed 1 and make more than 4 channels)
         self.valid = valid
         self.view = all_patches(image, size)  # (Ny, Nx, w, w, C), a view
-        ok = all_patches(valid[..., None].astype(np.float64), size).min(axis=(2, 3, 4)) > 0.5
+        ok = patches_within(valid > 0.5, size)
         self.corner = np.argwhere(ok)  # top-left corners of patches free of masked pixels
         self._index = self._feats = None
         self._build = (opts.index_method, "frame" if frame else "stage" if mu == 0 else "default", rng, frame)
@@ -1707,7 +1707,7 @@ def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.
     if exemplar_mask is not None:
         valid = _check_mask(exemplar_mask, ex.shape[:2], "exemplar_mask")
         valid = (valid > 0.5).astype(np.float64)
-        free = all_patches(valid[..., None], smallest).min(axis=(2, 3, 4)) > 0.5
+        free = patches_within(valid > 0.5, smallest)
         if not free.any():
             raise ValueError(
                 f"exemplar_mask leaves no {smallest}x{smallest} neighborhood of the exemplar free of masked pixels; "

@@ -30,7 +30,7 @@ from .._validate import (
     with_channels,
 )
 from ..convolve import correlate_bank
-from ..neighborhood import MODES, patch_shape
+from ..neighborhood import MODES, patch_shape, patches_within
 from ._kdtree import _pca
 from ._registry import _forced
 
@@ -731,11 +731,7 @@ def _allowed(mask, shape, patch):
         if not np.all(np.isfinite(m)):
             raise ValueError("exemplar_mask contains NaN or infinite values; pass a bool array")
         m = m > 0.5
-    # summed-area table of the masked pixels: a patch is allowed if it holds none
-    bad = np.zeros((shape[0] + 1, shape[1] + 1), dtype=np.int64)
-    bad[1:, 1:] = np.cumsum(np.cumsum(~m, axis=0), axis=1)
-    count = bad[ph:, pw:] - bad[:-ph, pw:] - bad[ph:, :-pw] + bad[:-ph, :-pw]
-    allowed = (count[:eny, :enx] == 0).ravel()
+    allowed = patches_within(m, patch)[:eny, :enx].ravel()  # a patch is allowed if it holds no masked pixel
     if not allowed.any():
         raise ValueError(
             f"exemplar_mask leaves no ({ph}, {pw}) patch of the exemplar free of masked (False) pixels; "
