@@ -72,7 +72,7 @@ from ..core._validate import (
     restore_channels,
     with_channels,
 )
-from ..core.neighborhood import all_patches, gaussian_falloff
+from ..core.neighborhood import all_patches, gaussian_falloff, patches_within
 from ..core.search import MASKED_METHODS, MaskedIndex
 from ._wei_levoy import _one_blas_thread
 
@@ -240,7 +240,7 @@ def _blocks(w, channels):
 def _exemplar_windows(ex, allowed, w):
     """Every window that lies inside the exemplar and on allowed pixels: vectors ``(N, w*w*C)`` and centres."""
     t = w // 2
-    inside = all_patches(allowed[..., None], w).all(axis=(2, 3, 4))  # one flag per window, by its top-left corner
+    inside = patches_within(allowed, w)  # one flag per window, by its top-left corner
     corners = np.argwhere(inside)
     if corners.shape[0] == 0:
         raise ValueError(f"exemplar_mask leaves no {w}x{w} window of the exemplar whose pixels are all allowed; "
@@ -379,7 +379,7 @@ def _grow(canvas, search, max_error, rng, bar):
 
 def _plant_seed(canvas, exemplar, allowed, center, rng):
     """A random 3x3 patch of the exemplar (allowed pixels only) centred at ``center``, clipped to the output."""
-    corners = np.argwhere(all_patches(allowed[..., None], _SEED).all(axis=(2, 3, 4)))
+    corners = np.argwhere(patches_within(allowed, _SEED))
     if corners.shape[0] == 0:
         raise ValueError("exemplar_mask leaves no 3x3 patch of allowed exemplar pixels for the seed; allow more pixels")
     top = corners[rng.integers(corners.shape[0])]
