@@ -132,6 +132,11 @@ _DEFAULT_TOLERANCE = 5e-3
 _COMPLETE_BELOW = 4.0
 # preset "default": copy_limit (largest copies at 4x measured 0.66-0.77 of the exemplar without it)
 _DEFAULT_COPY_LIMIT = 0.25
+# preset "default" without the completeness term: the copy limit at the finest level, which otherwise
+# only refines the coarser levels' arrangement (0.25 there cut blocks and stones mid-element at 4x; 0.3
+# cuts only the outlying copies: cobblestones_2 0.35 -> 0.30, bricks_2 at 8x 0.36 -> 0.31, no visible
+# change; docs/methods/optimization.md)
+_FINE_COPY_LIMIT = 0.3
 # preset "default": largest neighbourhood for exemplars whose feature scale is above _LARGE_FEATURES
 # pixels (half of it otherwise), and the smaller side of the coarsest exemplar level
 _LARGE_SIZE = 64
@@ -348,7 +353,7 @@ class _Options:
     assembly: float | None = None  # a frame: frame_falloff
     histogram: bool = False  # histogram_matching: the output's colour histograms matched after every E-step
     paper: bool = False  # preset "paper": the index M-step, as the paper searches a tree over the exemplar
-    coarse_copy_limit: bool = False  # the copy limit at every level but the finest
+    coarse_copy_limit: bool = False  # the copy limit at every level but the finest, _FINE_COPY_LIMIT there
     fields: bool = False  # orientation / scale fields: rotated, scaled neighbourhoods (the index M-step)
     confidence: float | None = None  # Wexler's γ: neighbourhoods weighed by their confidence (hard constraints)
 
@@ -823,8 +828,16 @@ class _Occurrence:
         self.offsets = None
         if self.copy_limit is not None:
             key = self.offset_key(ex, zidx, self.centers)
-            self.offsets, counts = np.unique(key, return_counts=True)
-            self.excess = self.copy_factor * np.maximum(counts / self.copy_limit - 1.0, 0.0)
+            offsets, counts = np.unique(key, return_counts=True)
+            over = counts > self.copy_limit  # only the offsets over the limit pay: the others' penalty is 0
+            if over.any():
+                self.offsets = offsets[over]
+                self.excess = self.copy_factor * (counts[over] / self.copy_limit - 1.0)
+
+    @property
+    def binding(self):
+        """Whether any candidate can pay: an occurrence penalty, or an offset over the copy limit."""
+        return self.factor > 0 or self.offsets is not None
 
     def offset_key(self, ex, cand, at):
         """One integer per (exemplar neighbourhood ``cand``, output centre ``at``) pair: its offset."""
@@ -1038,13 +1051,12 @@ def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None,
     mask = None if ex.valid.all() else ex.valid
     # x is float (H, W, C), with values beyond [0, 1] where an up-sampled level or the gradient solve
     # overshoots, and more than 4 channels with guide channels (``ex.guided``): the checked entry
-    field, d2 = _patchmatch_checked(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
-                                    exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng,
-                                    sets=sets, workspace=workspace)
+    field, _, d2 = _patchmatch_checked(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
+                                       exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng,
+                                       sets=sets, workspace=workspace, distances=True)
     corner = field[:, 0] - w // 2
     new = ex.grid[corner[:, 0], corner[:, 1]]
-    rho = d2[:, 0].astype(np.float64) if penalty is None else _rho_at(ex, x, centers, mode, new)
-    return new, rho
+    return new, d2[:, 0].astype(np.float64)  # ρ_p: the distances, without the penalty that ranked them
 
 
 def _carried_field(record, level, centers):
@@ -1328,7 +1340,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
     weight, limit = opts.occurrence, opts.copy_limit
     occurrence = None
     if opts.coarse_copy_limit and level == 0 and record["levels"] > 1:
-        limit = None  # the finest level refines the arrangement the coarser levels chose
+        limit = _FINE_COPY_LIMIT  # the finest level refines the arrangement: only outlying copies are cut
     if (weight > 0 or limit is not None) and coords is None:
         occurrence = _Occurrence(ex, centers, weight, limit)
     completeness = None
@@ -1364,13 +1376,15 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
             # k-coherent candidates continue a field: the synthesis's first M-step, from random
             # neighbourhoods, has none worth continuing and searches at random
             first = stage.m_steps == 1 and not record["stages"]
-            return _m_step_field(ex, x, centers, mode, ex.centers(start), its, rng, occurrence,
+            # a penalty that binds nowhere changes no ranking: the plain M-step
+            occ = occurrence if occurrence is not None and occurrence.binding else None
+            return _m_step_field(ex, x, centers, mode, ex.centers(start), its, rng, occ,
                                  None if first else sets, workspace)
         if coords is None:
             occ = None
             if occurrence is not None and zidx is not None:
                 occurrence.update(ex, zidx)
-                occ = occurrence
+                occ = occurrence if occurrence.binding else None
             if not stack:
                 return _m_step(ex, x, centers, mode, zidx, searched, memo, _RESEARCH_TOLERANCE, occ, warp)
             its = _FIELD_ITERATIONS_FIRST if stage.m_steps == 1 else _FIELD_ITERATIONS
@@ -1618,7 +1632,7 @@ def _preset(preset, problem, *, tolerance, completeness_weight, copy_limit, hist
     out = {k: auto[k] if _is_auto(v) else v for k, v in given.items()}
     out["completeness_weight"] = check_positive_float(out["completeness_weight"], "completeness_weight",
                                                       allow_zero=True, maximum=_MAX_WEIGHT)
-    # without the completeness votes the finest level only refines: no limit there (elements stay whole)
+    # without the completeness votes the finest level only refines: a looser limit there (elements stay whole)
     out["coarse_copy_limit"] = preset == "default" and _is_auto(copy_limit) and out["completeness_weight"] == 0
     out["paper"] = preset == "paper"
     return out
@@ -1937,9 +1951,10 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         ``copy_limit`` of the exemplar's area has (see Notes). None: off (the
         paper's M-step). Paired with ``completeness_weight`` it also
         withholds the completeness votes of over-limit offsets. ``"auto"``:
-        0.25 (preset ``"default"``; at every level but the finest when the
-        completeness term is off, so the finest level refines the coarser
-        levels' arrangement without cutting elements), None (``"paper"``).
+        0.25 (preset ``"default"``; when the completeness term is off, 0.3
+        at the finest level, which refines the coarser levels' arrangement:
+        only outlying copies are cut there, not elements), None
+        (``"paper"``).
     completeness_weight : float or "auto"
         ``λ_b >= 0``: adds the completeness half of the bidirectional
         similarity of Simakov et al. 2008 [3]_ to the energy: every exemplar

@@ -177,17 +177,18 @@ class _Problem:
         return out
 
     def cost(self, q, ids):
-        """What ranks exemplar patches ``ids`` for queries ``q``: the distance, plus the penalty if any."""
+        """What ranks exemplar patches ``ids`` for queries ``q`` (the distance, plus the penalty if any), and
+        the distances themselves (the same array without a penalty)."""
         d = self.distances(q, ids)
-        if self.penalty is not None:
-            r, c = np.divmod(ids, self.enx)
-            centres = np.stack([r + self.patch[0] // 2, c + self.patch[1] // 2], axis=1)
-            extra = np.asarray(self.penalty(q, centres), dtype=self.dtype)
-            if extra.shape != d.shape or not np.all(np.isfinite(extra)) or np.any(extra < 0):
-                raise ValueError(f"penalty must return one finite, non-negative cost per candidate (shape "
-                                 f"{d.shape}), got shape {extra.shape} and values down to {np.min(extra, initial=0)}")
-            d += extra
-        return d
+        if self.penalty is None:
+            return d, d
+        r, c = np.divmod(ids, self.enx)
+        centres = np.stack([r + self.patch[0] // 2, c + self.patch[1] // 2], axis=1)
+        extra = np.asarray(self.penalty(q, centres), dtype=self.dtype)
+        if extra.shape != d.shape or not np.all(np.isfinite(extra)) or np.any(extra < 0):
+            raise ValueError(f"penalty must return one finite, non-negative cost per candidate (shape "
+                             f"{d.shape}), got shape {extra.shape} and values down to {np.min(extra, initial=0)}")
+        return d + extra, d
 
     def to_ids(self, r, c):
         """Flat exemplar ids of top-left corners ``(r, c)``, clamped into the exemplar."""
@@ -225,9 +226,12 @@ class _Problem:
                 sub[again] = self.random_ids(int(again.sum()), rng)
                 ids[rows] = sub
         q = np.repeat(np.arange(n), k)
-        d = self.cost(q, ids.ravel()).reshape(n, k)
+        d, dist = (a.reshape(n, k) for a in self.cost(q, ids.ravel()))
         order = np.argsort(d, axis=1, kind="stable")
-        return _Field(np.take_along_axis(ids, order, axis=1), np.take_along_axis(d, order, axis=1))
+        field = _Field(np.take_along_axis(ids, order, axis=1), np.take_along_axis(d, order, axis=1))
+        if self.penalty is not None and k == 1:  # the distances of the held patches, without the penalty
+            field.dist = dist.copy()
+        return field
 
     def init_ids(self, init):
         n, k = self.centers.shape[0], self.k
@@ -242,11 +246,15 @@ class _Problem:
         c = arr[..., 1].astype(np.int64) - pw // 2
         return self.to_ids(r, c)
 
-    def result(self, field):
+    def result(self, field, distances=False):
+        """The held centres and costs; with ``distances``, also their distances without the penalty (None if
+        a penalty ranked k > 1 patches, whose distances are not kept)."""
         ph, pw = self.patch
         r, c = np.divmod(field.ids, self.enx)
-        centers = np.stack([r + ph // 2, c + pw // 2], axis=-1)
-        return centers.astype(np.int64), field.d2
+        centers = np.stack([r + ph // 2, c + pw // 2], axis=-1).astype(np.int64)
+        if not distances:
+            return centers, field.d2
+        return centers, field.d2, field.d2 if self.penalty is None else field.dist
 
     # ----------------------------------------------------------------- candidates
     def offer(self, field, q, cand):
@@ -268,7 +276,7 @@ class _Problem:
             rows, cols = rows[may], cols[may]
         if rows.shape[0] == 0:
             return
-        d = self.cost(q[rows], cand[rows, cols])
+        d, dist = self.cost(q[rows], cand[rows, cols])
         better = d < worst[rows]
         if not better.any():
             return
@@ -281,6 +289,9 @@ class _Problem:
             take = np.flatnonzero(top < np.inf)
             field.ids[q[take], 0] = cand[take, j[take]]
             field.d2[q[take], 0] = top[take]
+            if field.dist is not None:  # the taken candidates' distances without the penalty
+                dense[rows[better], cols[better]] = dist[better]
+                field.dist[q[take], 0] = dense[take, j[take]]
             return
         rows, cols, d = rows[better], cols[better], d[better]
         self.merge(field, q, rows, cand[rows, cols], d)
@@ -516,6 +527,7 @@ class _Field:
     def __init__(self, ids, d2):
         self.ids = np.ascontiguousarray(ids)
         self.d2 = np.ascontiguousarray(d2)
+        self.dist = None  # with a penalty and k = 1: the held patches' distances without it
 
 
 def _radii(w):
@@ -957,16 +969,16 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
     return _run(problem, init, check_positive_int(iterations, "iterations", 0), as_rng(rng))
 
 
-def _run(problem, init, iterations, rng):
+def _run(problem, init, iterations, rng, distances=False):
     """The field of ``problem`` after ``iterations`` of propagation and random search from ``init``."""
     field = problem.start(init, rng)
     for it in range(iterations):
         _iterate(problem, field, it, rng)
-    return problem.result(field)
+    return problem.result(field, distances)
 
 
 def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iterations, exemplar_mask, pixel_weights,
-                        mode, penalty, rng, sets=None, k=1, workspace=None):
+                        mode, penalty, rng, sets=None, k=1, workspace=None, distances=False):
     """:func:`patchmatch` of float ``(H, W, C)`` arrays the caller has checked, with any number of channels
     and values beyond [0, 1] (texture optimization's guide channels, weighted).
 
@@ -977,11 +989,13 @@ def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iteration
 
     ``workspace``: a dict the caller keeps across searches of the same size (one EM stage) and never
     shares between searches running at once; the query patches are copied into the memory it holds.
+    ``distances=True`` also returns the held patches' distances without the ``penalty`` (``k = 1``), so a
+    caller that ranks by distance plus penalty needs no second pass for the distances.
     """
     problem = _Problem(image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty,
                        checked=True, workspace=workspace)
     problem.sets = sets
-    return _run(problem, init, iterations, rng)
+    return _run(problem, init, iterations, rng, distances)
 
 
 #: :func:`resolve_field`: problems up to this much work (exemplar patches times queries times the
