@@ -40,6 +40,7 @@ __all__ = [
     "patch_shape",
     "all_patches",
     "patches_within",
+    "grid_axes",
     "extract",
     "accumulate",
     "PatchSum",
@@ -389,13 +390,10 @@ class PatchSum:
 
     def _grid(self, centers, size):
         """The grid's rows and columns and their non-overlapping phases, or None if ``centers`` is no grid."""
-        r = np.unique(centers[:, 0])
-        c = np.unique(centers[:, 1])
-        if r.shape[0] * c.shape[0] != centers.shape[0]:
+        axes = grid_axes(centers[:, 0], centers[:, 1])
+        if axes is None:
             return None
-        if not (np.array_equal(centers[:, 0], np.repeat(r, c.shape[0]))
-                and np.array_equal(centers[:, 1], np.tile(c, r.shape[0]))):
-            return None
+        r, c = axes
         phases = [_phases(r, size[0], self.shape[0], self.mode), _phases(c, size[1], self.shape[1], self.mode)]
         if phases[0] is None or phases[1] is None:
             return None
@@ -428,6 +426,25 @@ class PatchSum:
             for ci in cphases:
                 cols = _index((c[ci, None] - w // 2 + np.arange(w)).ravel(), self.shape[1], self.mode, "patches")
                 parallel_for(lambda i: add_rows(parts[i], ci, cols), len(parts), threads)
+
+
+def grid_axes(rows, cols):
+    """The grid's rows and columns if the points ``(rows, cols)`` are every combination of them in
+    row-major order (as :func:`grid_centers` gives them), else None.
+
+    Examples
+    --------
+    >>> [a.tolist() for a in grid_axes(np.array([0, 0, 5, 5]), np.array([1, 3, 1, 3]))]
+    [[0, 5], [1, 3]]
+    >>> grid_axes(np.array([0, 5]), np.array([1, 3])) is None
+    True
+    """
+    r, c = np.unique(rows), np.unique(cols)
+    if r.shape[0] * c.shape[0] != rows.shape[0]:
+        return None
+    if not (np.array_equal(rows, np.repeat(r, c.shape[0])) and np.array_equal(cols, np.tile(c, r.shape[0]))):
+        return None
+    return r, c
 
 
 def _spans(rows, cols, shape):
