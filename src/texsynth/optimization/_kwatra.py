@@ -85,6 +85,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import fft as sfft
+from scipy import ndimage
 
 from ..core._deprecate import renamed_parameters
 from ..core._parallel import parallel_for
@@ -100,7 +101,8 @@ from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
 from ..core.search import PatchIndex, check_candidates, coherence_sets, nearest_candidates, sq_distances
 from ..core.search._patchmatch import _patchmatch_checked
-from ..core.neighborhood import PatchSum, all_patches, extract, gaussian_falloff, grid_centers, patches_within
+from ..core.neighborhood import (PatchSum, all_patches, extract, gaussian_falloff, grid_axes, grid_centers,
+                                 patches_within)
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
 from ..core.scale import feature_scale
 
@@ -175,7 +177,9 @@ class StageInfo:
     spacing : int
         Grid spacing of ``X†`` (``w/4``).
     neighborhoods : int
-        ``|X†|``, the number of output neighbourhoods.
+        ``|X†|``, the number of output neighbourhoods (under hard
+        constraints, those that touch an unconstrained pixel and the ring one
+        grid step around them: the others are neither searched nor averaged).
     exemplar_neighborhoods : int
         Number of searchable exemplar neighbourhoods.
     iterations : int
@@ -234,7 +238,8 @@ class OptimizationInfo:
     stages : list of StageInfo
         The stages in synthesis order.
     centers : numpy.ndarray
-        ``(N, 2)`` centres ``X†`` (row, col) of the last stage, in output pixels.
+        ``(N, 2)`` centres ``X†`` (row, col) of the last stage, in output pixels
+        (under hard constraints, those near the unconstrained pixels).
     sources : numpy.ndarray
         ``(N, 2)`` centre in the exemplar of each final ``z_p``: where each
         neighbourhood of the output came from.
@@ -670,7 +675,8 @@ def _solve_gradient_system(data_w, rhs_data, wx, gx, wy, gy, mu, wrap, x0, stats
 
 
 def _grid_parts(centers, budget):
-    """Slices of ``centers`` (a row-major grid) holding whole grid rows, about ``budget`` centres each."""
+    """Slices of ``centers`` (a row-major grid, or a part of one) holding about ``budget`` centres each, in
+    whole rows of the grid when ``centers`` is all of it."""
     ncols = int(np.count_nonzero(centers[:, 0] == centers[0, 0]))
     step = ncols * max(1, budget // ncols)
     return [slice(a, a + step) for a in range(0, len(centers), step)]
@@ -689,8 +695,6 @@ def _confidence(mask, centers, w, mode, gamma):
     E-step the neighbourhoods that lie mostly on known pixels outweigh the others near the
     boundary, so the fill continues what is known rather than meeting it along a seam.
     """
-    from scipy import ndimage
-
     known = mask >= 0.5
     if not known.any():
         return None
@@ -704,6 +708,28 @@ def _confidence(mask, centers, w, mode, gamma):
     return np.maximum(mean[centers[:, 0], centers[:, 1]], 1e-100)  # a running sum can round below 0
 
 
+def _touching_free(mask, centers, w, spacing, mode):
+    """Which neighbourhoods at ``centers`` take part under hard constraints: those that hold a pixel not
+    wholly constrained (``mask`` below 1), and the ring of grid neighbours one ``spacing`` further out.
+
+    The others hold nothing but target pixels, which every E-step puts back whatever they vote, so they
+    are neither searched nor averaged: the work follows the hole (or the border of an uncrop), not the
+    image. The ring holds known pixels only, but PatchMatch propagates its matches into the
+    neighbourhoods across the border: without it the uncrop seams of bark_1 rose from 1.93 to 2.26
+    (``benchmarks/bench_completion.py``, two seeds; docs/methods/completion.md). A coarse pixel within
+    1e-6 of 1 counts as constrained, as :func:`_pyramids` rounds the exemplar's valid mask.
+    """
+    reach = w + 2 * spacing  # the neighbourhood and the ring around it
+    known = mask > 1 - 1e-6
+    if mode == "wrap":  # neighbourhoods that cross the edge read the other side
+        known = np.pad(known, ((0, reach - 1), (0, reach - 1)), mode="wrap")
+        corner = (centers - reach // 2) % mask.shape
+    else:  # beyond the output counts as constrained
+        known = np.pad(known, spacing, constant_values=True)
+        corner = centers - w // 2
+    return ~patches_within(known, reach)[corner[:, 0], corner[:, 1]]
+
+
 def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, votes=None, warp=None):
     """x <- argmin_x sum_p ω_p ρ_p(x) + λ E_c(x): eq. 1 (and eq. 2) minimised over x.
 
@@ -711,8 +737,10 @@ def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, v
     (memory grows with the output, not with the overlap); ``votes``
     ``(indices, centres, weights)`` are more neighbourhoods averaged in (the
     completeness term's ``q_j`` at ``p(j)``). With a :class:`_Warp` (fields,
-    ``μ = 0``) every ``z_p`` is splatted at its rotated, scaled positions;
-    pixels that no sample reaches keep their value in ``x0``.
+    ``μ = 0``) every ``z_p`` is splatted at its rotated, scaled positions.
+    Pixels that no neighbourhood reaches (a warp's gaps; under hard
+    constraints, the pixels away from the unconstrained ones,
+    :func:`_touching_free`) keep their value in ``x0``.
     """
     g = ex.g if g is None else g
     w, channels = ex.size, ex.image.shape[-1]
@@ -739,9 +767,10 @@ def _e_step(ex, zidx, centers, shape, omega, mode, mu, constraint, x0, g=None, v
         mean, wd = values.average()
         data_w = wd.copy()
         rhs = wd[..., None] * mean
-    else:  # the splatted sums; a pixel no sample reaches keeps its value (weight 1 on x0)
+    else:  # the splatted sums
         rhs, data_w = values
-        uncovered = data_w <= 0
+    uncovered = data_w <= 0  # a pixel no neighbourhood reaches keeps its value (weight 1 on x0)
+    if uncovered.any():
         rhs[uncovered] = x0[uncovered]
         data_w[uncovered] = 1.0
     hard = constraint is not None and np.isinf(constraint[2])
@@ -1189,7 +1218,14 @@ def _coherent_candidates(ex, centers, zidx, inverse=None):
 
 def _source_map(centers, sources, shape):
     """Dense correspondence of a frame: exemplar position of every pixel, from the
-    ``z_p`` whose centre is nearest (``sources + (q - centre)``)."""
+    ``z_p`` whose centre is nearest (``sources + (q - centre)``). ``centers``: a row-major grid, or a
+    part of one (hard constraints: :func:`_touching_free`)."""
+    q = np.stack(np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij"), axis=-1)
+    if grid_axes(centers[:, 0], centers[:, 1]) is None:  # a part of a grid: the nearest centre by distance
+        index = np.full(tuple(shape), -1, np.int64)
+        index[centers[:, 0], centers[:, 1]] = np.arange(len(centers))
+        k = index[tuple(ndimage.distance_transform_edt(index < 0, return_distances=False, return_indices=True))]
+        return (sources[k] + q - centers[k]).astype(np.float64)
     near = []
     for axis, length in enumerate(shape):
         grid = np.unique(centers[:, axis])
@@ -1197,7 +1233,6 @@ def _source_map(centers, sources, shape):
         k = np.clip(np.searchsorted(grid, pos), 1, len(grid) - 1)
         near.append(np.where(pos - grid[k - 1] <= grid[k] - pos, k - 1, k) if len(grid) > 1 else np.zeros_like(pos))
     k = near[0][:, None] * len(np.unique(centers[:, 1])) + near[1][None, :]
-    q = np.stack(np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij"), axis=-1)
     return (sources[k] + q - centers[k]).astype(np.float64)
 
 
@@ -1206,10 +1241,26 @@ def _dominant_sources(ex, centers, zidx, omega, shape, mode, warp=None):
 
     For one offset inside the neighbourhood, distinct centres give distinct pixels, so the largest
     weight is kept by plain assignment, offset by offset. With fields (:class:`_Warp`) the weight is
-    ``ω_p g(d)`` times the bilinear weight of the sample on the pixel.
+    ``ω_p g(d)`` times the bilinear weight of the sample on the pixel. A pixel that no
+    neighbourhood covers (hard constraints, away from the free pixels: :func:`_touching_free`) takes
+    the source of the nearest covered pixel, offset by the distance to it and kept inside the
+    exemplar, so the map stays a copy map.
     """
     if warp is not None:
         return _dominant_warped(ex, zidx, omega, shape, warp)
+    out, best = _dominant_grid(ex, centers, zidx, omega, shape, mode)
+    uncovered = best == -np.inf
+    if uncovered.any() and not uncovered.all():
+        near = ndimage.distance_transform_edt(uncovered, return_distances=False, return_indices=True)
+        q = np.indices(tuple(shape))
+        moved = out[near[0], near[1]] + np.moveaxis(q - near, 0, -1)
+        out = np.where(uncovered[..., None], np.clip(moved, 0, np.asarray(ex.image.shape[:2]) - 1), out)
+    return out
+
+
+def _dominant_grid(ex, centers, zidx, omega, shape, mode):
+    """:func:`_dominant_sources` of plain neighbourhoods: the map and the largest weight at every pixel
+    (-inf where no neighbourhood reaches)."""
     w = ex.size
     corner_out = centers - w // 2  # the E-step's patch placement (PatchSum: centred at the centre)
     corner_ex = ex.corner[zidx]
@@ -1228,7 +1279,7 @@ def _dominant_sources(ex, centers, zidx, omega, shape, mode, warp=None):
             better = value > best[r, c]
             best[r[better], c[better]] = value[better]
             out[r[better], c[better]] = src[better]
-    return out
+    return out, best
 
 
 def _dominant_warped(ex, zidx, omega, shape, warp):
@@ -1315,6 +1366,13 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
     spacing = opts.grid(w)
     mode = opts.mode
     centers = grid_centers(shape, w, spacing, mode=mode)
+    coords = opts.coords  # animation frame: the previous frame's correspondence, warped
+    # hard constraints (λ = ∞) are in x_p already: the M-step is the plain nearest neighbour, and the
+    # E-step weighs each neighbourhood by its confidence (Wexler et al. 2007)
+    hard = constraint is not None and np.isinf(constraint[2])
+    if hard and coords is None:
+        free = _touching_free(constraint[0], centers, w, spacing, mode)
+        centers = centers[free] if free.any() else centers  # nothing free: the target, as every E-step makes it
     warp = None if fields is None else _Warp(centers, w, *fields, shape, mode)
     stage = StageInfo(level=level, size=w, shape=tuple(shape), spacing=spacing, neighborhoods=len(centers),
                       exemplar_neighborhoods=len(ex), first=len(record["energy"]))
@@ -1322,13 +1380,9 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
     r, mu, eps2 = opts.r, opts.mu, ex.eps2
     values = float(ex.weights.sum())
 
-    coords = opts.coords  # animation frame: the previous frame's correspondence, warped
     prior = None if coords is None else ex.lookup(coords[centers[:, 0], centers[:, 1]] - w // 2, 0)
     frame_terms = None if coords is None else _frame_terms(ex, centers, mode, constraint, ex.image.shape[-1])
 
-    # hard constraints (λ = ∞) are in x_p already: the M-step is the plain nearest neighbour, and the
-    # E-step weighs each neighbourhood by its confidence (Wexler et al. 2007)
-    hard = constraint is not None and np.isinf(constraint[2])
     searched = None if hard else constraint
     confidence = None
     if hard and coords is None and opts.confidence is not None:
@@ -1638,6 +1692,16 @@ def _preset(preset, problem, *, tolerance, completeness_weight, copy_limit, hist
     return out
 
 
+def _free_inside(problem):
+    """Hard constraints whose free pixels all lie at least the largest neighbourhood inside the output: the
+    canvas needs no margin, as no neighbourhood of a free pixel meets an edge of the output."""
+    if problem.constraint is None or not np.isinf(problem.constraint[2]):
+        return False
+    reach = problem.sizes[0]
+    free = problem.constraint[0] < 1 - 1e-6
+    return not (free[:reach].any() or free[-reach:].any() or free[:, :reach].any() or free[:, -reach:].any())
+
+
 def _with_margin(problem, margin):
     """The problem on a canvas ``margin`` pixels larger (the output is its top-left part); constraints and
     the initial image extended by their edge values, the margin unconstrained."""
@@ -1915,7 +1979,13 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         M-step is the plain nearest-neighbour search (PatchMatch on large
         stages, not Algorithm 2's index query of every constrained
         neighbourhood): how :func:`texsynth.inpaint` and
-        :func:`texsynth.uncrop` fill large images.
+        :func:`texsynth.uncrop` fill large images. Only the neighbourhoods
+        that touch an unconstrained pixel, and the ring one grid step around
+        them (whose matches PatchMatch propagates across the border), are
+        searched and averaged: the others vote only for pixels the E-step
+        puts back, so the work follows the free pixels, not the output. The
+        source-coordinate map of a pixel no such neighbourhood covers
+        continues that of the nearest covered pixel.
     exemplar_mask : array_like, optional
         ``(h, w)`` bool: exemplar pixels that may be copied. Neighbourhoods
         touching a False pixel are never used (e.g. the hole when the
@@ -2154,7 +2224,11 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     part of a tileable canvas larger by half the largest neighbourhood, so
     no neighbourhood ends at an edge of the output (on the paper's grid the
     neighbourhoods along an edge match the exemplar's own edges, whose rows
-    then pile up along the output's edges). ``preset="paper"`` is the paper:
+    then pile up along the output's edges); not under hard constraints whose
+    free pixels all lie at least the largest neighbourhood inside the output
+    (a hole in an image: the known pixels already meet the edges, and no
+    neighbourhood of the free ones reaches them at the finest level).
+    ``preset="paper"`` is the paper:
     ``(32, 16, 8)`` over 3 levels, eq. 1 alone, the nearest-neighbour index
     (the paper searches a tree over the exemplar's neighbourhoods, here the
     PCA kd-tree, or exact search on small levels), the stopping test of
@@ -2239,7 +2313,7 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
     problem = _with_guides(problem, exemplar_guide, output_guide, guide_weight)
     problem = _with_fields(problem, orientation, scale)
     tileable = check_bool(tileable, "tileable")
-    margin = 0 if tileable or preset == "paper" else problem.sizes[0] // 2
+    margin = 0 if tileable or preset == "paper" or _free_inside(problem) else problem.sizes[0] // 2
     opts = _check_options(irls_exponent=irls_exponent, relative_grid_spacing=relative_grid_spacing,
                           max_iterations=max_iterations, gradient_weight=gradient_weight,
                           tileable=tileable or margin > 0, falloff=falloff, method=method,

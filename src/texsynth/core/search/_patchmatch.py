@@ -45,6 +45,10 @@ _BLOCK_BYTES = 4 * 2**20
 _QUERY_CACHE_BYTES = 256 * 2**20
 # irregular centres: propagate from this many nearest other centres
 _IRREGULAR_NEIGHBORS = 4
+# centres that fill at least this share of the rectilinear grid of their rows and columns are scanned as
+# that grid with cells missing (the part of texture optimization's grid that touches a hole); scattered
+# centres fill about 1/N of theirs
+_GRID_MIN_FILL = 0.25
 # distance bounds (see _Bound): patches of at least this many values are first compared by their
 # projections on this many leading principal components of the exemplar's patches, estimated from
 # this many of them (16 components: 256 -> 1024 px texture optimization 14.3 s, against 14.7 s with
@@ -542,10 +546,12 @@ def _radii(w):
 class _Neighbors:
     """Which queries propagate to which, and the offsets between their centres.
 
-    Centres that form a (possibly uneven) rectilinear grid, in any order, are
-    handled as a grid: each query's neighbours are the next grid points left,
-    up, right and down (across the border in ``mode="wrap"``). Any other set
-    of centres uses the nearest other centres.
+    Centres that form a (possibly uneven) rectilinear grid, in any order, or
+    fill at least a quarter of one (a part of a grid: the cells of the others
+    are missing), are handled as a grid: each query's neighbours are the next
+    grid points left, up, right and down (across the border in
+    ``mode="wrap"``), none where that cell is missing. Any other set of
+    centres uses the nearest other centres.
     """
 
     def __init__(self, centers, shape, mode):
@@ -555,10 +561,10 @@ class _Neighbors:
         rows, gi = np.unique(centers[:, 0], return_inverse=True)
         cols, gj = np.unique(centers[:, 1], return_inverse=True)
         self.grid = None
-        if rows.shape[0] * cols.shape[0] == n:
+        if n >= _GRID_MIN_FILL * rows.shape[0] * cols.shape[0]:
             grid = np.full((rows.shape[0], cols.shape[0]), -1, dtype=np.int64)
             grid[gi, gj] = np.arange(n)
-            if np.all(grid >= 0):
+            if np.count_nonzero(grid >= 0) == n:  # no centre repeated
                 self.grid, self.gi, self.gj = grid, gi.ravel(), gj.ravel()
                 diag = self.gi + self.gj
                 order = np.argsort(diag, kind="stable")
@@ -811,9 +817,11 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
     centers : array_like of int, shape (N, 2), optional
         Centres ``(row, col)`` in ``image`` of the patches to match. On a
         regular (or rectilinear) grid, such as texture optimization's ``w/4``
-        grid from :func:`~texsynth.core.neighborhood.grid_centers`, propagation
-        runs between grid neighbours; other sets of centres propagate from
-        their 4 nearest centres. Default: every pixel (a dense field; in
+        grid from :func:`~texsynth.core.neighborhood.grid_centers`, or on a
+        part of one that fills at least a quarter of its rows times columns
+        (the grid points near a hole), propagation runs between grid
+        neighbours; other sets of centres propagate from their 4 nearest
+        centres. Default: every pixel (a dense field; in
         ``"valid"`` mode every pixel whose patch fits).
     k : int
         How many nearest exemplar patches per query, distinct.
