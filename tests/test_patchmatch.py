@@ -465,6 +465,7 @@ def test_bounds_change_the_work_not_the_field(texture, monkeypatch, case):
 
     name, kwargs = BOUND_CASES[case]
     patch = 16 if "grey" in case else 12  # 256 and 432 values: at or above _BOUND_MIN_DIM
+    monkeypatch.setattr(pm, "_BOUND_MIN_WORK", 0)  # bounds however few the queries (the grey case has 441)
     image, exemplar = pair(texture, name, 96, 64)
     centers = grid_centers(image.shape[:2], patch, patch // 4, mode="wrap" if "wrap" in case else "valid")
     seen = _counting_bounds(monkeypatch)
@@ -495,6 +496,17 @@ def test_the_bound_never_exceeds_the_distance(texture):
     # measured: the bound is 0.88 of the distance on average here (16 of 432 components); a
     # basis that missed the patches' main variation (e.g. random directions) would hold about 16/432
     assert np.mean(lower / exact) > 0.5
+
+
+def test_bounds_only_where_the_queries_pay_for_the_exemplars_projections(texture):
+    """The exemplar's projections cost about the same for 10 queries as for 10,000: a search with fewer
+    query values than _BOUND_MIN_WORK per exemplar patch position compares exactly from the start."""
+    import texsynth.core.search._patchmatch as pm
+
+    image, exemplar = pair(texture, "ink (colour)", 96, 64)
+    centers = grid_centers(image.shape[:2], 12, 3, mode="valid")  # 841 queries x 432 values, 2809 positions
+    assert pm._Problem(image, exemplar, 12, centers, 1, None, None, "valid").bound is not None
+    assert pm._Problem(image, exemplar, 12, centers[:40], 1, None, None, "valid").bound is None
 
 
 def test_bounds_follow_an_exemplar_changed_in_place(texture, monkeypatch):

@@ -56,6 +56,11 @@ _GRID_MIN_FILL = 0.25
 # 1024 and 12.6-12.8 s with 256, the same output; benchmarks/bench_bounds.py, docs/methods/search.md)
 _BOUND_MIN_DIM = 256
 _BOUND_COMPONENTS = 16
+# ... and only for searches whose queries hold at least this many values per exemplar patch position: the
+# exemplar's projections cost about the same whatever the queries, and a few queries (the neighbourhoods
+# near a small hole: 10 or fewer) save less than that (hole filling of a 512 px photograph 1.45-1.79 s without
+# bounds, 1.85-2.29 s with them); texture optimization's grids hold hundreds to thousands
+_BOUND_MIN_WORK = 64
 _BOUND_SAMPLES = 512
 # project_patches (the k-coherence sets' descriptors): components from this many patches
 _PROJECTION_SAMPLES = 1024
@@ -146,7 +151,8 @@ class _Problem:
         self.neighbors = _Neighbors(self.centers, self.shape, mode)
         self.sets = None  # k-coherence sets (_patchmatch_checked's sets)
         bound_bytes = self.eny * self.enx * _BOUND_COMPONENTS * 8
-        self.bound = _Bound(self) if self.dim >= _BOUND_MIN_DIM and bound_bytes <= _BOUND_MAX_BYTES else None
+        worth = self.dim >= _BOUND_MIN_DIM and n * self.dim >= _BOUND_MIN_WORK * self.eny * self.enx
+        self.bound = _Bound(self) if worth and bound_bytes <= _BOUND_MAX_BYTES else None
 
     def bytes_held(self, n, image_values):
         """Largest memory held at once: the image copies, the cached queries, the field, one block and the
@@ -936,9 +942,11 @@ def patchmatch(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, 
     32 px ones and 45 % of the 64 px ones were ruled out that way). The
     exemplar's projections (one FFT correlation per component) are kept for
     the next search of the same exemplar; exemplars with more than 2**19
-    patch positions (about 724 x 724) are searched without bounds, and a
-    ``penalty`` must be non-negative (it is added to distances the bound
-    has not seen).
+    patch positions (about 724 x 724), and searches whose queries hold
+    fewer than 64 values per exemplar patch position (a few queries, as near
+    a small hole: the projections would cost more than they save), are
+    searched without bounds, and a ``penalty`` must be non-negative (it is
+    added to distances the bound has not seen).
 
     **Patents.** PatchMatch is covered by a patent held by Adobe (US
     8,861,869, "Determining correspondence between image regions"), as other
