@@ -28,7 +28,7 @@ constrained neighbourhood, which at 512² needs tens of GiB. Under hard
 constraints only the neighbourhoods near the unknown pixels take part (the
 others vote only for pixels that are put back), so a hole costs time in
 proportion to its size, not the image's: a disc of radius 80 in a 512²
-photograph 1.5-2.4 s, against 5.0-7.5 s with every neighbourhood
+photograph 1.1-1.7 s, against 5.0-7.5 s with every neighbourhood
 (``benchmarks/bench_completion.py``).
 
 :func:`inpaint` and :func:`uncrop` also weigh each neighbourhood in the E-step by Wexler et
