@@ -1220,12 +1220,12 @@ def _source_map(centers, sources, shape):
     """Dense correspondence of a frame: exemplar position of every pixel, from the
     ``z_p`` whose centre is nearest (``sources + (q - centre)``). ``centers``: a row-major grid, or a
     part of one (hard constraints: :func:`_touching_free`)."""
-    q = np.stack(np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij"), axis=-1)
     if grid_axes(centers[:, 0], centers[:, 1]) is None:  # a part of a grid: the nearest centre by distance
-        index = np.full(tuple(shape), -1, np.int64)
-        index[centers[:, 0], centers[:, 1]] = np.arange(len(centers))
-        k = index[tuple(ndimage.distance_transform_edt(index < 0, return_distances=False, return_indices=True))]
-        return (sources[k] + q - centers[k]).astype(np.float64)
+        at = np.zeros(tuple(shape) + (2,), np.float64)
+        defined = np.zeros(tuple(shape), bool)
+        at[centers[:, 0], centers[:, 1]], defined[centers[:, 0], centers[:, 1]] = sources, True
+        return _extend_nearest(at, defined)
+    q = np.stack(np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij"), axis=-1)
     near = []
     for axis, length in enumerate(shape):
         grid = np.unique(centers[:, axis])
@@ -1249,13 +1249,17 @@ def _dominant_sources(ex, centers, zidx, omega, shape, mode, warp=None):
     if warp is not None:
         return _dominant_warped(ex, zidx, omega, shape, warp)
     out, best = _dominant_grid(ex, centers, zidx, omega, shape, mode)
-    uncovered = best == -np.inf
-    if uncovered.any() and not uncovered.all():
-        near = ndimage.distance_transform_edt(uncovered, return_distances=False, return_indices=True)
-        q = np.indices(tuple(shape))
-        moved = out[near[0], near[1]] + np.moveaxis(q - near, 0, -1)
-        out = np.where(uncovered[..., None], np.clip(moved, 0, np.asarray(ex.image.shape[:2]) - 1), out)
-    return out
+    covered = best > -np.inf
+    if covered.all() or not covered.any():
+        return out
+    return np.clip(_extend_nearest(out, covered), 0, np.asarray(ex.image.shape[:2]) - 1)  # covered: unchanged
+
+
+def _extend_nearest(positions, defined):
+    """``positions`` ``(H, W, 2)`` where ``defined``; elsewhere the nearest defined pixel's, moved by the
+    offset to it (a map that continues its nearest copy)."""
+    near = ndimage.distance_transform_edt(~defined, return_distances=False, return_indices=True)
+    return positions[near[0], near[1]] + np.moveaxis(np.indices(defined.shape) - near, 0, -1)
 
 
 def _dominant_grid(ex, centers, zidx, omega, shape, mode):
