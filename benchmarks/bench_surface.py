@@ -1,12 +1,14 @@
 """Texture synthesis on surfaces (issue 20): vertex synthesis and lapped textures at the issue's sizes.
 
-Run: python benchmarks/bench_surface.py [--vertices 50000] [--faces 20000] [--preview DIR]   (from the repository root)
+Run: python benchmarks/bench_surface.py [--vertices 50000] [--faces 20000] [--preset default] [--preview DIR]
+     (from the repository root)
 
 - Vertex synthesis (:func:`texsynth.synthesize_surface`): a sphere retiled to ``--vertices``
   vertices (default 50,000), 3 levels, a 128 x 128 colour exemplar: the top-left crop of the
   brick photograph ../shared/textures/rohitrango/t1.png (RGB; the bundled 77 x 107 "brick"
-  where that folder is absent), seed 0: wall time per stage (retiling hierarchy, field, each
-  level). Target: <= 120 s.
+  where that folder is absent), seed 0, ``--preset`` (default ``default``; ``paper``: Turk's
+  sweep, one vertex at a time): wall time per stage (retiling hierarchy, field, each level).
+  Target: <= 120 s.
 - Lapped textures (:func:`texsynth.lapped_textures`): a torus of about ``--faces`` faces
   (default 20,000), the same photograph, seed 0: wall time per stage (field, paste, bake).
   Target: <= 30 s.
@@ -37,17 +39,18 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--vertices", type=int, default=50000)
     parser.add_argument("--faces", type=int, default=20000)
+    parser.add_argument("--preset", default="default")
     parser.add_argument("--preview", default=None)
     args = parser.parse_args()
     ex = exemplar()
 
     start = time.perf_counter()
     out, info = texsynth.synthesize_surface(sphere(10242), ex, n_vertices=args.vertices, levels=3, rng=0,
-                                            return_info=True)
+                                            preset=args.preset, return_info=True)
     total = time.perf_counter() - start
     stages = ", ".join(f"{k} {v:.1f}" for k, v in info.stage_seconds.items())
-    print(f"vertex synthesis: {len(out.vertices)} vertices, 3 levels, exemplar {ex.shape[1]}x{ex.shape[0]}: "
-          f"{total:.1f} s ({stages}; search {info.method})")
+    print(f"vertex synthesis ({args.preset}): {len(out.vertices)} vertices, 3 levels, exemplar "
+          f"{ex.shape[1]}x{ex.shape[0]}: {total:.1f} s ({stages}; order {info.order}, search {info.method})")
 
     mesh = torus(args.faces // 2)
     start = time.perf_counter()

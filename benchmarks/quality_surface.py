@@ -1,6 +1,7 @@
 """Vertex synthesis on structured photographs: a flat patch, read back as an image and measured.
 
-Run: python benchmarks/quality_surface.py [--seeds 0 1] [--preview DIR] [--preset default]   (from the repository root)
+Run: python benchmarks/quality_surface.py [--seeds 0 1] [--preview DIR] [--preset default] [--order sweep]
+     [--passes N]   (from the repository root)
 
 A 1 x 1 square (a 48 x 48 grid of vertices) is retiled to 20,000 vertices and textured by
 :func:`texsynth.synthesize_surface` (3 levels, a constant field along x) from the 128 x 128
@@ -52,6 +53,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     parser.add_argument("--preset", default="default")
+    parser.add_argument("--order", default=None, help="the visiting order (default: the preset's)")
+    parser.add_argument("--passes", type=int, default=None, help="passes per level (default: the preset's)")
     parser.add_argument("--preview", default=None)
     args = parser.parse_args()
     mesh = square()
@@ -60,6 +63,7 @@ def main():
             ex = np.ascontiguousarray(load_image(path)[:128, :128, :3])
             start = time.perf_counter()
             out, info = texsynth.synthesize_surface(mesh, ex, n_vertices=20000, levels=3, preset=args.preset,
+                                                    order=args.order, passes=args.passes,
                                                     field=lambda p: np.tile([1.0, 0, 0], (len(p), 1)), rng=seed,
                                                     return_info=True)
             seconds = time.perf_counter() - start

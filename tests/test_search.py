@@ -518,9 +518,16 @@ def test_sequential_exact_ranks_a_further_part():
     assert index.nearest_with(d, 2, q[7:]) == full.argmin()
 
 
+# candidate lists are scored in one gather when small (a query at a time) and a column at a time when large
+_CANDIDATE_PATHS = {"one gather": 2**40, "by column": 0}
+
+
+@pytest.mark.parametrize("path", _CANDIDATE_PATHS)
 @pytest.mark.parametrize("form", ["rows", "vectors"])
-def test_nearest_candidates_picks_the_nearest_of_each_list(form):
+def test_nearest_candidates_picks_the_nearest_of_each_list(form, path, monkeypatch):
     from texsynth.core.search import nearest_candidates
+
+    monkeypatch.setattr("texsynth.core.search._exact._SMALL_CANDIDATE_VALUES", _CANDIDATE_PATHS[path])
 
     v = patches("jcjohnson/bread.png", 5, ((0, 30), (0, 30)))
     queries = patches("jcjohnson/bread.png", 5, ((60, 69), (60, 69)))[:20]
@@ -540,8 +547,11 @@ def test_nearest_candidates_picks_the_nearest_of_each_list(form):
     np.testing.assert_allclose(d2, wtrue.min(1), atol=1e-9)
 
 
-def test_nearest_candidates_scores_a_repeated_candidate_once_and_keeps_the_first():
-    from texsynth.core.search import nearest_candidates
+@pytest.mark.parametrize("path", _CANDIDATE_PATHS)
+def test_nearest_candidates_scores_a_repeated_candidate_once_and_keeps_the_first(path, monkeypatch):
+    from texsynth.core.search import candidate_sq_distances, nearest_candidates
+
+    monkeypatch.setattr("texsynth.core.search._exact._SMALL_CANDIDATE_VALUES", _CANDIDATE_PATHS[path])
 
     v = patches("jcjohnson/bread.png", 5, ((0, 30), (0, 30)))
     queries = patches("jcjohnson/bread.png", 5, ((60, 69), (60, 69)))
@@ -558,6 +568,11 @@ def test_nearest_candidates_scores_a_repeated_candidate_once_and_keeps_the_first
     np.testing.assert_array_equal(choice, true.argmin(1))  # the first of the equal columns
     assert np.all(choice <= best)
     np.testing.assert_allclose(d2, true.min(1), atol=1e-9)
+    # a repeat is scored inf, its first occurrence by its distance
+    scores = candidate_sq_distances(queries, cands, v)
+    first = np.array([[c not in row[:j] for j, c in enumerate(row)] for row in cands])
+    assert np.all(np.isinf(scores[~first])) and first.sum() < first.size
+    np.testing.assert_allclose(scores[first], true[first], atol=1e-9)
 
 
 # --------------------------------------------------------------------------- registry, profiles, the switch

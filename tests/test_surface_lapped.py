@@ -143,10 +143,17 @@ def test_cli_surface_both_modes(tmp_path, capsys):
                  "latitude", "--seed", "0"]) == 0
     vertex = read_mesh(tmp_path / "v.ply")
     assert vertex.colors is not None and 380 <= len(vertex.vertices) <= 400
+    # --order reaches synthesize_surface: Turk's sweep gives other colours on the same retiled mesh
+    assert main(["surface", *base, "-o", str(tmp_path / "w.ply"), "--n-vertices", "400", "--levels", "2", "--field",
+                 "latitude", "--seed", "0", "--order", "sweep"]) == 0
+    swept = read_mesh(tmp_path / "w.ply")
+    assert np.array_equal(swept.vertices, vertex.vertices) and not np.array_equal(swept.colors, vertex.colors)
     assert main(["surface", *base, "-o", str(tmp_path / "l.obj"), "--mode", "lapped", "--seed", "0"]) == 0
     lapped = read_mesh(tmp_path / "l.obj")
     assert lapped.texture is not None and lapped.uv.shape == (320, 3, 2)
     capsys.readouterr()
+    assert main(["surface", *base, "-o", str(tmp_path / "x.ply"), "--mode", "lapped", "--order", "sweep"]) == 2
+    assert "--order belong to --mode vertex" in capsys.readouterr().err
     assert main(["surface", *base, "-o", str(tmp_path / "x.ply"), "--field", "swirl"]) == 2
     assert "--field must be smooth, random, latitude, meridian" in capsys.readouterr().err
     np.save(tmp_path / "f.npy", np.ones((7, 3)))

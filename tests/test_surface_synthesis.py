@@ -265,27 +265,119 @@ def test_synthesis_copies_exemplar_pixels_and_repeats_with_rng():
 
 
 def test_queries_hold_exemplar_colours_not_blends():
-    # The default resampling reads each grid point from one vertex (Wei & Levoy and Turk copy colours, they never
-    # average them): every row of the resampling matrix is a single 1. The blended resampling of the first version
-    # (kept by preset="paper") spreads a row over up to 4 vertices; it made queries softer than any exemplar
-    # neighbourhood, and mortar lines and paving cracks melted into the stones.
-    from texsynth.surface._vertex_synthesis import _Frame, _grid_offsets, _resampling
-    from texsynth.surface._field import tangent_field as field
+    # Each grid point reads one vertex (Wei & Levoy and Turk copy colours, they never average them): every row
+    # of the resampling matrix is a single 1. The blended resampling of the first version (a Gaussian-weighted
+    # mean of the 4 nearest vertices) made queries softer than any exemplar neighbourhood: mortar lines and
+    # paving cracks melted into the stones, and in the sweep order the blends grew into streaks.
+    from texsynth.surface._vertex_synthesis import _Frame, _grid_offsets, _matrix, _resampling
     s = sphere(642)
-    frame = _Frame(s, field(s, rng=0), 0.1)
-    nearest, valid = _resampling(frame, frame, _grid_offsets((5, 5)), 0.1, True)
-    blended, _ = _resampling(frame, frame, _grid_offsets((5, 5)), 0.1, False)
-    assert valid.all()
-    assert np.array_equal(nearest.getnnz(axis=1), np.ones(nearest.shape[0])) and np.allclose(nearest.data, 1)
-    assert (blended.getnnz(axis=1) > 1).mean() > 0.5
+    frame = _Frame(s, tangent_field(s, rng=0), 0.1)
+    vertex, valid = _resampling(frame, frame, _grid_offsets((5, 5)), 0.1)
+    assert valid.all() and vertex.shape == (642, 25)
+    assert np.array_equal(vertex[:, 12], np.arange(642))  # the centre point reads the vertex itself
+    matrix = _matrix(vertex, valid, 642)
+    assert np.array_equal(matrix.getnnz(axis=1), np.ones(matrix.shape[0])) and np.allclose(matrix.data, 1)
+    # a point off an open surface's edge reads nothing
+    cut = valid.copy()
+    cut[0, :5] = False
+    assert _matrix(vertex, cut, 642)[:5].nnz == 0
 
 
 def test_paper_preset_and_global_search_run():
     ex = load("bread")[:32, :32]
     out, info = synthesize_surface(sphere(162), ex, n_vertices=500, levels=2, preset="paper", rng=0,
                                    return_info=True)
-    assert info.candidates == "all" and info.method == "tsvq"
+    # the sweep's causal queries weigh their grid points each their own way: an exact search, not the TSVQ
+    assert info.candidates == "all" and info.order == "sweep" and info.method == "exact"
     assert out.colors.shape == (len(out.vertices), 3)
+    _, info = synthesize_surface(sphere(162), ex, n_vertices=500, levels=2, preset="paper", order="independent",
+                                 rng=0, return_info=True)
+    assert info.method == "tsvq"
+
+
+# ---------------------------------------------------------------------------- Turk's sweep order
+def _flat_square(n=30):
+    """The unit square in the z = 0 plane, facing +z."""
+    y, x = np.mgrid[0:n, 0:n] / (n - 1)
+    vertices = np.stack([x.ravel(), -y.ravel(), np.zeros(n * n)], axis=1)
+    i = (np.arange(n - 1)[:, None] * n + np.arange(n - 1)[None, :]).ravel()
+    return vertices, np.concatenate([np.stack([i, i + n, i + n + 1], 1), np.stack([i, i + n + 1, i + 1], 1)])
+
+
+def test_sweep_distance_scans_the_rows_downwards():
+    from texsynth.surface._meshio import as_mesh
+    from texsynth.surface._vertex_synthesis import _Frame, _sweep_distance
+
+    # a flat square with the field along x: the exemplar's rows run along x and go down along -y, so the sweep
+    # distance is the height measured downwards, in vertex spacings (exactly: the field has a potential)
+    square = retile(as_mesh(_flat_square()), 3000, rng=0)
+    t = np.tile([1.0, 0, 0], (len(square.vertices), 1))
+    spacing = 1 / 50
+    s = _sweep_distance(_Frame(square, t, spacing), 1)
+    assert np.corrcoef(s, -square.vertices[:, 1])[0, 1] > 0.999
+    assert abs((s.max() - s.min()) * spacing - np.ptp(square.vertices[:, 1])) < 0.01
+    # a texture with 2- or 4-fold symmetry may have its field turned by a half or a quarter turn between
+    # neighbours: a sweep down the rows (either way: the texture looks the same turned by a half turn, and with
+    # 4-fold symmetry rows and columns are alike), once each neighbour's turn is undone (without that, the
+    # half-turned field below gave a sweep correlating 0.35 with the height)
+    rng = np.random.default_rng(0)
+    turned = t.copy()
+    turned[rng.random(len(t)) < 0.5] *= -1
+    height, across = -square.vertices[:, 1], square.vertices[:, 0]
+    assert np.corrcoef(_sweep_distance(_Frame(square, turned, spacing), 2), height)[0, 1] ** 2 > 0.998
+    quarter = rng.random(len(t)) < 0.5
+    turned[quarter] = np.cross([0, 0, 1.0], turned[quarter])
+    s4 = _sweep_distance(_Frame(square, turned, spacing), 4)
+    assert max(np.corrcoef(s4, height)[0, 1] ** 2, np.corrcoef(s4, across)[0, 1] ** 2) > 0.998
+    # on a sphere with the field along the latitudes the sweep runs from pole to pole
+    ball = sphere(2562)
+    lat = tangent_field(ball, lambda p: np.cross([0, 0, 1.0], p))
+    assert abs(np.corrcoef(_sweep_distance(_Frame(ball, lat, 0.05), 1), ball.vertices[:, 2])[0, 1]) > 0.99
+
+
+def test_sweep_queries_see_only_the_vertices_already_visited():
+    from texsynth.surface._vertex_synthesis import (_Exemplar, _Frame, _grid_offsets, _resampling, _sweep_distance,
+                                                    _sweep_level)
+    from texsynth.core._progress import Progress
+
+    ball = sphere(642)
+    frame = _Frame(ball, tangent_field(ball, lambda p: np.cross([0, 0, 1.0], p)), 0.1)
+    ex = _Exemplar(load("bread")[:24, :24], None, (5, 5), (3, 3), 0.5)
+    vertex, valid = _resampling(frame, frame, _grid_offsets((5, 5)), 0.1)
+    sweep = _sweep_distance(frame, 1)
+    rank = np.empty(len(sweep), dtype=int)
+    rank[np.argsort(sweep, kind="stable")] = np.arange(len(sweep))
+    seen = []
+
+    def search(group, vectors, weights, sources, rng):
+        seen.append((group[0], weights[0].reshape(25, 3)[:, 0] > 0))
+        return np.array([0]), np.array([0.0])
+
+    with Progress(False, 2, "test") as bar:
+        _sweep_level(ex, vertex, None, np.repeat(valid, 3, axis=1) * ex.weights, np.zeros(len(sweep), int),
+                     search, 2, sweep, np.random.default_rng(0), bar, 0)
+    n = len(sweep)
+    order = list(np.argsort(sweep, kind="stable"))
+    first = [v for v, _ in seen if v == order[0]]
+    # one at a time, by the sweep; the first vertex sees nothing and keeps its start (no search) in the first pass
+    assert [v for v, _ in seen[:n - 1]] == order[1:] and len(first) == 1
+    for v, counted in seen[:n - 1]:
+        assert np.array_equal(counted, valid[v] & (rank[vertex[v]] < rank[v]))  # the causal part only
+    # about half of a 5 x 5 neighbourhood lies behind the sweep (12 of 25 points in a scanline)
+    assert 0.4 < np.mean([c.mean() for _, c in seen[:n - 1]]) < 0.6
+    for v, counted in seen[n - 1:]:  # a second pass sees every vertex
+        assert np.array_equal(counted, valid[v])
+
+
+def test_sweep_order_copies_exemplar_pixels_and_is_the_paper_preset():
+    ex = load("bread")[:40, :40]
+    s = sphere(162)
+    a, info = synthesize_surface(s, ex, n_vertices=800, levels=2, order="sweep", rng=3, return_info=True)
+    assert info.order == "sweep"
+    assert np.array_equal(a.colors, synthesize_surface(s, ex, n_vertices=800, levels=2, order="sweep", rng=3).colors)
+    assert np.allclose(a.colors, ex[info.sources[:, 0], info.sources[:, 1]], atol=1e-6)
+    _, paper = synthesize_surface(s, ex[:32, :32], n_vertices=500, levels=2, preset="paper", rng=0, return_info=True)
+    assert paper.order == "sweep"
 
 
 def test_synthesis_bad_input():
@@ -305,5 +397,7 @@ def test_synthesis_bad_input():
         synthesize_surface(s, ex, levels=3)
     with pytest.raises(ValueError, match="candidates must be one of"):
         synthesize_surface(s, ex, candidates="some", levels=2)
+    with pytest.raises(ValueError, match="order must be one of 'independent', 'sweep', got 'scanline'"):
+        synthesize_surface(s, ex, order="scanline", levels=2)
     with pytest.raises(ValueError, match="preset must be one of"):
         synthesize_surface(s, ex, preset="fast", levels=2)

@@ -793,6 +793,9 @@ def _add_surface_parser(sub):
                          help="rotational symmetry of the texture, for the smooth field (default 1)")
     surface.add_argument("--levels", type=int, help="vertex mode: hierarchy levels (default 3)")
     surface.add_argument("--preset", choices=("default", "paper"), default="default", help="vertex mode: defaults")
+    surface.add_argument("--order", choices=("independent", "sweep"),
+                         help="vertex mode: all vertices of a level at once per pass (independent, the default "
+                              "preset's) or one at a time along Turk's sweep (the paper preset's)")
     surface.add_argument("--seed", type=int, default=None, help="random seed")
     surface.add_argument("--preview", help="also write a rendered preview image (PNG)")
     surface.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
@@ -831,14 +834,16 @@ def _run_surface(args):
     exemplar = load_image(args.exemplar)
     field = _surface_field(args.field, mesh)
     if args.mode == "lapped":
-        if args.n_vertices is not None or args.levels is not None:
-            raise CommandError("--n-vertices and --levels belong to --mode vertex; lapped textures keep the mesh")
+        if args.n_vertices is not None or args.levels is not None or args.order is not None:
+            raise CommandError("--n-vertices, --levels and --order belong to --mode vertex; lapped textures keep "
+                               "the mesh")
         result = lapped_textures(mesh, exemplar, pixel_size=args.pixel_size, field=field, symmetry=args.symmetry,
                                  rng=args.seed)
     else:
         result = synthesize_surface(mesh, exemplar[..., :3] if exemplar.ndim == 3 and exemplar.shape[2] == 4
                                     else exemplar, n_vertices=args.n_vertices, pixel_size=args.pixel_size, field=field,
-                                    symmetry=args.symmetry, levels=args.levels, preset=args.preset, rng=args.seed)
+                                    symmetry=args.symmetry, levels=args.levels, preset=args.preset, order=args.order,
+                                    rng=args.seed)
     written = [write_mesh(out, result, overwrite=args.overwrite)]
     if args.preview:
         save_image(args.preview, render_mesh(result, 768), overwrite=args.overwrite)

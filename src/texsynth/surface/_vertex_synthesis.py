@@ -28,12 +28,21 @@ three ingredients followed here:
    search layer (:mod:`texsynth.core.search`), and the vertex takes the
    colour of the best match's centre pixel.
 
-Order: *parallel passes* (the order-independent variant of Wei & Levoy
-2002 and Lefebvre & Hoppe 2005 [3]_) rather than the papers' one vertex at a
-time: every vertex of a level is matched at once from the colours of the
-previous pass, ``passes`` times per level, so the inner loop is a few sparse
-products and one batched search per pass. Neighbourhoods are therefore
-full squares, not the papers' causal halves.
+Order: by default (``order="independent"``) *parallel passes* (the
+order-independent variant of Wei & Levoy 2002 and Lefebvre & Hoppe 2005 [3]_)
+rather than the papers' one vertex at a time: every vertex of a level is
+matched at once from the colours of the previous pass, ``passes`` times per
+level, so the inner loop is a few sparse products and one batched search per
+pass, and neighbourhoods are full squares. ``order="sweep"`` (the paper
+preset's) is Turk's order: the vertices are sorted by a *sweep distance*
+(:func:`_sweep_distance`) so that visiting them in order scans the surface
+as a scanline scans an image, row after row along the field, and each is
+matched on its own, its query holding at this level only the vertices
+already visited (the causal half of Wei & Levoy's neighbourhoods) and the
+whole parent neighbourhood: a loop over the vertices, as the papers' order
+is sequential by nature. It is not the default: once a sequential sweep
+copies the inside of one stone it can go on copying it over the surface
+(measured in ``docs/methods/surfaces.md``).
 
 Search: ``candidates="k-coherent"`` (default) compares each vertex with
 the k-coherent candidates (Ashikhmin 2001, Tong et al. 2002;
@@ -56,21 +65,25 @@ Turk by walking over the surface; the tangent-plane grid with a 3-D
 nearest-vertex resampling, the parallel passes with coherent candidates, the
 Gaussian fall-off and the defaults (9 x 9 and 5 x 5 neighbourhoods, 3
 levels, 2 passes of 4 subpasses, ``k=2``) are this implementation's choices.
-``preset="paper"`` keeps the papers' global search (``candidates="all"``,
-TSVQ as Wei & Levoy 2000) with one pass per level and the 5 x 5 / 3 x 3
-neighbourhoods of Wei & Levoy 2000's multi-resolution examples (the
-surface papers' own sizes could not be checked), and the first version's
-Gaussian-weighted resampling (sigma half the spacing, over the 4 nearest
-vertices) and fall-off (sigma a quarter of the side); their sequential,
-causal order is not implemented.
-
-On structured photographs (bricks, paving, cobblestones; a flat patch of
-20,000 vertices, 3 levels; ``benchmarks/quality_surface.py``) the
-nearest-vertex resampling, the wider fall-off and the wrapped coarsest
-start (:func:`_seed`) brought the spectrum distance to the exemplar from
-0.27-0.50 to 0.21-0.30 (seed 0; 0.26-0.35 to 0.15-0.22 with seed 1) and
-kept mortar lines and paving cracks that the blended queries melted into
-the stones (docs/methods/surfaces.md).
+``preset="paper"`` keeps Turk's sweep order, one pass per level, the
+papers' global search (``candidates="all"``) and the 5 x 5 / 3 x 3
+neighbourhoods of Wei & Levoy 2000's multi-resolution examples (the surface
+papers' own sizes could not be checked) under a fall-off of sigma a quarter
+of the side. How Turk computes the sweep distance could not be checked
+either: his abstract says only that the vertices are "sorted in such a way
+that visiting the points in order will follow the vector field and will
+sweep across the surface from one end to the other"; the least-squares
+potential along the rows' direction is this implementation's reading. The
+sweep's queries weigh each grid point by whether its vertex is visited,
+differently for every vertex, so its global search is exact (:class:`_Causal`)
+rather than Wei & Levoy 2000's TSVQ, which cannot weigh queries one by one
+(``method="tsvq"`` serves the paper preset with ``order="independent"``,
+where the grid points off an open surface hold the exemplar's mean
+neighbourhood). Both presets read each grid point from the nearest vertex:
+a Gaussian-weighted mean of the 4 nearest (the first version's reading of
+the papers' interpolation) made soft queries that favoured the smooth
+insides of bricks and stones, and in the sweep order grew them into streaks
+along the sweep (``docs/methods/surfaces.md``).
 
 References
 ----------
@@ -89,6 +102,8 @@ from dataclasses import dataclass, field as dataclass_field
 
 import numpy as np
 import scipy.sparse
+import scipy.sparse.csgraph
+import scipy.sparse.linalg
 from scipy.spatial import cKDTree
 
 from ..core._progress import Progress
@@ -100,21 +115,23 @@ from ._field import check_field, field_vectors
 from ._meshio import as_mesh
 from ._retile import _resolve_count, lattice_spacing, mesh_hierarchy
 
-__all__ = ["synthesize_surface", "SurfaceSynthesisInfo", "CANDIDATES", "PRESETS"]
+__all__ = ["synthesize_surface", "SurfaceSynthesisInfo", "CANDIDATES", "ORDERS", "PRESETS"]
 
 #: How a vertex's candidates are found.
 CANDIDATES = ("k-coherent", "all")
+#: How a level's vertices are visited: all at once per pass, or one at a time along Turk's sweep.
+ORDERS = ("independent", "sweep")
 #: Named defaults: ``"default"`` and ``"paper"`` (see :func:`synthesize_surface`).
-#: ``resampling`` (how a grid point reads the vertex colours) and ``falloff`` (the Gaussian weights' sigma as
-#: a fraction of the neighbourhood's side) are not options, only the presets' choices (see the module notes).
+#: ``falloff`` (the Gaussian weights' sigma as a fraction of the neighbourhood's side) is not an option, only the
+#: presets' choice (see the module notes).
 PRESETS = {
-    "default": dict(neighborhood_size=9, parent_size=5, levels=3, passes=2, candidates="k-coherent", k=2,
-                    method="auto", resampling="nearest", falloff=0.5),
-    "paper": dict(neighborhood_size=5, parent_size=3, levels=3, passes=1, candidates="all", k=1, method="tsvq",
-                  resampling="gaussian", falloff=0.25),
+    "default": dict(neighborhood_size=9, parent_size=5, levels=3, order="independent", passes=2,
+                    candidates="k-coherent", k=2, method="auto", falloff=0.5),
+    "paper": dict(neighborhood_size=5, parent_size=3, levels=3, order="sweep", passes=1, candidates="all", k=1,
+                  method="tsvq", falloff=0.25),
 }
 
-_RESAMPLE_NEIGHBORS = 4    # vertices averaged (or the nearest facing one taken) at each grid point
+_RESAMPLE_NEIGHBORS = 4    # nearest vertices of a grid point, of which the first facing its way gives the colour
 _COHERENT_NEIGHBORS = 8    # vertices whose copies are continued
 _SUBPASSES = 4             # groups of vertices matched in turn within a pass
 _FACING = 0.2              # a vertex whose normal is below this cosine to the centre's does not count
@@ -141,6 +158,8 @@ class SurfaceSynthesisInfo:
     candidates, method : str
         The search used (``method``: the backend of the global searches or
         of the k-coherence sets).
+    order : str
+        How each level's vertices were visited (``"independent"`` or ``"sweep"``).
     seconds : float
         Total wall time.
     stage_seconds : dict
@@ -154,6 +173,7 @@ class SurfaceSynthesisInfo:
     pixel_size: float = 0.0
     candidates: str = ""
     method: str = ""
+    order: str = ""
     seconds: float = 0.0
     stage_seconds: dict = dataclass_field(default_factory=dict)
 
@@ -184,31 +204,29 @@ class _Frame:
                          np.einsum("mjk,mk->mj", d, self.t[centers])], axis=-1) / self.spacing
 
 
-def _resampling(frame, source, offsets, step, nearest):
-    """Sparse ``(N * J, N_source)`` map from ``source``'s vertex values to the grid points of every vertex.
+def _resampling(frame, source, offsets, step):
+    """Which of ``source``'s vertices gives its colour to each grid point of every vertex of ``frame``.
 
     Grid point ``j`` of vertex ``p`` is ``p + step (col_j t - row_j b)``; its value is that of the nearest
-    source vertex facing the same way as ``p`` (``nearest=True``: an exemplar colour, as the papers copy
-    colours and never blend them), or the Gaussian-weighted mean (sigma = half the source spacing) of its
-    nearest such vertices. Also returns a boolean ``(N, J)``: whether the point found any such vertex.
+    source vertex facing the same way as ``p`` (among its :data:`_RESAMPLE_NEIGHBORS` nearest): an exemplar
+    colour, as the papers copy colours and never blend them. Returns the vertex ``(N, J)`` and whether the
+    point found one ``(N, J)`` (a point off an open surface's edge may not).
     """
     n, j = len(frame.points), len(offsets)
     grid = (frame.points[:, None, :] + step * (offsets[None, :, 1, None] * frame.t[:, None, :]
                                                - offsets[None, :, 0, None] * frame.b[:, None, :]))
-    dist, near = source.tree.query(grid.reshape(-1, 3), k=_RESAMPLE_NEIGHBORS)
+    _, near = source.tree.query(grid.reshape(-1, 3), k=_RESAMPLE_NEIGHBORS)
     facing = np.einsum("pkd,pd->pk", source.normals[near], np.repeat(frame.normals, j, axis=0)) > _FACING
-    if nearest:
-        weight = (facing & (np.cumsum(facing, axis=1) == 1)).astype(float)  # the first (nearest) facing vertex
-    else:
-        weight = np.exp(-0.5 * (dist / (0.5 * source.spacing)) ** 2) * facing
-        weight[:, 0] += 1e-12 * facing[:, 0]   # far from every vertex: the nearest one still counts
-    total = weight.sum(axis=1, keepdims=True)
-    valid = total[:, 0] > 0
-    weight = np.divide(weight, total, out=np.zeros_like(weight), where=total > 0)
-    rows = np.repeat(np.arange(n * j), _RESAMPLE_NEIGHBORS)
-    matrix = scipy.sparse.csr_matrix((weight.ravel(), (rows, near.ravel())), shape=(n * j, len(source.points)))
-    matrix.eliminate_zeros()
-    return matrix, valid.reshape(n, j)
+    first = np.argmax(facing, axis=1)
+    rows = np.arange(n * j)
+    return near[rows, first].reshape(n, j), facing[rows, first].reshape(n, j)
+
+
+def _matrix(vertex, valid, count):
+    """The sparse ``(N * J, count)`` map from vertex values to the grid points of :func:`_resampling`."""
+    rows = np.flatnonzero(valid.ravel())
+    return scipy.sparse.csr_matrix((np.ones(rows.shape[0]), (rows, vertex.ravel()[rows])),
+                                   shape=(valid.size, count))
 
 
 class _Exemplar:
@@ -264,6 +282,7 @@ def synthesize_surface(
     neighborhood_size=None,
     parent_size=None,
     levels=None,
+    order=None,
     passes=None,
     candidates=None,
     k=None,
@@ -303,20 +322,27 @@ def synthesize_surface(
         Neighbourhood at the parent level. Default 5 (3 with ``preset="paper"``).
     levels : int
         Levels of the mesh hierarchy and exemplar pyramid. Default 3.
+    order : {"independent", "sweep"}
+        How a level's vertices are visited: all at once from the previous
+        pass's colours, ``passes`` times (default), or one at a time in
+        Turk's sweep order with causal neighbourhoods (``preset="paper"``;
+        a second pass sees every vertex). See the module notes.
     passes : int
-        Parallel matching passes per level. Default 2.
+        Matching passes per level. Default 2 (1 with ``preset="paper"``).
     candidates : {"k-coherent", "all"}
         Search below the coarsest level (see the module notes). Default
         ``"k-coherent"``.
     k : int
         Size of the k-coherence sets. Default 2.
     method : {"auto", "exact", "kdtree", "tsvq"}
-        Backend of the global searches and of the k-coherence sets.
+        Backend of the global searches and of the k-coherence sets (the
+        sweep's global search is always exact: module notes).
     preset : {"default", "paper"}
         The defaults of the options left at None: ``"default"`` as above
-        (with nearest-vertex resampling and a fall-off of sigma half the
-        neighbourhood's side); ``"paper"``: global TSVQ search, one pass per
-        level, Gaussian-weighted resampling and fall-off (module notes).
+        (with a fall-off of sigma half the neighbourhood's side);
+        ``"paper"``: Turk's sweep order, global search, one pass per level,
+        5 x 5 and 3 x 3 neighbourhoods, fall-off of sigma a quarter of the
+        side (module notes).
     rng : None, int or numpy.random.Generator
         Seeds the retiling, the field and the initial colours. Same seed,
         same result.
@@ -355,17 +381,17 @@ def synthesize_surface(
         raise ValueError(f"preset must be one of {', '.join(map(repr, PRESETS))}, got {preset!r}")
     chosen = dict(PRESETS[preset])
     for name, value in dict(neighborhood_size=neighborhood_size, parent_size=parent_size, levels=levels,
-                            passes=passes, candidates=candidates, k=k, method=method).items():
+                            order=order, passes=passes, candidates=candidates, k=k, method=method).items():
         if value is not None:
             chosen[name] = value
     size = patch_shape(chosen["neighborhood_size"], "neighborhood_size")
     psize = patch_shape(chosen["parent_size"], "parent_size")
     levels = check_positive_int(chosen["levels"], "levels")
+    order = _check_choice(chosen["order"], ORDERS, "order")
     passes = check_positive_int(chosen["passes"], "passes")
     candidates = _check_choice(chosen["candidates"], CANDIDATES, "candidates")
     k = check_positive_int(chosen["k"], "k")
     method = check_method(chosen["method"])
-    nearest = chosen["resampling"] == "nearest"
     field = check_field(field, len(mesh.vertices), symmetry)
     rng = as_rng(rng)
     image = with_channels(as_image(exemplar, "exemplar"))[0]  # a grey exemplar gives 1-channel colours
@@ -385,7 +411,7 @@ def synthesize_surface(
     j_total = size[0] * size[1] + psize[0] * psize[1]
     check_memory(float(n) * (j_total * (_RESAMPLE_NEIGHBORS * 24 + 8 * image.shape[2])), n if density == "n_vertices"
                  else pixel_size, density, "the surface neighbourhoods")
-    info = SurfaceSynthesisInfo(candidates=candidates, method=method)
+    info = SurfaceSynthesisInfo(candidates=candidates, method=method, order=order)
 
     t0 = time.perf_counter()
     hierarchy = mesh_hierarchy(mesh, n, levels, finest=mesh if n_vertices is None and pixel_size is None else None,
@@ -413,16 +439,16 @@ def synthesize_surface(
             parent = frames[level + 1] if level + 1 < levels else None
             ex = _Exemplar(pyramid[level], None if parent is None else pyramid[level + 1], size, psize,
                            chosen["falloff"])
-            here, valid = _resampling(frame, frame, offsets, frame.spacing, nearest)
+            channels = image.shape[2]
+            vertex, valid = _resampling(frame, frame, offsets, frame.spacing)
             weights = ex.weights
             fixed_part = None
             if parent is not None:
-                up, pvalid = _resampling(frame, parent, parent_offsets, parent.spacing, nearest)
-                fixed_part = (up @ colors).reshape(len(frame.points), -1)
+                up, pvalid = _resampling(frame, parent, parent_offsets, parent.spacing)
+                fixed_part = (_matrix(up, pvalid, len(parent.points)) @ colors).reshape(len(frame.points), -1)
                 valid = np.concatenate([valid, pvalid], axis=1)
-            channels = image.shape[2]
             query_weights = None
-            if not valid.all():  # grid points off an open surface's edge do not count
+            if not valid.all() or order == "sweep":  # grid points off an open surface's edge do not count
                 query_weights = np.repeat(valid, channels, axis=1) * weights
             if parent is None:
                 predicted = _seed(frame, ex, rng)
@@ -431,10 +457,17 @@ def synthesize_surface(
             sources = predicted
             if candidates == "k-coherent":
                 search = _Coherent(frame, ex, k, method, predicted, rng)
+            elif order == "sweep":
+                search = _Causal(ex)
             else:
                 search = _Global(ex, method, len(frame.points), rng)
-            sources, d2 = _match_level(frame, ex, here, fixed_part, query_weights, sources, search, passes,
-                                       _SUBPASSES, rng, bar, level)
+            if order == "sweep":
+                sources, d2 = _sweep_level(ex, vertex, fixed_part, query_weights, sources, search, passes,
+                                           _sweep_distance(frame, symmetry), rng, bar, level)
+            else:
+                sources, d2 = _match_level(frame, ex, _matrix(vertex, valid[:, :len(offsets)], len(frame.points)),
+                                           fixed_part, query_weights, sources, search, passes, _SUBPASSES, rng, bar,
+                                           level)
             info.method = search.method
             colors = ex.colors[sources]
             parent_centers = ex.centers[sources]
@@ -480,6 +513,93 @@ def _seed(frame, ex, rng):
     return ex.cell(wrapped, rng)
 
 
+def _combed_rows(frame, symmetry):
+    """The direction the exemplar's rows go down, ``-b``, at every vertex, made to agree between neighbours.
+
+    A field for a texture with 2- or 4-fold symmetry may turn by a half or a quarter turn from one vertex to
+    the next (the texture looks the same). Each vertex takes the turn of its ``-b`` nearest its predecessor's on
+    a breadth-first tree of the mesh, one tree depth at a time (each depth's vertices at once).
+    """
+    down = -frame.b
+    if symmetry == 1:
+        return down
+    turns = np.stack([down, -down, frame.t, -frame.t][:symmetry], axis=1)   # (N, symmetry, 3)
+    i, j = frame.mesh.edges.T
+    n = len(frame.points)
+    graph = scipy.sparse.csr_matrix((np.ones(len(i)), (i, j)), shape=(n, n))
+    _, label = scipy.sparse.csgraph.connected_components(graph, directed=False)
+    roots = np.unique(label, return_index=True)[1]
+    depth, pred = scipy.sparse.csgraph.shortest_path(graph, directed=False, unweighted=True, indices=roots,
+                                                     return_predecessors=True)
+    depth, pred = depth[label, np.arange(n)], pred[label, np.arange(n)]
+    combed = down.copy()
+    for d in range(1, int(depth.max()) + 1):
+        v = np.flatnonzero(depth == d)
+        best = np.argmax(np.einsum("vkd,vd->vk", turns[v], combed[pred[v]]), axis=1)
+        combed[v] = turns[v, best]
+    return combed
+
+
+def _sweep_distance(frame, symmetry):
+    """Turk's sweep distance of a level's vertices: visited in its increasing order, they scan the surface.
+
+    Sorting the vertices by it is Turk's replacement for the scanline order of an image. An image is scanned
+    row after row, down its columns; here the rows run along the field ``t`` and go down along ``-b = -(n x
+    t)``, so the distance is the potential ``s`` whose differences along the level's edges best agree, in the
+    least-squares sense, with the edges' lengths along ``-b`` (in vertex spacings): ``s_j - s_i ~ (p_j - p_i)
+    . (-b_i - b_j) / 2``, with the field's symmetric turns undone between neighbours (:func:`_combed_rows`;
+    an edge whose two directions still differ by more than 60 degrees, across a singularity or where the
+    combing of a symmetric field closes on itself, is left out). Its gradient is the part of the ``-b``
+    field that has one: for a field along the latitudes it runs from pole to pole; where the field only
+    circles or is random, the distance is nearly constant and the order nearly arbitrary.
+    """
+    down = _combed_rows(frame, symmetry)
+    i, j = frame.mesh.edges.T
+    keep = np.einsum("ij,ij->i", down[i], down[j]) > 0.5
+    i, j = i[keep], j[keep]
+    along = np.einsum("ij,ij->i", frame.points[j] - frame.points[i], down[i] + down[j]) / (2 * frame.spacing)
+    e = len(i)
+    incidence = scipy.sparse.csr_matrix((np.r_[np.ones(e), -np.ones(e)], (np.r_[np.arange(e), np.arange(e)],
+                                                                         np.r_[j, i])), shape=(e, len(frame.points)))
+    # the normal equations, with a tiny pull towards 0 to fix the constant of every connected piece
+    system = (incidence.T @ incidence + 1e-9 * scipy.sparse.identity(len(frame.points))).tocsc()
+    return scipy.sparse.linalg.spsolve(system, incidence.T @ along)
+
+
+def _sweep_level(ex, vertex, fixed_part, query_weights, sources, search, passes, sweep, rng, bar, level):
+    """Turk's order: the vertices of a level matched one at a time, by increasing sweep distance.
+
+    Each vertex's query holds, at this level, only the grid points whose vertices are already visited (the
+    surface's causal neighbourhood, as the half-square of a scanline; the others weigh 0), and the whole parent
+    neighbourhood; its match is taken at once, so the next vertices see it. A second pass (``passes=2``) sees
+    every vertex. ``vertex`` is :func:`_resampling`'s for this level; ``query_weights`` ``(N, D)`` the
+    fall-off with the grid points off the surface set to 0.
+    """
+    n, j = vertex.shape
+    channels = ex.colors.shape[1]
+    order = np.argsort(sweep, kind="stable")
+    sources = sources.copy()
+    colors = ex.colors[sources]
+    d2 = np.zeros(n)
+    done = np.zeros(n, dtype=bool)
+    for _ in range(passes):
+        for v in order:
+            weights = query_weights[v].copy()
+            # the visited grid points only (the centre reads the vertex itself, not visited yet)
+            weights[: j * channels] *= np.repeat(done[vertex[v]], channels)
+            done[v] = True
+            if not weights.any():  # nothing visited around it yet (the coarsest level's first vertices)
+                continue           # it keeps its start, as Wei & Levoy's first pixels keep their noise
+            vector = colors[vertex[v]].ravel()
+            if fixed_part is not None:
+                vector = np.concatenate([vector, fixed_part[v]])
+            found, dist = search(np.array([v]), vector[None], weights[None], sources, rng)
+            sources[v], d2[v] = found[0], dist[0]
+            colors[v] = ex.colors[found[0]]
+        bar.advance({"level": level})
+    return sources, d2
+
+
 def _match_level(frame, ex, here, fixed_part, query_weights, sources, search, passes, subpasses, rng, bar, level):
     """``passes`` parallel passes over a level, each in ``subpasses`` random groups of vertices.
 
@@ -518,6 +638,27 @@ class _Global:
             vectors = np.where(weights > 0, vectors, self.mean)
         idx, d2 = self.index.query(vectors, k=1)
         return idx[:, 0], d2[:, 0]
+
+
+class _Causal:
+    """Every exemplar neighbourhood a candidate of one query at a time, under the query's own weights.
+
+    The sweep's queries weigh each grid point by whether its vertex is visited, which differs from vertex
+    to vertex; no index is built for weights that change per query, so the distances to every exemplar
+    neighbourhood are two products with the exemplar's vectors: ``sum w x^2 - 2 sum w x q + sum w q^2``.
+    """
+
+    method = "exact"
+
+    def __init__(self, ex):
+        self.vectors = ex.vectors
+        self.squares = ex.vectors ** 2
+
+    def __call__(self, group, vectors, weights, sources, rng):
+        q, w = vectors[0], weights[0]
+        d2 = self.squares @ w - 2 * (self.vectors @ (w * q)) + w @ q ** 2
+        best = int(np.argmin(d2))
+        return np.array([best]), np.array([max(float(d2[best]), 0.0)])
 
 
 class _Coherent:

@@ -22,6 +22,9 @@ __all__ = ["exact_chunk_rows", "SequentialExact", "nearest_candidates", "candida
 # preferred size of one brute-force distance block (bytes), and fewest query rows
 _CACHE_BLOCK = 16 * 2**20
 _GEMM_ROWS = 256
+# candidate_sq_distances scores blocks of at most this many values (queries x candidates x dims) in one
+# gather; above, a column at a time (the gather of every candidate at once would take M K D values)
+_SMALL_CANDIDATE_VALUES = 2**16
 
 
 def exact_chunk_rows(n, itemsize, memory_budget):
@@ -231,6 +234,15 @@ def candidate_sq_distances(queries, candidates, vectors, weights=None):
     spec = "ij,ij,ij->i" if w.ndim == 2 else "ij,ij,j->i"
     scores = np.full(candidates.shape, np.inf, dtype=np.result_type(vectors, queries, w))
     rows = np.arange(queries.shape[0])
+    if candidates.size * dims <= _SMALL_CANDIDATE_VALUES:  # few queries (one at a time): all columns at once
+        order = np.argsort(candidates, axis=1, kind="stable")
+        ranked = np.take_along_axis(candidates, order, axis=1)
+        first = np.ones(candidates.shape, dtype=bool)
+        np.put_along_axis(first, order[:, 1:], ranked[:, 1:] != ranked[:, :-1], axis=1)
+        r, j = np.nonzero(first)
+        d = vectors[candidates[r, j]] - queries[r]
+        scores[r, j] = np.einsum(spec, d, d, w if w.ndim == 1 else w[r])
+        return scores
     for j in range(candidates.shape[1]):
         # a candidate repeated in its row (coherent candidates often agree) is scored once
         r = rows if j == 0 else np.flatnonzero(np.all(candidates[:, j, None] != candidates[:, :j], axis=1))
