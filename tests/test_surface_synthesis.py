@@ -380,6 +380,15 @@ def test_sweep_order_copies_exemplar_pixels_and_is_the_paper_preset():
     assert paper.order == "sweep"
 
 
+def test_sweep_memory_is_checked_before_anything_is_allocated(monkeypatch):
+    # the sweep distance's sparse solve is counted in the memory check (made huge here, so only it can fail)
+    monkeypatch.setattr("texsynth.surface._vertex_synthesis._SWEEP_BYTES", 10**12)
+    ex = load("bread")[:40, :40]
+    with pytest.raises(ValueError, match="n_vertices=800 needs about .* GiB"):
+        synthesize_surface(sphere(162), ex, n_vertices=800, levels=2, order="sweep")
+    assert synthesize_surface(sphere(162), ex, n_vertices=800, levels=2).colors is not None
+
+
 def test_synthesis_bad_input():
     s = sphere(162)
     ex = load("bread")[:32, :32]

@@ -135,6 +135,7 @@ _RESAMPLE_NEIGHBORS = 4    # nearest vertices of a grid point, of which the firs
 _COHERENT_NEIGHBORS = 8    # vertices whose copies are continued
 _SUBPASSES = 4             # groups of vertices matched in turn within a pass
 _FACING = 0.2              # a vertex whose normal is below this cosine to the centre's does not count
+_SWEEP_BYTES = 4096        # the sweep distance's sparse solve per vertex (measured 2.1-3.0 kB, 50,000 to 10^6 vertices)
 
 
 @dataclass
@@ -409,8 +410,9 @@ def synthesize_surface(
         n = _resolve_count(mesh, n_vertices, pixel_size, "pixel_size")
         density = "n_vertices" if pixel_size is None else "pixel_size"
     j_total = size[0] * size[1] + psize[0] * psize[1]
-    check_memory(float(n) * (j_total * (_RESAMPLE_NEIGHBORS * 24 + 8 * image.shape[2])), n if density == "n_vertices"
-                 else pixel_size, density, "the surface neighbourhoods")
+    per_vertex = j_total * (_RESAMPLE_NEIGHBORS * 24 + 8 * image.shape[2]) + (_SWEEP_BYTES if order == "sweep" else 0)
+    check_memory(float(n) * per_vertex, n if density == "n_vertices" else pixel_size, density,
+                 "the surface neighbourhoods")
     info = SurfaceSynthesisInfo(candidates=candidates, method=method, order=order)
 
     t0 = time.perf_counter()
