@@ -24,10 +24,13 @@ Turk [1]_ retiles a polygonal surface in three steps, followed here:
    this leaves (loops of at most 8 edges) are closed by fans. Points whose
    region meets no junction are dropped.
 3. **Hierarchy**: surface synthesis (Turk 2001 [2]_, Wei & Levoy 2001 [3]_)
-   runs coarse to fine over meshes of decreasing density, each retiled from
-   the original surface with a quarter of the points of the next finer one,
-   so that the point spacing doubles per level like an image pyramid's pixel
-   spacing.
+   runs coarse to fine over meshes of decreasing density, each with a
+   quarter of the points of the next finer one, so that the point spacing
+   doubles per level like an image pyramid's pixel spacing. As in Turk 2001
+   (as a presentation of the paper summarises it: "each layer contains every
+   vertex of the layer above it"), the coarsest points are placed first and
+   each finer level spreads three times as many new points among the
+   coarser ones, which stay where they are (:func:`mesh_hierarchy`).
 
 The spacing of ``n`` points on area ``A`` is that of a triangular lattice,
 ``s = sqrt(2 A / (sqrt(3) n))``; the repulsion radius is ``r = 2 s`` (Turk
@@ -144,11 +147,18 @@ def _random_surface_points(mesh, n, rng):
     return (1 - s)[:, None] * tri[:, 0] + (s * (1 - r2))[:, None] * tri[:, 1] + (s * r2)[:, None] * tri[:, 2], face
 
 
-def _repel(mesh, n, rng, rounds=_REPULSION_ROUNDS):
-    """Turk's point placement: ``n`` random surface points spread by repulsion (step 1)."""
-    spacing = lattice_spacing(mesh.face_areas.sum(), n)
+def _repel(mesh, n, rng, rounds=_REPULSION_ROUNDS, fixed=None):
+    """Turk's point placement: ``n`` random surface points spread by repulsion (step 1).
+
+    With ``fixed`` (points already placed, and their faces), ``n`` new points are spread among them: the fixed
+    points push but do not move (Turk 2001's hierarchy). Returns the fixed points followed by the new ones.
+    """
+    held = 0 if fixed is None else len(fixed[0])
+    spacing = lattice_spacing(mesh.face_areas.sum(), n + held)
     radius = 2.0 * spacing
     points, face = _random_surface_points(mesh, n, rng)
+    if fixed is not None:
+        points, face = np.concatenate([fixed[0], points]), np.concatenate([fixed[1], face])
     tree = cKDTree(mesh.vertices[mesh.faces].mean(axis=1))
     for step in np.geomspace(0.4, 0.05, rounds) * spacing:
         i, j = cKDTree(points).query_pairs(radius, output_type="ndarray").T
@@ -162,7 +172,8 @@ def _repel(mesh, n, rng, rounds=_REPULSION_ROUNDS):
         force -= np.einsum("ij,ij->i", force, normal)[:, None] * normal
         length = np.linalg.norm(force, axis=1, keepdims=True)
         move = force * np.minimum(1.0, 1.0 / np.maximum(length, 1e-300))  # a unit-capped push
-        points, face = closest_points(mesh, points + step * move, tree=tree)
+        moved, face[held:] = closest_points(mesh, points[held:] + step * move[held:], tree=tree)
+        points = np.concatenate([points[:held], moved])
     return points, face
 
 
@@ -332,6 +343,14 @@ def _resolve_count(mesh, n_vertices, spacing, spacing_name):
 def mesh_hierarchy(mesh, n_vertices, levels, *, finest=None, rng=None):
     """Meshes of decreasing density over one surface, finest first (step 3).
 
+    Turk 2001's hierarchy: the coarsest level's points are placed first (by
+    repulsion); each finer level keeps the coarser one's points where they
+    are and spreads three times as many new ones among them (the fixed
+    points push, only the new ones move), so every level holds the vertices
+    of the levels above it (but for the rare point whose Voronoi region the
+    triangulation drops). With ``finest`` (a mesh's own vertices) the coarser
+    levels are retiled each on its own.
+
     Parameters
     ----------
     mesh : Mesh
@@ -351,12 +370,20 @@ def mesh_hierarchy(mesh, n_vertices, levels, *, finest=None, rng=None):
     if not isinstance(levels, numbers.Integral):
         raise TypeError(f"levels must be an integer, got {levels!r}")
     rng = as_rng(rng)
-    out = [finest if finest is not None else _triangulate(mesh, _repel(mesh, n_vertices, rng)[0])]
-    n = len(out[0].vertices)
-    for level in range(1, levels):
-        m = n // 4 ** level
-        if m < _MIN_POINTS:
-            raise ValueError(f"levels={levels} leaves {m} vertices at the coarsest level of a {n}-vertex mesh; pass "
-                             f"fewer levels or more vertices")
-        out.append(_triangulate(mesh, _repel(mesh, m, rng)[0]))
+    if finest is not None:
+        return [finest] + [_triangulate(mesh, _repel(mesh, count, rng)[0])
+                           for count in _level_counts(len(finest.vertices), levels)[1:]]
+    placed, out = None, []
+    for count in _level_counts(n_vertices, levels)[::-1]:
+        placed = _repel(mesh, count - (0 if placed is None else len(placed[0])), rng, fixed=placed)
+        out.insert(0, _triangulate(mesh, placed[0]))
     return out
+
+
+def _level_counts(n, levels):
+    """Vertices of each level, finest first: a quarter per level."""
+    counts = [n // 4 ** level for level in range(levels)]
+    if counts[-1] < _MIN_POINTS:
+        raise ValueError(f"levels={levels} leaves {counts[-1]} vertices at the coarsest level of a {n}-vertex mesh; "
+                         "pass fewer levels or more vertices")
+    return counts
