@@ -428,3 +428,14 @@ def test_the_fill_is_blended_only_into_the_known_pixels_it_may_copy_from(texture
     gap = np.abs(bread.mean((0, 1)) - metal.mean((0, 1))).max()
     assert np.abs(both[:, left].mean((0, 1)) - image[:, left].mean((0, 1))).max() > 0.3 * gap
     assert np.abs(only[:, left].mean((0, 1)) - image[:, left].mean((0, 1))).max() < 0.02
+
+
+def test_a_blend_too_large_for_memory_is_refused_before_anything_is_allocated(monkeypatch):
+    import texsynth.core._validate as validate
+    from texsynth.core.seams import poisson_blend
+
+    monkeypatch.setattr(validate, "available_memory", lambda: 1e6)  # 1 MB free
+    known = np.zeros((256, 256), bool)
+    known[64:192, 64:192] = True
+    with pytest.raises(ValueError, match="image=.*gradient-domain blend"):
+        poisson_blend(np.zeros((256, 256)), known)

@@ -90,9 +90,12 @@ _INT32_MAX = 2**31 - 1
 # bytes per pixel of the graph: 2 x 4 plain arcs, a seam node's 5 arcs, terminal
 # arcs, csr indices and data, the flow and the residual graph (measured ~180)
 _GRAPH_BYTES_PER_PIXEL = 256
-# bytes per blended pixel: the sparse system (5 entries), its LU factors (a band's fill-in) and the right-hand
-# sides; a band 32 px wide round a 256 px square (32,000 pixels) measured about 1 kB a pixel
-_BLEND_BYTES_PER_PIXEL = 4096
+# poisson_blend's memory: per blended pixel, the sparse system, its LU factors (a band's fill-in) and the
+# right-hand sides; per image pixel, the distance transform and the image-sized index and smoothing layers.
+# Peak growth measured 52, 225 and 722 MiB for the 32-px band round a 256, 1024 and 3000 px square centred in
+# 512, 2048 and 4096 px images (36,000-387,000 band pixels): at most 2 kB per band pixel, all counted
+_BLEND_BYTES_PER_PIXEL = 2048
+_BLEND_BYTES_PER_IMAGE_PIXEL = 64
 #: Sigma in pixels of the Gaussian along the border that smooths a fill's mismatch before
 #: :func:`poisson_blend` removes it: on seven photographs (``benchmarks/bench_completion.py``'s fills) 2 px
 #: left the most seams and 8 px the most real edges smeared; 4 px kept boundary seams near the texture's own
@@ -826,7 +829,8 @@ def poisson_blend(image, mask, *, blend_width=32, sample_mask=None):
         return out[..., 0] if np.ndim(image) == 2 else out
     band = ~known & (ndimage.distance_transform_edt(~anchor) <= blend_width)
     n = int(band.sum())
-    check_memory(float(n) * _BLEND_BYTES_PER_PIXEL, (h, w), "image", "the gradient-domain blend")
+    check_memory(float(n) * _BLEND_BYTES_PER_PIXEL + float(h) * w * _BLEND_BYTES_PER_IMAGE_PIXEL, (h, w), "image",
+                 "the gradient-domain blend")
     index = np.full((h, w), -1, dtype=np.int64)
     index[band] = np.arange(n)
     pr, pc = np.nonzero(band)
