@@ -216,8 +216,8 @@ def test_soft_constraints_too_large_for_memory_are_refused_with_the_fix(monkeypa
     (lambda img: texsynth.uncrop(img, 24), "size .* is smaller than the image"),
     (lambda img: texsynth.uncrop(img, 48, position=(20, 0)), "position"),
     (lambda img: texsynth.uncrop(img, 48, sample_mask=np.ones((3, 3))), "sample_mask must have shape"),
-    (lambda img: texsynth.inpaint(img, disc((32, 32), (16, 16), 6), blend_width=-2), "blend_width must be a non-negative"),
-    (lambda img: texsynth.uncrop(img, 48, blend_width=1.5), "blend_width must be a non-negative"),
+    (lambda img: texsynth.inpaint(img, disc((32, 32), (16, 16), 6), blend_width=-2), "blend_width must be an integer >= 0"),
+    (lambda img: texsynth.uncrop(img, 48, blend_width=-1), "blend_width must be an integer >= 0"),
 ])
 def test_bad_input_names_the_parameter(texture, call, words):
     with pytest.raises(ValueError, match=words):

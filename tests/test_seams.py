@@ -399,14 +399,14 @@ def test_the_texture_s_own_steps_along_the_border_are_not_smeared_into_it(textur
     (dict(mask=np.zeros((4, 4), bool)), "mask must be a bool array of shape"),
     (dict(mask=np.zeros((8, 8))), "mask must be a bool array of shape"),
     (dict(sample_mask=np.ones((8, 3), bool)), "sample_mask must be a bool array of shape"),
-    (dict(blend_width=-1), "blend_width must be a non-negative integer"),
-    (dict(blend_width=2.5), "blend_width must be a non-negative integer"),
+    (dict(blend_width=-1), "blend_width must be an integer >= 0"),
+    (dict(blend_width=2.5), "blend_width must be an integer >= 0"),
 ])
 def test_bad_input_to_the_blend(kwargs, words):
     from texsynth.core.seams import poisson_blend
 
     args = dict(mask=np.eye(8, dtype=bool)) | kwargs
-    with pytest.raises(ValueError, match=words):
+    with pytest.raises((ValueError, TypeError), match=words):
         poisson_blend(np.zeros((8, 8)), args.pop("mask"), **args)
 
 

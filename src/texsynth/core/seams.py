@@ -62,7 +62,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy import ndimage
 
-from ._validate import check_memory
+from ._validate import check_memory, check_positive_int
 
 __all__ = [
     "DIRECTIONS",
@@ -820,9 +820,7 @@ def poisson_blend(image, mask, *, blend_width=32, sample_mask=None):
     g = _as_values(image, "image")
     h, w = g.shape[:2]
     known = _as_mask(mask, (h, w), "mask", True)
-    if not isinstance(blend_width, (int, np.integer)) or isinstance(blend_width, bool) or blend_width < 0:
-        raise ValueError(f"blend_width must be a non-negative integer number of pixels (0: no blending), "
-                         f"got {blend_width!r}")
+    blend_width = check_positive_int(blend_width, "blend_width", 0)
     anchor = known if sample_mask is None else _as_mask(sample_mask, (h, w), "sample_mask", False) & known
     out = g.copy()
     if blend_width == 0 or known.all() or not anchor.any():

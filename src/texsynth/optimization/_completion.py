@@ -133,13 +133,6 @@ def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
     return sizes, min(wanted, 1 + int(math.log2(max(1, min(exemplar.shape[:2]) // min(sizes)))))
 
 
-def _check_blend_width(blend_width):
-    if not isinstance(blend_width, (int, np.integer)) or isinstance(blend_width, bool) or blend_width < 0:
-        raise ValueError(f"blend_width must be a non-negative integer number of pixels (0: no blending), "
-                         f"got {blend_width!r}")
-    return int(blend_width)
-
-
 def _check_sources(allowed, smallest, name):
     """Refuse a sampling area with no whole neighbourhood of the smallest size."""
     if not patches_within(allowed > 0.5, smallest).any():
@@ -239,7 +232,7 @@ def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels=
     sizes, levels = _schedule(channels, shape, hole, neighborhood_sizes, levels)
     _check_sources(allowed, min(sizes), "sample_mask" if sample_mask is not None else "hole")
     return _complete(channels, channels, ~hole, allowed, sizes, levels, grey, return_info,
-                     blend_width=_check_blend_width(blend_width), confidence=WEXLER_CONFIDENCE,
+                     blend_width=check_positive_int(blend_width, "blend_width", 0), confidence=WEXLER_CONFIDENCE,
                      max_iterations=max_iterations, method=method, rng=rng, progress=progress)
 
 
@@ -312,7 +305,7 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
     sizes, levels = _schedule(channels, shape, ~known, neighborhood_sizes, levels)
     _check_sources(allowed, min(sizes), "sample_mask")
     return _complete(channels, canvas, known, allowed, sizes, levels, grey, return_info, origin=(top, left),
-                     blend_width=_check_blend_width(blend_width), confidence=WEXLER_CONFIDENCE,
+                     blend_width=check_positive_int(blend_width, "blend_width", 0), confidence=WEXLER_CONFIDENCE,
                      max_iterations=max_iterations, method=method, rng=rng, progress=progress)
 
 
