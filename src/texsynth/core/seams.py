@@ -101,6 +101,11 @@ _BLEND_BYTES_PER_IMAGE_PIXEL = 64
 #: left the most seams and 8 px the most real edges smeared; 4 px kept boundary seams near the texture's own
 #: (1.07 mean) with fewer pixels changed by more than 0.3 than without smoothing (docs/methods/completion.md)
 BLEND_SMOOTHING = 4.0
+# a border tie is trusted by exp(-(step / tau)^2), the steepest step within _BLEND_LINE_DEPTH pixels behind the
+# border against tau = _BLEND_TRUST_STEPS times the texture's median step: a mortar line along a hole's rim made a
+# dark spot without it (docs/methods/completion.md)
+_BLEND_LINE_DEPTH = 2
+_BLEND_TRUST_STEPS = 4.0
 
 
 # --------------------------------------------------------------------------- checks
@@ -767,7 +772,15 @@ def poisson_blend(image, mask, *, blend_width=32, sample_mask=None):
       :data:`BLEND_SMOOTHING` pixels over the border pixels), so a copy that is
       darker than the image over a stretch of the border is lifted, while the
       steps of the texture itself, which change from pixel to pixel along the
-      border (a mortar line, a stone's edge), are not smeared into it;
+      border (a stone's edge crossing it), are not smeared into it;
+    - each border pixel counts in that mean by how smooth both sides are just
+      behind the border, ``exp(-(s / tau)^2)`` with ``s`` the steepest step
+      between neighbouring pixels of one side within 2 pixels of the border and
+      ``tau`` four times the known pixels' median step: a short stretch of a
+      line of the texture that runs *along* the border (a mortar joint just
+      inside a hole's rim) is outweighed by the smooth border beside it instead
+      of looking like an offset and being shaded away (a line along the whole
+      width of the smoothing is not: there nothing outweighs it);
     - only the free pixels within ``blend_width`` (Euclidean distance) of the
       known ones move: ``c`` is 0 at the band's far edge, so the correction
       fades across the band, and the rest of the fill and every known pixel
@@ -825,6 +838,9 @@ def poisson_blend(image, mask, *, blend_width=32, sample_mask=None):
     out = g.copy()
     if blend_width == 0 or known.all() or not anchor.any():
         return out[..., 0] if np.ndim(image) == 2 else out
+    # the texture's own step: the median difference of horizontally neighbouring known pixels
+    steps = np.abs(np.diff(g, axis=1)).max(axis=-1)[anchor[:, 1:] & anchor[:, :-1]]
+    tau = _BLEND_TRUST_STEPS * float(np.median(steps)) if steps.size else 0.0
     band = ~known & (ndimage.distance_transform_edt(~anchor) <= blend_width)
     n = int(band.sum())
     check_memory(float(n) * _BLEND_BYTES_PER_PIXEL + float(h) * w * _BLEND_BYTES_PER_IMAGE_PIXEL, (h, w), "image",
@@ -832,7 +848,7 @@ def poisson_blend(image, mask, *, blend_width=32, sample_mask=None):
     index = np.full((h, w), -1, dtype=np.int64)
     index[band] = np.arange(n)
     pr, pc = np.nonzero(band)
-    mismatch, ties = np.zeros((n, g.shape[2])), np.zeros(n)
+    mismatch, ties, trust = np.zeros((n, g.shape[2])), np.zeros(n), np.zeros(n)
     rows, cols, degree = [], [], np.zeros(n)
     for dr, dc in ((0, 1), (0, -1), (1, 0), (-1, 0)):
         qr, qc = pr + dr, pc + dc
@@ -844,14 +860,16 @@ def poisson_blend(image, mask, *, blend_width=32, sample_mask=None):
         rows.append(p[free])
         cols.append(index[qr[free], qc[free]])
         edge = anchor[qr, qc]
-        np.add.at(mismatch, p[edge], g[qr[edge], qc[edge]] - g[sr[edge], sc[edge]])
+        weight = _line_trust(g, known, (sr[edge], sc[edge]), (qr[edge], qc[edge]), (dr, dc), tau)
+        np.add.at(mismatch, p[edge], weight[:, None] * (g[qr[edge], qc[edge]] - g[sr[edge], sc[edge]]))
+        np.add.at(trust, p[edge], weight)
         np.add.at(ties, p[edge], 1)
     border = ties > 0
-    mismatch[border] /= ties[border, None]
-    # the mismatch smoothed along the border: a Gaussian-weighted mean over the nearby border pixels
+    # the mismatch smoothed along the border: a Gaussian-weighted mean over the nearby border pixels, each
+    # counted by how little a line of the texture runs along the border there
     on_border = np.zeros((h, w))
-    on_border[pr[border], pc[border]] = 1.0
-    weight = ndimage.gaussian_filter(on_border, BLEND_SMOOTHING)[pr[border], pc[border]]
+    on_border[pr[border], pc[border]] = trust[border]
+    weight = np.maximum(ndimage.gaussian_filter(on_border, BLEND_SMOOTHING)[pr[border], pc[border]], 1e-12)
     for k in range(g.shape[2]):
         layer = np.zeros((h, w))
         layer[pr[border], pc[border]] = mismatch[border, k]
@@ -863,3 +881,24 @@ def poisson_blend(image, mask, *, blend_width=32, sample_mask=None):
     out[pr, pc] += scipy.sparse.linalg.splu(system).solve(mismatch * ties[:, None])
     np.clip(out, g.min(axis=(0, 1)), g.max(axis=(0, 1)), out=out)  # (a photograph's fill stays in [0, 1])
     return out[..., 0] if np.ndim(image) == 2 else out
+
+
+def _line_trust(g, known, free, fixed, d, tau):
+    """How far a border tie's mismatch is a colour offset rather than a line of the texture along the border.
+
+    For the free pixels ``free`` and their known neighbours ``fixed`` one step ``d`` away, the steepest step
+    between neighbouring pixels of one side within :data:`_BLEND_LINE_DEPTH` pixels behind the border (into the
+    known pixels past ``fixed``, into the fill behind ``free``); the weight ``exp(-(step / tau)^2)`` is near 1
+    where both sides are smooth there and near 0 where a line (a mortar joint, a stone's rim) runs beside it.
+    """
+    h, w = known.shape
+    (fr, fc), (kr, kc), (dr, dc) = free, fixed, d
+    steep = np.zeros(fr.shape[0])
+    for k in range(1, _BLEND_LINE_DEPTH + 1):
+        for ar, ac, br, bc in ((kr + (k - 1) * dr, kc + (k - 1) * dc, kr + k * dr, kc + k * dc),
+                               (fr - (k - 1) * dr, fc - (k - 1) * dc, fr - k * dr, fc - k * dc)):
+            inside = (ar >= 0) & (ar < h) & (ac >= 0) & (ac < w) & (br >= 0) & (br < h) & (bc >= 0) & (bc < w)
+            ar, ac, br, bc = (np.clip(v, 0, m - 1) for v, m in ((ar, h), (ac, w), (br, h), (bc, w)))
+            one_side = inside & (known[ar, ac] == known[br, bc])
+            steep = np.maximum(steep, np.abs(g[ar, ac] - g[br, bc]).max(axis=-1) * one_side)
+    return np.exp(-(steep / max(tau, 1e-12)) ** 2)

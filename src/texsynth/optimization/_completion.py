@@ -98,7 +98,7 @@ _FIXED = dict(constraint_weight=np.inf, completeness_weight=0.0, copy_limit=None
 _SMALLEST = 8
 #: The band of the fill blended into the known pixels (``blend_width``): on seven photographs
 #: (``benchmarks/bench_completion.py``'s hole and uncrop, seeds 0-1) the boundary seam fell from 1.47 to
-#: 1.09 (holes) and from 1.54 to 1.04 (uncrops), the sharpness unchanged. A band of 16 px gave the seams of
+#: 1.14 (holes) and from 1.54 to 1.11 (uncrops), the sharpness unchanged. A band of 16 px gave the seams of
 #: 32 px in a first version (the fill held level with the image across the border); the wider band spreads
 #: the correction more gently (docs/methods/completion.md)
 BLEND_WIDTH = 32
