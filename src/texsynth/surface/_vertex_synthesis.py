@@ -75,8 +75,9 @@ that visiting the points in order will follow the vector field and will
 sweep across the surface from one end to the other"; the least-squares
 potential along the rows' direction is this implementation's reading. The
 sweep's queries weigh each grid point by whether its vertex is visited,
-differently for every vertex, so its global search is exact (:class:`_Causal`)
-rather than Wei & Levoy 2000's TSVQ, which cannot weigh queries one by one
+differently for every vertex, so its global search is the search layer's
+masked exact search (:class:`~texsynth.core.search.MaskedIndex`) rather
+than Wei & Levoy 2000's TSVQ, which cannot weigh queries one by one
 (``method="tsvq"`` serves the paper preset with ``order="independent"``,
 where the grid points off an open surface hold the exemplar's mean
 neighbourhood). Both presets read each grid point from the nearest vertex:
@@ -110,7 +111,7 @@ from ..core._progress import Progress
 from ..core._validate import as_image, as_rng, check_memory, check_positive_int, with_channels
 from ..core.neighborhood import extract, gaussian_falloff, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import KCoherence, PatchIndex, check_method, nearest_candidates
+from ..core.search import KCoherence, MaskedIndex, PatchIndex, check_method, nearest_candidates
 from ._field import check_field, field_vectors
 from ._meshio import as_mesh
 from ._retile import _resolve_count, lattice_spacing, mesh_hierarchy
@@ -643,24 +644,21 @@ class _Global:
 
 
 class _Causal:
-    """Every exemplar neighbourhood a candidate of one query at a time, under the query's own weights.
+    """Every exemplar neighbourhood a candidate of one query at a time, over the grid points it knows.
 
-    The sweep's queries weigh each grid point by whether its vertex is visited, which differs from vertex
-    to vertex; no index is built for weights that change per query, so the distances to every exemplar
-    neighbourhood are two products with the exemplar's vectors: ``sum w x^2 - 2 sum w x q + sum w q^2``.
+    The sweep's queries count a grid point only if its vertex is visited, which differs from vertex to
+    vertex: the masked exact search of the search layer (:class:`~texsynth.core.search.MaskedIndex`, one
+    product with the exemplar's stacked vectors per query).
     """
 
     method = "exact"
 
     def __init__(self, ex):
-        self.vectors = ex.vectors
-        self.squares = ex.vectors ** 2
+        self.index = MaskedIndex(ex.vectors, weights=ex.weights)
 
     def __call__(self, group, vectors, weights, sources, rng):
-        q, w = vectors[0], weights[0]
-        d2 = self.squares @ w - 2 * (self.vectors @ (w * q)) + w @ q ** 2
-        best = int(np.argmin(d2))
-        return np.array([best]), np.array([max(float(d2[best]), 0.0)])
+        idx, d2, _, _ = self.index.near_best(vectors, weights > 0, 0.0, np.zeros(len(group)))
+        return idx, d2
 
 
 class _Coherent:
