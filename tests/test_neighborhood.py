@@ -232,3 +232,18 @@ def test_patches_within_matches_the_windows_minimum():
         assert np.array_equal(patches_within(mask, size), brute)
     assert patches_within(np.ones((5, 6), bool), (5, 6)).tolist() == [[True]]
     assert not patches_within(np.zeros((5, 6), bool), 1).any()
+
+
+def test_patch_sum_keeps_tiny_weights_of_float32_patches():
+    # Wexler's confidence weighs a neighbourhood far from the known pixels by 1.3^-d (1e-102 for d = 900 px of
+    # an uncrop): weighted in float32 the patch underflowed to 0 while the total kept the weight, and the average
+    # came out black (bars of black pixels in a 512 -> 1024 uncrop of pebbles_1)
+    from texsynth.core.neighborhood import PatchSum, grid_centers
+
+    centers = grid_centers((32, 32), 8, 2, mode="wrap")
+    patches = np.full((len(centers), 8, 8, 3), 0.5, dtype=np.float32)
+    total = PatchSum((32, 32), 3, mode="wrap")
+    total.add(patches, centers, patch_weights=np.full(len(centers), 1e-102))
+    mean, weight = total.average()
+    assert np.all(weight > 0)
+    np.testing.assert_allclose(mean, 0.5, rtol=1e-6)

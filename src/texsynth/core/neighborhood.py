@@ -415,8 +415,9 @@ class PatchSum:
             sel = np.ix_(ri, ci)
             wt = a[sel][:, :, None, None] * (b[sel] if b.shape[0] > 1 else b)
             wt = wt.transpose(0, 2, 1, 3).reshape(rows.shape[0], cols.shape[0])
-            block = z[sel].transpose(0, 2, 1, 3, 4).reshape(rows.shape[0], cols.shape[0], ch)
-            block *= wt[..., None]
+            # weighted in float64 like the total: in a float32 block a tiny weight (Wexler's confidence far from
+            # the known pixels, 1.3^-d) underflows to 0 while the total keeps it, which averaged pixels to black
+            block = z[sel].transpose(0, 2, 1, 3, 4).reshape(rows.shape[0], cols.shape[0], ch) * wt[..., None]
             for at, part in _spans(rows, cols, self.shape):
                 self.total[at] += wt[part]
                 self.sums[at] += block[part]
