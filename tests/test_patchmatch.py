@@ -453,25 +453,26 @@ BOUND_CASES = {
     "mask, wrap": ("bricks (colour)", {"exemplar_mask": np.pad(np.ones((40, 40), bool), 12), "mode": "wrap"}),
     "penalty": ("bricks (colour)", {"penalty": lambda q, c: 0.05 * (c[:, 0] < 32)}),
     "grey 16 px": ("gravel (grey)", {}),
+    "colour 8 px": ("bricks (colour)", {"pixel_weights": gaussian_falloff(8)}),
 }
 
 
 @pytest.mark.parametrize("case", list(BOUND_CASES))
 def test_bounds_change_the_work_not_the_field(texture, monkeypatch, case):
-    """Patches of 256 values or more are first compared by their projections on the exemplar's
+    """Patches of 128 values or more are first compared by their projections on the exemplar's
     leading principal components: the field must be the one the exact comparisons alone find, bit
     for bit, while most candidates are ruled out without an exact distance."""
     import texsynth.core.search._patchmatch as pm
 
     name, kwargs = BOUND_CASES[case]
-    patch = 16 if "grey" in case else 12  # 256 and 432 values: at or above _BOUND_MIN_DIM
+    patch = 16 if "grey" in case else 8 if "8 px" in case else 12  # 256, 192, 432 values: >= _BOUND_MIN_DIM
     monkeypatch.setattr(pm, "_BOUND_MIN_WORK", 0)  # bounds however few the queries (the grey case has 441)
     image, exemplar = pair(texture, name, 96, 64)
     centers = grid_centers(image.shape[:2], patch, patch // 4, mode="wrap" if "wrap" in case else "valid")
     seen = _counting_bounds(monkeypatch)
     got = patchmatch(image, exemplar, patch, centers=centers, iterations=4, rng=3, **kwargs)
-    # measured: 43-54 % of the candidates reach an exact distance in the colour cases (12 px
-    # patches), 16 % in the grey one (16 px); bounds that ruled out nothing would let 100 % through
+    # measured: 44-54 % of the candidates reach an exact distance in the 12-px colour cases and the
+    # 16-px grey one, 31 % with 8-px colour patches; bounds that ruled out nothing would let 100 % through
     assert seen[0] > 0 and seen[1] < 0.75 * seen[0]
     monkeypatch.setattr(pm, "_BOUND_MIN_DIM", 10**9)
     want = patchmatch(image, exemplar, patch, centers=centers, iterations=4, rng=3, **kwargs)
