@@ -5,16 +5,18 @@
 for each number of principal components given (``_BOUND_COMPONENTS`` of
 ``texsynth.core.search._patchmatch``), then with the default components and
 each number of sampled patches given (``_BOUND_SAMPLES``, the sample the
-components are estimated from), in one process after a warm-up run. For
+components are estimated from), then with each smallest patch dimension given
+(``_BOUND_MIN_DIM``: patches with fewer values are compared exactly), in one
+process after a warm-up run. For
 each run: the wall time, the share of candidates that still needed an exact
-distance, by patch dimension (16 / 32 / 64 px colour patches: 768, 3072 and
-12288 values), and a digest of the output, which must be the same for every
+distance, by patch dimension (8 / 16 / 32 / 64 px colour patches: 192, 768,
+3072 and 12288 values), and a digest of the output, which must be the same for every
 run (the bounds change the work, never the field).
 
 Usage::
 
     python benchmarks/bench_bounds.py [--photo bricks_2] [--side 256] [--size 1024] [--components 8 16 32 64]
-                                      [--samples 256 512 1024]
+                                      [--samples 256 512 1024] [--min-dims 256 128]
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ def main():
     parser.add_argument("--size", type=int, default=1024)
     parser.add_argument("--components", type=int, nargs="+", default=[8, 16, 32, 64])
     parser.add_argument("--samples", type=int, nargs="*", default=[])
+    parser.add_argument("--min-dims", type=int, nargs="*", default=[])
     args = parser.parse_args()
 
     import texsynth
@@ -56,14 +59,15 @@ def main():
     pm._Bound.may_beat = counted
     exemplar = load(args.photo, args.side)
     texsynth.optimize_texture(exemplar[:64, :64], 96, rng=0)  # warm-up: imports, caches
-    default, samples = pm._BOUND_COMPONENTS, pm._BOUND_SAMPLES
+    default, samples, min_dim = pm._BOUND_COMPONENTS, pm._BOUND_SAMPLES, pm._BOUND_MIN_DIM
     print(f"{args.photo} {args.side}² -> {args.size}², defaults, rng=0")
-    print(f"{'components':>10}  {'samples':>7}  {'time':>7}  {'exact share by patch dimension':<40}  digest")
-    runs = [(m, samples) for m in [0, *args.components]] + [(default, n) for n in args.samples]
-    for m, n_samples in runs:
+    print(f"{'components':>10}  {'samples':>7}  {'min dim':>7}  {'time':>7}  {'exact share by patch dimension':<40}  digest")
+    runs = ([(m, samples, min_dim) for m in [0, *args.components]] + [(default, n, min_dim) for n in args.samples]
+            + [(default, samples, d) for d in args.min_dims])
+    for m, n_samples, dim in runs:
         seen.clear()
         pm._BOUND_CACHE.clear()
-        pm._BOUND_MIN_DIM = 10**9 if m == 0 else 256
+        pm._BOUND_MIN_DIM = 10**9 if m == 0 else dim
         pm._BOUND_COMPONENTS = m or default
         pm._BOUND_SAMPLES = n_samples
         start = time.perf_counter()
@@ -71,7 +75,7 @@ def main():
         took = time.perf_counter() - start
         shares = "  ".join(f"{d}: {k / n:.3f}" for d, (n, k) in sorted(seen.items())) or "no bounds"
         digest = hashlib.sha1(out.tobytes()).hexdigest()[:16]
-        print(f"{m or '-':>10}  {n_samples if m else '-':>7}  {took:6.1f}s  {shares:<40}  {digest}")
+        print(f"{m or '-':>10}  {n_samples if m else '-':>7}  {dim if m else '-':>7}  {took:6.1f}s  {shares:<40}  {digest}")
 
 
 if __name__ == "__main__":

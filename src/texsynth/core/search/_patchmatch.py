@@ -54,8 +54,8 @@ _GRID_MIN_FILL = 0.25
 # this many of them (16 components: 256 -> 1024 px texture optimization 14.3 s, against 14.7 s with
 # 8, 15.1 s with 64 and 16.4 s without bounds; 512 samples: 12.2-12.6 s against 13.2-13.3 s with
 # 1024 and 12.6-12.8 s with 256, the same output; benchmarks/bench_bounds.py, docs/methods/search.md);
-# 128 values bring in 8 x 8 colour patches (192): grass_1 256 -> 1024 px 18.0-18.7 s against 20.4-22.1 s
-# with 256, the same output, and hole filling and uncrop unchanged
+# 128 values bring in 8 x 8 colour patches (192): grass_1 256 -> 1024 px 18.1-18.8 s against 20.6-20.8 s
+# with 256, the same output (bench_bounds.py --min-dims), and hole filling and uncrop unchanged
 _BOUND_MIN_DIM = 128
 _BOUND_COMPONENTS = 16
 # ... and only for searches whose queries hold at least this many values per exemplar patch position: the
