@@ -405,16 +405,25 @@ def check_memory(nbytes, value, name="size", what="the output", also=None):
         )
 
 
+_THREADPOOLS = []  # one threadpoolctl controller, made on first use
+
+
 def max_threads():
     """Threads a method may start: the cores, capped by the limits set on BLAS and OpenMP.
 
     ``OMP_NUM_THREADS=1`` or ``threadpoolctl.threadpool_limits(1)`` make it 1,
     so a user who limits the library's threads limits texsynth's own too.
+    The BLAS and OpenMP libraries are found once (the first call) and their
+    current limits read at every call: finding them reads the process's
+    loaded libraries (about 1 ms), which texture optimization's hundreds of
+    calls would pay each time.
     """
-    from threadpoolctl import threadpool_info
+    if not _THREADPOOLS:
+        from threadpoolctl import ThreadpoolController
 
+        _THREADPOOLS.append(ThreadpoolController())
     cores = os.cpu_count() or 1
-    limits = [pool["num_threads"] for pool in threadpool_info() if pool.get("user_api") in ("blas", "openmp")]
+    limits = [pool["num_threads"] for pool in _THREADPOOLS[0].info() if pool.get("user_api") in ("blas", "openmp")]
     env = os.environ.get("OMP_NUM_THREADS", "")
     if env.isdigit() and int(env) > 0:
         limits.append(int(env))
