@@ -252,6 +252,21 @@ def test_occurrence_penalty_raises_completeness():
     assert metrics.texture_energy(spread, ex) < 1.3 * metrics.texture_energy(out, ex)
 
 
+def test_occurrence_penalty_with_hard_constraints(bread):
+    """Hard constraints keep only the neighbourhoods near unknown pixels, a part of the grid; the occurrence
+    penalty's coherent candidates (the 4 grid neighbours' z shifted) must find the neighbours that are there.
+    Before: ValueError from reshaping the part as a whole grid."""
+    target = np.zeros((48, 48, 3))
+    known = np.zeros((48, 48), bool)
+    known[:24, :24] = True
+    target[known] = bread[:24, :24][known[:24, :24]]
+    out = optimize_texture(bread, 48, mask=known, target=target, constraint_weight=np.inf, occurrence_weight=1.0,
+                           **FAST, rng=0)
+    assert np.array_equal(out[known], target[known].astype(out.dtype))
+    # the fill is texture, not the canvas's zeros: within the exemplar's range of mean colours
+    assert abs(out[~known].mean() - bread.mean()) < 0.1
+
+
 # --------------------------------------------------------------------------- behaviour
 def test_same_seed_same_output_and_layout():
     ex = texture("lcv/metal.pgm", 40).astype(np.float32)

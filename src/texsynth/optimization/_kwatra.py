@@ -1202,17 +1202,26 @@ def _random_candidates(ex, zidx, rng):
 
 def _coherent_candidates(ex, centers, zidx, inverse=None):
     """For each centre, the ``z`` of its 4 grid neighbours shifted back by the offset to them (with the fields'
-    ``inverse`` frames ``A^{-1}`` per centre: by that offset in the exemplar's frame, ``A^{-1} e``)."""
-    shape = (len(np.unique(centers[:, 0])), len(np.unique(centers[:, 1])), 2)
-    c, z = centers.reshape(shape), ex.corner[zidx].reshape(shape)
+    ``inverse`` frames ``A^{-1}`` per centre: by that offset in the exemplar's frame, ``A^{-1} e``).
+
+    The grid wraps round at its ends. ``centers`` may be a part of a grid (hard constraints keep only the
+    neighbourhoods near unknown pixels): a centre whose neighbour is missing gets its own ``z`` back.
+    """
+    rows, gi = np.unique(centers[:, 0], return_inverse=True)
+    cols, gj = np.unique(centers[:, 1], return_inverse=True)
+    grid = np.full((len(rows), len(cols)), -1, dtype=np.int64)
+    grid[gi.ravel(), gj.ravel()] = np.arange(len(centers))
+    z = ex.corner[zidx]
     out = []
-    for axis in (0, 1):
-        for step in (-1, 1):
-            e = (np.roll(c, step, axis=axis) - c).reshape(-1, 2)
-            if inverse is not None:
-                e = np.einsum("nij,nj->ni", inverse, e)
-            corner = np.roll(z, step, axis=axis).reshape(-1, 2) - e
-            out.append(ex.lookup(corner, zidx))
+    for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        nb = grid[(gi.ravel() + di) % len(rows), (gj.ravel() + dj) % len(cols)]
+        has = nb >= 0
+        nb = np.where(has, nb, np.arange(len(centers)))
+        e = centers[nb] - centers
+        if inverse is not None:
+            e = np.einsum("nij,nj->ni", inverse, e)
+        corner = np.where(has[:, None], z[nb] - e, z)
+        out.append(ex.lookup(corner, zidx))
     return out
 
 
