@@ -172,6 +172,7 @@ def _small_runs():
     }
 
 
+@pytest.mark.filterwarnings("ignore:grid_spacing .* makes cells reach beyond")  # small inputs, on purpose
 @pytest.mark.parametrize("name", list(_small_runs()))
 def test_every_info_has_seconds_stage_seconds_and_one_energy_shape(name):
     import numpy as np

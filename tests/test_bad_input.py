@@ -149,6 +149,7 @@ def _memory_limit(extra=4 * 2**30):
         resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
 
 
+@pytest.mark.filterwarnings("ignore:grid_spacing .* makes cells reach beyond")  # small inputs, on purpose
 @pytest.mark.parametrize("name", list(CALLS))
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(data=st.data())

@@ -535,10 +535,10 @@ def test_sigterm_during_the_write_leaves_nothing(tmp_path, metal_file):
         tio.iio.imwrite = slow
         cli.main(["patchwork", {str(metal_file)!r}, "-o", {str(out)!r}, "--grid-spacing", "8", "--no-progress"])
         """)
-    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
-    assert proc.stdout.readline().strip() == "writing"
-    proc.send_signal(signal.SIGTERM)
-    assert proc.wait(timeout=20) == -signal.SIGTERM
+    with subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True) as proc:
+        assert proc.stdout.readline().strip() == "writing"
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(timeout=20) == -signal.SIGTERM
     time.sleep(0.1)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["metal.png"]  # no out.png, no .out-XXXX.png
 

@@ -244,7 +244,8 @@ def test_any_sharpness_is_finite_and_sharper_f_gives_purer_cells(f):
 
 def test_tiny_input_with_large_grid_mirrors_far_tails(texture):
     ex = texture("jcjohnson/bumpy.png")  # 79 x 81
-    out, info = patchwork(ex, 100, grid_spacing=64, rng=0, return_info=True)
+    with pytest.warns(UserWarning, match="pass grid_spacing <= 19"):
+        out, info = patchwork(ex, 100, grid_spacing=64, rng=0, return_info=True)
     assert out.shape == (100, 100, 3) and np.all(np.isfinite(out))
     assert not info.exact_sources
 
@@ -513,6 +514,7 @@ def test_video_transfer_of_a_still_clip_is_the_image_transfer(texture):
 # --------------------------------------------------------------------------- memory
 
 
+@pytest.mark.filterwarnings("ignore:grid_spacing .* makes cells reach beyond")  # small inputs, on purpose
 def test_video_memory_stays_proportional_to_input_plus_output(texture):
     import tracemalloc
 
@@ -589,6 +591,7 @@ def test_cli_patchwork_video_from_a_gif(tmp_path):
     assert _api_equals_file(api, written)
 
 
+@pytest.mark.filterwarnings("ignore:grid_spacing .* makes cells reach beyond")  # small inputs, on purpose
 def test_cli_patchwork_video_from_a_folder_of_frames(tmp_path):
     clip = _translated(data.load("bread"), 6, 48, step=(2, 3))  # colour
     folder = save_frames(tmp_path / "frames", clip)
