@@ -41,6 +41,7 @@ __all__ = [
     "all_patches",
     "patches_within",
     "grid_axes",
+    "grid_cells",
     "extract",
     "accumulate",
     "PatchSum",
@@ -446,6 +447,28 @@ def grid_axes(rows, cols):
     if not (np.array_equal(rows, np.repeat(r, c.shape[0])) and np.array_equal(cols, np.tile(c, r.shape[0]))):
         return None
     return r, c
+
+
+def grid_cells(centers):
+    """The centres ``(N, 2)`` on the grid of their distinct rows and columns: ``(cells, gi, gj)``.
+
+    ``cells`` ``(rows, cols)`` holds each centre's index at its cell and -1 at
+    cells no centre takes (a part of a grid, e.g. the neighbourhoods near a
+    hole); centre ``n`` sits at ``cells[gi[n], gj[n]]`` unless another centre
+    repeats its position (the later one is kept).
+
+    Examples
+    --------
+    >>> cells, gi, gj = grid_cells(np.array([[0, 1], [0, 3], [5, 3]]))
+    >>> cells.tolist(), gi.tolist(), gj.tolist()
+    ([[0, 1], [-1, 2]], [0, 0, 1], [0, 1, 1])
+    """
+    rows, gi = np.unique(centers[:, 0], return_inverse=True)
+    cols, gj = np.unique(centers[:, 1], return_inverse=True)
+    gi, gj = gi.ravel(), gj.ravel()
+    cells = np.full((rows.shape[0], cols.shape[0]), -1, dtype=np.int64)
+    cells[gi, gj] = np.arange(centers.shape[0])
+    return cells, gi, gj
 
 
 def _spans(rows, cols, shape):

@@ -101,7 +101,7 @@ from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
 from ..core.search import PatchIndex, check_candidates, coherence_sets, nearest_candidates, sq_distances
 from ..core.search._patchmatch import _patchmatch_checked
-from ..core.neighborhood import (PatchSum, all_patches, extract, gaussian_falloff, grid_axes, grid_centers,
+from ..core.neighborhood import (PatchSum, all_patches, extract, gaussian_falloff, grid_axes, grid_cells, grid_centers,
                                  patches_within)
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
 from ..core.scale import feature_scale
@@ -1207,14 +1207,11 @@ def _coherent_candidates(ex, centers, zidx, inverse=None):
     The grid wraps round at its ends. ``centers`` may be a part of a grid (hard constraints keep only the
     neighbourhoods near unknown pixels): a centre whose neighbour is missing gets its own ``z`` back.
     """
-    rows, gi = np.unique(centers[:, 0], return_inverse=True)
-    cols, gj = np.unique(centers[:, 1], return_inverse=True)
-    grid = np.full((len(rows), len(cols)), -1, dtype=np.int64)
-    grid[gi.ravel(), gj.ravel()] = np.arange(len(centers))
+    grid, gi, gj = grid_cells(centers)
     z = ex.corner[zidx]
     out = []
     for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
-        nb = grid[(gi.ravel() + di) % len(rows), (gj.ravel() + dj) % len(cols)]
+        nb = grid[(gi + di) % grid.shape[0], (gj + dj) % grid.shape[1]]
         has = nb >= 0
         nb = np.where(has, nb, np.arange(len(centers)))
         e = centers[nb] - centers

@@ -30,7 +30,7 @@ from .._validate import (
     with_channels,
 )
 from ..convolve import correlate_bank
-from ..neighborhood import MODES, grid_axes, patch_shape, patches_within
+from ..neighborhood import MODES, grid_axes, grid_cells, patch_shape, patches_within
 from ._kdtree import _pca
 from ._registry import _forced
 
@@ -566,19 +566,15 @@ class _Neighbors:
         self.centers, self.shape, self.wrap = centers, shape, mode == "wrap"
         self._scans = {}
         n = centers.shape[0]
-        rows, gi = np.unique(centers[:, 0], return_inverse=True)
-        cols, gj = np.unique(centers[:, 1], return_inverse=True)
+        grid, gi, gj = grid_cells(centers)
         self.grid = None
-        if n >= _GRID_MIN_FILL * rows.shape[0] * cols.shape[0]:
-            grid = np.full((rows.shape[0], cols.shape[0]), -1, dtype=np.int64)
-            grid[gi, gj] = np.arange(n)
-            if np.count_nonzero(grid >= 0) == n:  # no centre repeated
-                self.grid, self.gi, self.gj = grid, gi.ravel(), gj.ravel()
-                diag = self.gi + self.gj
-                order = np.argsort(diag, kind="stable")
-                bounds = np.searchsorted(diag[order], np.arange(rows.shape[0] + cols.shape[0]))
-                # queries on each anti-diagonal gi + gj = t: their left and upper neighbours lie on t - 1
-                self.diagonals = np.split(order, bounds[1:])
+        if n >= _GRID_MIN_FILL * grid.size and np.count_nonzero(grid >= 0) == n:  # no centre repeated
+            self.grid, self.gi, self.gj = grid, gi, gj
+            diag = self.gi + self.gj
+            order = np.argsort(diag, kind="stable")
+            bounds = np.searchsorted(diag[order], np.arange(grid.shape[0] + grid.shape[1]))
+            # queries on each anti-diagonal gi + gj = t: their left and upper neighbours lie on t - 1
+            self.diagonals = np.split(order, bounds[1:])
         if self.grid is None:
             self._irregular()
 
