@@ -267,6 +267,31 @@ def test_occurrence_penalty_with_hard_constraints(bread):
     assert abs(out[~known].mean() - bread.mean()) < 0.1
 
 
+@pytest.mark.parametrize("occurrence_weight", [0.0, 0.5])
+@pytest.mark.parametrize("copy_limit", [None, 0.3])
+@pytest.mark.parametrize("guided", [False, True])
+@pytest.mark.parametrize("tileable", [False, True])
+def test_hard_constraints_combine_with_every_m_step_option(bread, occurrence_weight, copy_limit, guided, tileable):
+    """The options that change the M-step, with the part of the grid hard constraints keep (one of these
+    combinations raised ValueError until 2026-11-24): known pixels kept, the rest finite texture.
+    576 combinations of these and the other options ran in a sweep (docs/methods/optimization.md)."""
+    target = np.zeros((48, 48, 3))
+    known = np.zeros((48, 48), bool)
+    known[8:28, 8:28] = True
+    target[known] = bread[:20, :20].reshape(-1, 3)
+    guides = {}
+    if guided:
+        labels = np.zeros(bread.shape[:2])
+        labels[:, bread.shape[1] // 2 :] = 1
+        wanted = np.zeros((48, 48))
+        wanted[24:] = 1
+        guides = dict(exemplar_guide=labels, output_guide=wanted)
+    out = optimize_texture(bread, 48, mask=known, target=target, constraint_weight=np.inf, rng=0, tileable=tileable,
+                           occurrence_weight=occurrence_weight, copy_limit=copy_limit, **guides, **FAST)
+    assert np.array_equal(out[known], target[known].astype(out.dtype))
+    assert np.all(np.isfinite(out)) and abs(out[~known].mean() - bread.mean()) < 0.1
+
+
 # --------------------------------------------------------------------------- behaviour
 def test_same_seed_same_output_and_layout():
     ex = texture("lcv/metal.pgm", 40).astype(np.float32)
