@@ -155,8 +155,8 @@ def _complete(exemplar, target, known, allowed, sizes, levels, grey, return_info
     if blend_width:  # into the known pixels the fill may copy from (not a texture beside them)
         sources = np.zeros(known.shape, bool)
         sources[origin[0] : origin[0] + allowed.shape[0], origin[1] : origin[1] + allowed.shape[1]] = allowed
+        # the blend keeps every known pixel bit for bit (its clip is to the image's own range)
         out = poisson_blend(out, known, blend_width=blend_width, sample_mask=sources).astype(out.dtype, copy=False)
-        out[known] = target[known]
     rows, cols = np.nonzero(known)
     info.coordinates[rows, cols] = np.stack([rows - origin[0], cols - origin[1]], axis=1)
     out = out[..., 0] if grey else out
