@@ -27,6 +27,7 @@ Usage::
 
     pip install -e .[bench]
     python benchmarks/quality_study.py [--scales 4 8] [--photos NAME ...] [--figure]
+                                      [--seed N] [--option NAME=VALUE ...] [--no-peer]
 
 Writes the outputs to ``benchmarks/output/quality_*.png``, prints a table per
 split, and with ``--figure`` the side-by-side figure ``docs/_static/quality_4x.png``
@@ -36,6 +37,7 @@ split, and with ``--figure`` the side-by-side figure ``docs/_static/quality_4x.p
 from __future__ import annotations
 
 import argparse
+import ast
 import os
 import time
 from pathlib import Path
@@ -78,21 +80,25 @@ def scores(out, exemplar, side, seed=0):
     )
 
 
-def study(photos, scales):
+def study(photos, scales, seed=0, options=None, peer=True):
+    """Scores of the defaults (with ``options``, named "options"; ``rng=seed``) and of resynthesizer."""
     rows = []
+    label = "options" if options else "defaults"
+    suffix = f"_seed{seed}" if seed else ""
     for photo in photos:
         for scale in scales:
             side = SIZE // scale
             exemplar = load(photo, side)
-            for method in ("defaults", "resynthesizer"):
+            for method in (label, "resynthesizer") if peer else (label,):
                 start = time.perf_counter()
-                if method == "defaults":
-                    out = texsynth.optimize_texture(exemplar, SIZE, rng=0)
-                else:
+                if method == "resynthesizer":
                     out = resynthesize(exemplar, SIZE)
+                else:
+                    out = texsynth.optimize_texture(exemplar, SIZE, rng=seed, **(options or {}))
                 seconds = time.perf_counter() - start
                 OUTPUT.mkdir(exist_ok=True)
-                save_image(OUTPUT / f"quality_{photo}_{scale}x_{method}.png", np.clip(out, 0, 1), overwrite=True)
+                save_image(OUTPUT / f"quality_{photo}_{scale}x_{method}{suffix}.png", np.clip(out, 0, 1),
+                           overwrite=True)
                 row = dict(photo=photo, scale=scale, method=method, seconds=seconds, **scores(out, exemplar, side))
                 rows.append(row)
                 print(" ".join(f"{k}={v:.3f}" if isinstance(v, float) else f"{k}={v}" for k, v in row.items()),
@@ -108,7 +114,7 @@ def table(rows, title):
         print(f"| {r['photo']} | {r['scale']}x | {r['method']} | {r['copy']:.2f} | {r['complete']:.2f} | "
               f"{r['large']:.2f} ({r['large_mosaic']:.2f}, {r['large_noise']:.2f}) | {r['edge']:+.3f} | "
               f"{r['seconds']:.0f} s |")
-    for method in ("defaults", "resynthesizer"):
+    for method in ("defaults", "options", "resynthesizer"):
         mine = [r for r in rows if r["method"] == method]
         if mine:
             print(f"\n{method}: copy <= 1/3 in {sum(r['copy'] <= 1 / 3 for r in mine)}/{len(mine)}, "
@@ -141,13 +147,23 @@ def main():
     parser.add_argument("--scales", type=int, nargs="+", default=[4, 8])
     parser.add_argument("--photos", nargs="+")
     parser.add_argument("--figure", action="store_true")
+    parser.add_argument("--seed", type=int, default=0, help="rng of optimize_texture (the baselines keep seed 0)")
+    parser.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
+                        help="an optimize_texture option instead of its default, e.g. completeness_weight=0")
+    parser.add_argument("--no-peer", dest="peer", action="store_false", help="leave out resynthesizer")
     args = parser.parse_args()
-    print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}", flush=True)
+    options = {}
+    for item in args.option:
+        name, _, value = item.partition("=")
+        options[name] = ast.literal_eval(value)
+    run = dict(seed=args.seed, options=options, peer=args.peer)
+    print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}, seed {args.seed}, "
+          f"options {options or 'none'}", flush=True)
     if args.photos:
-        table(study(args.photos, args.scales), "chosen photographs")
+        table(study(args.photos, args.scales, **run), "chosen photographs")
     else:
-        table(study(TUNING, args.scales), "tuning photographs (the defaults were chosen on these)")
-        table(study(CHECKING, args.scales), "checking photographs (never looked at while tuning)")
+        table(study(TUNING, args.scales, **run), "tuning photographs (the defaults were chosen on these)")
+        table(study(CHECKING, args.scales, **run), "checking photographs (never looked at while tuning)")
     if args.figure:
         figure(FIGURE)
 

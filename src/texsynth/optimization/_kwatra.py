@@ -128,9 +128,12 @@ _MAX_WEIGHT = 1e6
 PRESETS = ("default", "paper")
 # preset "default": the stop test of the energy (an addition to the paper's test of unchanged z_p)
 _DEFAULT_TOLERANCE = 5e-3
-# preset "default": the completeness term is on when the output has less than this many times the
-# exemplar's area (at 1.5x the texture energy alone missed parts of every tuning photo; at 4x it
-# missed none, and the term's votes blurred large flat areas of cobblestones)
+# preset "default": the completeness term is on at every level when the output has less than this many
+# times the exemplar's area (at 1.5x the texture energy alone missed parts of every tuning photo), and
+# at every level but the finest from there on: on the finest level too its votes blurred large flat
+# areas of cobblestones at 4x, while without it at the coarse levels the arrangement kept coming back
+# to a few parts of the exemplar (completeness 1.5-3.6 times a random-block mosaic's on the tuning
+# photos at 4x, 1.1-2.4 with it; docs/methods/optimization.md)
 _COMPLETE_BELOW = 4.0
 # preset "default": copy_limit (largest copies at 4x measured 0.66-0.77 of the exemplar without it)
 _DEFAULT_COPY_LIMIT = 0.25
@@ -201,6 +204,10 @@ class StageInfo:
     first : int
         Position of the stage's first energy value in
         :attr:`OptimizationInfo.energy`.
+    completeness_weight : float
+        Weight of the completeness term at this stage (0: off).
+    copy_limit : float or None
+        The copy limit at this stage (None: off).
     """
 
     level: int
@@ -216,6 +223,8 @@ class StageInfo:
     m_steps: int = 0
     searches: int = 0
     first: int = 0
+    completeness_weight: float = 0.0
+    copy_limit: float | None = None
 
 
 @dataclass
@@ -359,6 +368,7 @@ class _Options:
     histogram: bool = False  # histogram_matching: the output's colour histograms matched after every E-step
     paper: bool = False  # preset "paper": the index M-step, as the paper searches a tree over the exemplar
     coarse_copy_limit: bool = False  # the copy limit at every level but the finest, _FINE_COPY_LIMIT there
+    coarse_completeness: bool = False  # the completeness term at every level but the finest
     fields: bool = False  # orientation / scale fields: rotated, scaled neighbourhoods (the index M-step)
     confidence: float | None = None  # Wexler's γ: neighbourhoods weighed by their confidence (hard constraints)
 
@@ -1403,13 +1413,17 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
     memo = _SearchMemo(n=len(centers), dim=None if use_field else ex.weights.shape[0])
     weight, limit = opts.occurrence, opts.copy_limit
     occurrence = None
-    if opts.coarse_copy_limit and level == 0 and record["levels"] > 1:
-        limit = _FINE_COPY_LIMIT  # the finest level refines the arrangement: only outlying copies are cut
+    finest = level == 0 and record["levels"] > 1  # the finest of several levels refines the arrangement
+    if opts.coarse_copy_limit and finest:
+        limit = _FINE_COPY_LIMIT  # only outlying copies are cut
     if (weight > 0 or limit is not None) and coords is None:
         occurrence = _Occurrence(ex, centers, weight, limit)
     completeness = None
-    if opts.completeness > 0 and coords is None:
-        completeness = _Completeness(ex, centers, opts.completeness, spacing)
+    lam = 0.0 if opts.coarse_completeness and finest else opts.completeness
+    if lam > 0 and coords is None:
+        completeness = _Completeness(ex, centers, lam, spacing)
+    stage.completeness_weight = lam if completeness is not None else 0.0
+    stage.copy_limit = limit if occurrence is not None else None
     n = len(centers)
     sets = None
     if opts.candidates == "k-coherent" and use_field and coords is None:
@@ -1620,8 +1634,8 @@ class _Problem:
 
 def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tolerance, gradient_weight, tileable=False,
                    falloff=True, method="auto", occurrence_weight=0.0, copy_limit=None, completeness_weight=0.0,
-                   histogram_matching=False, paper=False, coarse_copy_limit=False, fields=False, confidence=None,
-                   candidates="all", k=4):
+                   histogram_matching=False, paper=False, coarse_copy_limit=False, coarse_completeness=False,
+                   fields=False, confidence=None, candidates="all", k=4):
     """The scalar options of :func:`optimize_texture`, checked, as an :class:`_Options`."""
     candidates = check_candidates(candidates)
     k = check_positive_int(k, "k")
@@ -1638,7 +1652,8 @@ def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tole
         raise ValueError(f"confidence must be None or a base gamma > 1 (Wexler et al.: 1.3), got {confidence!r}")
     return _Options(
         histogram=check_bool(histogram_matching, "histogram_matching"), paper=paper,
-        coarse_copy_limit=coarse_copy_limit, fields=fields, confidence=None if confidence is None else float(confidence),
+        coarse_copy_limit=coarse_copy_limit, coarse_completeness=coarse_completeness, fields=fields,
+        confidence=None if confidence is None else float(confidence),
         r=check_in_range(irls_exponent, "irls_exponent", 0.0, 2.0, low_open=True),
         mu=check_positive_float(gradient_weight, "gradient_weight", allow_zero=True, maximum=_MAX_WEIGHT),
         spacing=check_in_range(relative_grid_spacing, "relative_grid_spacing", 0.0, 1.0, low_open=True),
@@ -1685,19 +1700,23 @@ def _scale_schedule(ex, shape):
 
 def _preset(preset, problem, *, tolerance, completeness_weight, copy_limit, histogram_matching):
     """The values of the ``"auto"`` options under ``preset`` (see :func:`optimize_texture`, Notes)."""
+    ratio = problem.shape[0] * problem.shape[1] / (problem.ex.shape[0] * problem.ex.shape[1])
     if preset == "paper":
         auto = dict(tolerance=0.0, completeness_weight=0.0, copy_limit=None, histogram_matching=False)
     else:
-        ratio = problem.shape[0] * problem.shape[1] / (problem.ex.shape[0] * problem.ex.shape[1])
-        auto = dict(tolerance=_DEFAULT_TOLERANCE, completeness_weight=1.0 if ratio < _COMPLETE_BELOW else 0.0,
-                    copy_limit=_DEFAULT_COPY_LIMIT, histogram_matching=True)
+        auto = dict(tolerance=_DEFAULT_TOLERANCE, completeness_weight=1.0, copy_limit=_DEFAULT_COPY_LIMIT,
+                    histogram_matching=True)
     given = dict(tolerance=tolerance, completeness_weight=completeness_weight, copy_limit=copy_limit,
                  histogram_matching=histogram_matching)
     out = {k: auto[k] if _is_auto(v) else v for k, v in given.items()}
     out["completeness_weight"] = check_positive_float(out["completeness_weight"], "completeness_weight",
                                                       allow_zero=True, maximum=_MAX_WEIGHT)
-    # without the completeness votes the finest level only refines: a looser limit there (elements stay whole)
-    out["coarse_copy_limit"] = preset == "default" and _is_auto(copy_limit) and out["completeness_weight"] == 0
+    # from 4x the exemplar's area the finest level only refines the arrangement: no completeness votes there
+    # (they blur) and a looser copy limit (elements stay whole)
+    coarse = preset == "default" and ratio >= _COMPLETE_BELOW
+    out["coarse_completeness"] = coarse and _is_auto(completeness_weight)
+    fine_votes = out["completeness_weight"] > 0 and not out["coarse_completeness"]
+    out["coarse_copy_limit"] = preset == "default" and _is_auto(copy_limit) and not fine_votes
     out["paper"] = preset == "paper"
     return out
 
@@ -2031,9 +2050,9 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         ``copy_limit`` of the exemplar's area has (see Notes). None: off (the
         paper's M-step). Paired with ``completeness_weight`` it also
         withholds the completeness votes of over-limit offsets. ``"auto"``:
-        0.25 (preset ``"default"``; when the completeness term is off, 0.3
-        at the finest level, which refines the coarser levels' arrangement:
-        only outlying copies are cut there, not elements), None
+        0.25 (preset ``"default"``; when the finest level has no
+        completeness term, 0.3 there, as it refines the coarser levels'
+        arrangement: only outlying copies are cut there, not elements), None
         (``"paper"``).
     completeness_weight : float or "auto"
         ``λ_b >= 0``: adds the completeness half of the bidirectional
@@ -2049,9 +2068,13 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         copy_limit=0.2`` brings all of the exemplar without large copies, at
         about twice the time (docs/methods/optimization.md measures it).
         Without ``copy_limit`` the energy never rises within a stage, as for
-        eq. 1. ``"auto"``: 1 when the output has less than 4 times the
-        exemplar's area, else 0 (preset ``"default"``: larger outputs show
-        all of the exemplar without it), 0 (``"paper"``).
+        eq. 1. ``"auto"``: 1 (preset ``"default"``), on every level when
+        the output has less than 4 times the exemplar's area and on every
+        level but the finest from there on (the coarse levels choose which
+        parts of the exemplar appear; on the finest level the votes would
+        blur large flat areas); 0 (``"paper"``). An explicit value holds on
+        every level. :attr:`StageInfo.completeness_weight` gives the weight
+        each stage used.
     histogram_matching : bool or "auto"
         After every E-step, give each colour channel of the output the
         exemplar's histogram (exact quantile assignment,
