@@ -58,8 +58,6 @@ References
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse
-import scipy.sparse.linalg
 from scipy import ndimage
 
 from ._validate import check_memory, check_positive_int
@@ -875,10 +873,13 @@ def poisson_blend(image, mask, *, blend_width=32, sample_mask=None):
         layer[pr[border], pc[border]] = mismatch[border, k]
         mismatch[border, k] = ndimage.gaussian_filter(layer, BLEND_SMOOTHING)[pr[border], pc[border]] / weight
     # the membrane: Laplace's equation in the band, each tie to a known pixel pulling towards the mismatch
-    system = scipy.sparse.csc_matrix(
+    from scipy.sparse import csc_matrix  # here: importing scipy.sparse.linalg takes 50 ms, and only blends need it
+    from scipy.sparse.linalg import splu
+
+    system = csc_matrix(
         (np.concatenate([-np.ones(sum(r.shape[0] for r in rows)), degree]),
          (np.concatenate(rows + [np.arange(n)]), np.concatenate(cols + [np.arange(n)]))), shape=(n, n))
-    out[pr, pc] += scipy.sparse.linalg.splu(system).solve(mismatch * ties[:, None])
+    out[pr, pc] += splu(system).solve(mismatch * ties[:, None])
     np.clip(out, g.min(axis=(0, 1)), g.max(axis=(0, 1)), out=out)  # (a photograph's fill stays in [0, 1])
     return out[..., 0] if np.ndim(image) == 2 else out
 
