@@ -132,7 +132,7 @@ _DEFAULT_TOLERANCE = 5e-3
 # times the exemplar's area (at 1.5x the texture energy alone missed parts of every tuning photo), and
 # at every level but the finest from there on: on the finest level too its votes blurred large flat
 # areas of cobblestones at 4x, while without it at the coarse levels the arrangement kept coming back
-# to a few parts of the exemplar (completeness 1.5-3.6 times a random-block mosaic's on the tuning
+# to a few parts of the exemplar (completeness 1.4-3.8 times a random-block mosaic's on the tuning
 # photos at 4x, 1.1-2.4 with it; docs/methods/optimization.md)
 _COMPLETE_BELOW = 4.0
 # preset "default": copy_limit (largest copies at 4x measured 0.66-0.77 of the exemplar without it)
@@ -2062,8 +2062,8 @@ def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="au
         ``x_p(j)`` its nearest output neighbourhood on ``X†``. The M-step
         also finds ``p(j)``, and the E-step averages ``q_j`` at ``p(j)``
         with the ``z_p`` (Simakov et al.'s update rule); 1 weighs both
-        directions equally per neighbourhood. Default 0 (off, the paper's
-        eq. 1). Alone it makes the output contain the whole exemplar
+        directions equally per neighbourhood; 0 is off (the paper's eq. 1).
+        Alone it makes the output contain the whole exemplar
         verbatim, so use it with ``copy_limit``: ``completeness_weight=1,
         copy_limit=0.2`` brings all of the exemplar without large copies, at
         about twice the time (docs/methods/optimization.md measures it).
