@@ -119,6 +119,7 @@ class _Problem:
         self.eview = np.moveaxis(sliding_window_view(self.exemplar, (ph, pw), axis=(0, 1)), 2, -1)
         self.allowed = _allowed(exemplar_mask, ex.shape[:2], self.patch)
         self.allowed_ids = np.flatnonzero(self.allowed)
+        self.radii = _radii(max(self.eny, self.enx))  # random search's, the same for every query
         free = self.allowed_ids.shape[0]
         if free < k:
             held = (f"the exemplar holds only {free} patches of size ({ph}, {pw})" if exemplar_mask is None else
@@ -360,7 +361,7 @@ class _Problem:
         """
         if self.sets is not None:
             return
-        radii = _radii(max(self.eny, self.enx))
+        radii = self.radii
         held = field.ids[q]  # (n, k)
         r0, c0 = np.divmod(held, self.enx)
         u = rng.random((q.shape[0], self.k, radii.shape[0], 2))
@@ -370,7 +371,7 @@ class _Problem:
         lo = np.maximum(c0[..., None] - radii, 0)
         hi = np.minimum(c0[..., None] + radii, self.enx - 1)
         c = lo + (u[..., 1] * (hi - lo + 1)).astype(np.int64)
-        self.offer(field, q, self.to_ids(r, c).reshape(q.shape[0], -1))
+        self.offer(field, q, (r * self.enx + c).reshape(q.shape[0], -1))  # inside the exemplar already
 
 
 class _Bound:
