@@ -1,6 +1,7 @@
 """The layering of docs/architecture.md, enforced on the source, and the lazy public namespace."""
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -192,3 +193,37 @@ def test_old_per_part_seconds_still_answer_with_a_warning():
     _, info = _small_runs()["interpolate_textures"]()
     with pytest.warns(DeprecationWarning, match="use InterpolationInfo.stage_seconds"):
         assert info.seconds["synthesis"] == info.stage_seconds["synthesis"]
+
+
+# import name -> the distribution that provides it, where the two differ
+DISTRIBUTIONS = {"skimage": "scikit-image", "sklearn": "scikit-learn", "PIL": "pillow", "distributed": "dask",
+                 "psutil": "dask"}  # psutil comes with dask[distributed], and only the batch imports it
+
+
+def _declared():
+    """(runtime dependencies, every extra's) as lower-case distribution names, from pyproject.toml."""
+    import tomllib
+
+    project = tomllib.loads((SRC.parents[1] / "pyproject.toml").read_text())["project"]
+
+    def names(specs):
+        return {re.split(r"[\s\[<>=!~;]", spec, maxsplit=1)[0].lower() for spec in specs}
+
+    return names(project["dependencies"]), names(s for extra in project["optional-dependencies"].values()
+                                                 for s in extra)
+
+
+def test_every_third_party_import_is_declared():
+    runtime, extras = _declared()
+    imported = set()
+    for path in SOURCES:
+        for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+            if isinstance(node, ast.Import):
+                imported |= {a.name.split(".")[0] for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and not node.level:
+                imported.add(node.module.split(".")[0])
+    third_party = {m for m in imported if m not in sys.stdlib_module_names and m != "texsynth"}
+    undeclared = {m for m in third_party if DISTRIBUTIONS.get(m, m).lower() not in runtime | extras}
+    assert not undeclared, f"imported but not declared in pyproject.toml: {sorted(undeclared)}"
+    # texsynth.io reads and writes through imageio's Pillow plugin and writes BigTIFF with tifffile
+    assert {"imageio", "pillow", "tifffile"} <= runtime

@@ -14,7 +14,7 @@ from texsynth.core.convolve import correlate_bank, fft_convolve
                                     ((5, 6), (9, 4))])
 @pytest.mark.parametrize("mode", ["full", "same"])
 def test_the_same_values_as_scipy_signal_bit_for_bit(shapes, mode):
-    # texture optimization's digests (tests/test_optimization_fields.py) rely on the same values
+    # both sides computed in this run: the same steps as scipy.signal, so the same bits on any machine
     rng = np.random.default_rng(0)
     a, b = rng.random(shapes[0]), rng.random(shapes[1])
     assert np.array_equal(fft_convolve(a, b, mode), signal.fftconvolve(a, b, mode=mode))

@@ -6,7 +6,6 @@ Agg backend, from ``examples/`` (where a user opens it).
 """
 
 import json
-import time
 from pathlib import Path
 
 import pytest
@@ -55,7 +54,6 @@ def test_notebook_runs_top_to_bottom(monkeypatch):
     monkeypatch.chdir(NOTEBOOK.parent)
     monkeypatch.setattr(plt, "show", lambda *args, **kwargs: None)  # Agg cannot show; Jupyter displays inline
     namespace = {"__name__": "__main__"}
-    start = time.perf_counter()
     try:
         for number, cell in enumerate(_load()["cells"]):
             if cell["cell_type"] == "code":
@@ -63,6 +61,5 @@ def test_notebook_runs_top_to_bottom(monkeypatch):
                 exec(compile(source, f"{NOTEBOOK.name} cell {number}", "exec"), namespace)
     finally:
         plt.close("all")
-    seconds = time.perf_counter() - start
+    # every method ran on every exemplar (its time is measured in benchmarks/, never asserted here)
     assert len(namespace["results"]) == len(namespace["methods"]) * len(namespace["exemplars"])
-    assert seconds < 120, f"the tour should take well under a minute; it took {seconds:.0f} s"

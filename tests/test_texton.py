@@ -89,18 +89,21 @@ def test_texton_mask_keeps_pebbles_whole_when_turned(texture):
     """Fragments: the share of the texton phase in pieces smaller than a quarter of the exemplar's elements.
 
     Turned by 0.6 rad, colour alone matches worse and breaks the gaps between pebbles into crumbs.
-    Measured (seeds 0, 1): exemplar 0.006, a random-block mosaic 0.008; with the mask 0.006-0.007,
-    without 0.011-0.019. The bound sits between, a little above the mosaic.
+    Calibrated over seeds 0-7 (`python benchmarks/calibrate_tests.py texton_turned --seeds 0 1 2 3 4 5
+    6 7`): with the mask 0.0058-0.011, without 0.0101-0.0188, a random-block mosaic 0.008. Single
+    seeds overlap (seed 3: 0.011 against 0.0105), so the test compares means over four seeds:
+    even the four worst seeds of each give 0.0078 against 0.0104 (a ratio of 0.75); the bound 0.9
+    keeps a 20 % margin over that worst case, and a mask that did nothing gives a ratio about 1.
     """
     ex = texture("rohitrango/t4.png", 96)
     reference = find_textons(ex)
     with_mask, without = [], []
-    for seed in (0, 1):
+    for seed in range(4):
         with_mask.append(_fragments(find_textons(synthesize_controlled(ex, 160, orientation=0.6, rng=seed)),
                                     reference))
         without.append(_fragments(find_textons(synthesize_controlled(ex, 160, orientation=0.6, texton_mask=None,
                                                                      rng=seed)), reference))
-    assert np.mean(with_mask) < 0.0095 < np.mean(without)
+    assert np.mean(with_mask) < 0.9 * np.mean(without)
 
 
 def test_quarter_turn_gives_the_rotated_texture(texture):
