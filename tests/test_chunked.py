@@ -1,6 +1,11 @@
 """Gigapixel outputs chunk by chunk (issue 21): lazy dask arrays equal to the in-memory results, and
 their writers (Zarr, tiled BigTIFF) and command line."""
 
+import os
+import signal
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -124,8 +129,105 @@ def test_command_line_writes_blocks_to_zarr_and_tiff(tmp_path):
     stored = zarr.open_array(str(tmp_path / "p.zarr"))
     assert stored.chunks == (64, 100, 3)
     assert np.array_equal(stored[:], to_uint(patchwork(load_image(photo), (200, 300), rng=4)))
-    # a .zarr output without --chunks gets blocks of DEFAULT_CHUNKS; turbulence is scaled by its maximum
+    # a .zarr output without --chunks gets blocks of DEFAULT_CHUNKS; turbulence is mapped from [0, 2] (its range)
     assert main(["turbulence", "-o", str(tmp_path / "t.zarr"), "--size", "90x70", "--seed", "1"]) == 0
     t = turbulence((70, 90), rng=1)
-    assert np.array_equal(zarr.open_array(str(tmp_path / "t.zarr"))[:], to_uint(t / t.max()))
+    assert np.array_equal(zarr.open_array(str(tmp_path / "t.zarr"))[:], to_uint(t / 2))
     assert main(["marble", "-o", str(tmp_path / "m.png"), "--size", "90x70", "--chunks", "32"]) == 2
+
+
+def test_turbulence_to_zarr_computes_each_block_once(tmp_path, monkeypatch):
+    # the command line maps turbulence to [0, 1] from its range [0, 2], not by its maximum, which would be a
+    # whole pass over the image before the first block is written
+    import texsynth.core.chunked as chunked
+
+    computed = []
+    real = chunked.chunked_image
+
+    def counting(size, channels, dtype, chunks, render, **kwargs):
+        def spy(rows, cols):
+            computed.append((rows.start, cols.start))
+            return render(rows, cols)
+
+        return real(size, channels, dtype, chunks, spy, **kwargs)
+
+    monkeypatch.setattr(chunked, "chunked_image", counting)
+    options = ["--size", "90x70", "--seed", "1"]
+    assert main(["turbulence", "-o", str(tmp_path / "t.zarr"), "--chunks", "32", *options]) == 0
+    assert sorted(computed) == [(r, c) for r in (0, 32, 64) for c in (0, 32, 64)]  # 3 x 3 blocks, each once
+    assert main(["turbulence", "-o", str(tmp_path / "t.png"), *options]) == 0
+    stored = zarr.open_array(str(tmp_path / "t.zarr"))[:]
+    assert np.array_equal(stored, to_uint(load_image(tmp_path / "t.png")))  # the same as in memory
+    t = turbulence((70, 90), rng=1)
+    assert np.array_equal(stored, to_uint(t / 2))
+
+
+def _dead_pid():
+    """The pid of a process that has ended (a writer killed with ``kill -9``)."""
+    proc = subprocess.Popen([sys.executable, "-c", ""])
+    proc.wait()
+    return proc.pid
+
+
+def test_the_next_zarr_write_removes_what_a_killed_writer_left(tmp_path):
+    left = tmp_path / f".t.zarr-{_dead_pid()}-0123abcd"
+    (left / "c" / "0").mkdir(parents=True)
+    (left / "zarr.json").write_text("{}")
+    live = tmp_path / f".t.zarr-{os.getpid()}-0123abcd"  # this process's: a live writer's
+    live.mkdir()
+    save_chunked(tmp_path / "t.zarr", turbulence((40, 30), rng=0, chunks=16) / 2)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [live.name, "t.zarr"]
+
+
+_INTERRUPTED_ZARR = """
+import signal, sys, time
+import dask.array as da
+import zarr.storage._local as local
+from texsynth.io import save_chunked
+
+how, target = sys.argv[1], sys.argv[2]
+if how == "own-handler":
+    signal.signal(signal.SIGTERM, lambda *args: sys.exit(3))
+signal.signal(signal.SIGINT, signal.default_int_handler)  # Ctrl-C, even if the test runs with SIGINT ignored
+real_put = local._put
+puts = []
+
+
+def slow_put(path, value, exclusive=False):  # on a thread of zarr's, not the main thread
+    puts.append(path)
+    if len(puts) == 3:  # the metadata and one block are written: the signal arrives during the second block
+        print("writing", flush=True)
+        time.sleep(0.5)
+    return real_put(path, value, exclusive=exclusive)
+
+
+local._put = slow_put
+save_chunked(target, da.full((64, 64), 0.5, chunks=16))
+"""
+
+
+@pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
+@pytest.mark.parametrize("how, sig", [("default", signal.SIGTERM), ("own-handler", signal.SIGTERM),
+                                      ("ctrl-c", signal.SIGINT)])
+def test_a_zarr_write_interrupted_mid_block_leaves_nothing(tmp_path, how, sig):
+    # the interrupted write's block lands after the clean-up unless the clean-up waits for zarr's writer threads
+    script = tmp_path / "zarr_write.py"
+    script.write_text(_INTERRUPTED_ZARR)
+    out = tmp_path / "out"
+    out.mkdir()
+    proc = subprocess.Popen([sys.executable, str(script), how, str(out / "big.zarr")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        if proc.stdout.readline().strip() != "writing":
+            proc.wait(timeout=120)
+            pytest.fail(f"the writer did not start: {proc.stderr.read()[-2000:]}")
+        proc.send_signal(sig)
+        proc.wait(timeout=120)  # a guard against a hang, not a timing assertion
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        proc.stdout.close()
+        proc.stderr.close()
+    assert proc.returncode == {"default": -signal.SIGTERM, "own-handler": 3, "ctrl-c": -signal.SIGINT}[how]
+    assert list(out.iterdir()) == []  # no store, no hidden partial store

@@ -527,12 +527,11 @@ def test_sigterm_during_the_write_leaves_nothing(tmp_path, metal_file):
     code = textwrap.dedent(f"""
         import time, texsynth.io as tio
         from texsynth import cli
-        real = tio.iio.imwrite
         def slow(path, *args, **kwargs):
             open(path, "wb").write(b"partial")
             print("writing", flush=True)
             time.sleep(30)
-        tio.iio.imwrite = slow
+        tio._imwrite = slow  # writes the encoded image to the temporary file
         cli.main(["patchwork", {str(metal_file)!r}, "-o", {str(out)!r}, "--grid-spacing", "8", "--no-progress"])
         """)
     with subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True) as proc:

@@ -229,7 +229,7 @@ import texsynth.io as tio
 mode, target = sys.argv[1], sys.argv[2]
 if mode == "own-handler":
     signal.signal(signal.SIGTERM, lambda *args: sys.exit(3))
-real = tio.iio.imwrite
+real = tio._imwrite  # writes the encoded image to the temporary file
 calls = []
 
 
@@ -244,7 +244,7 @@ def slow_imwrite(uri, image, **kwargs):
         time.sleep(0.05)
 
 
-tio.iio.imwrite = slow_imwrite
+tio._imwrite = slow_imwrite
 if mode == "frames":
     tio.save_frames(target, np.zeros((3, 8, 8)), overwrite=True)
 else:
@@ -285,6 +285,97 @@ def test_sigterm_during_a_write_leaves_no_temporary_file(tmp_path, mode, name, r
     assert [p.name for p in out.iterdir()] == [name]  # no hidden temporary file or folder
     back = load_frames(target) if mode == "frames" else load_image(target)
     assert back.min() == 1.0 and back.shape[0] == (2 if mode == "frames" else 8)
+
+
+def _dead_pid():
+    """The pid of a process that has ended (a writer killed with ``kill -9``)."""
+    proc = subprocess.Popen([sys.executable, "-c", ""])
+    proc.wait()
+    return proc.pid
+
+
+def test_the_next_save_removes_what_a_killed_writer_left(tmp_path):
+    # kill -9 allows no clean-up: a hidden temporary file or frame folder stays, named after the target and
+    # the writer's pid. The next save of the same target removes those whose writer is no longer running.
+    dead = _dead_pid()
+    (tmp_path / f".noise-{dead}-0123abcd.png").write_bytes(b"half an image")
+    (tmp_path / f".seq-{dead}-0123abcd").mkdir()
+    (tmp_path / f".seq-{dead}-0123abcd" / "frame_0000.png").write_bytes(b"half a frame")
+    others = [
+        f".noise-{os.getpid()}-0123abcd.png",  # a live writer's (this process)
+        f".noise-{dead}-0123abc.png", f".noise-{dead}-0123abcd.png.part", f".noise-{dead}-0123abcd.jpg",
+        f".noisy-{dead}-0123abcd.png", f"noise-{dead}-0123abcd.png", f".seq-{dead}-0123abcd.png",
+        ".noise-0123abcd.png",  # no pid: its writer cannot be told dead
+    ]
+    for name in others:
+        (tmp_path / name).write_bytes(b"someone else's")
+    (tmp_path / f".noise-{dead}-89abcdef.png").mkdir()  # a folder, where a file temporary is a file
+    others.append(f".noise-{dead}-89abcdef.png")
+    save_image(tmp_path / "noise.png", np.zeros((4, 4)))
+    save_frames(tmp_path / "seq", np.zeros((2, 4, 4)))
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(others + ["noise.png", "seq"])
+    assert all((tmp_path / name).is_dir() or (tmp_path / name).read_bytes() == b"someone else's" for name in others)
+
+
+_FULL_DISK = """
+import resource, signal, sys
+import numpy as np
+from texsynth.cli import main
+from texsynth.io import save_frames, save_image
+
+# past the file-size limit a write fails (EFBIG) as one on a full disk does (ENOSPC)
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+resource.setrlimit(resource.RLIMIT_FSIZE, (2000, 2000))
+noise = np.random.default_rng(0).random((3, 64, 64, 3))
+folder, images, frames = sys.argv[1], sys.argv[2].split(","), sys.argv[3].split(",")
+for name in images + frames:
+    try:
+        save_image(folder + name, noise[0]) if name in images else save_frames(folder + name, noise)
+    except OSError:
+        print("failed", name)
+    else:
+        print("wrote", name)
+sys.exit(main(["perlin", "-o", folder + "cli.png", "--size", "256x256"]))
+"""
+
+
+@POSIX
+def test_a_full_disk_gives_one_error_and_nothing_else(tmp_path):
+    script = tmp_path / "full_disk.py"
+    script.write_text(_FULL_DISK)
+    out = tmp_path / "out"
+    out.mkdir()
+    images, frames = ["i.png", "i.jpg", "i.bmp", "i.tif"], ["a.gif", "a.png", "seq"]
+    proc = subprocess.run([sys.executable, str(script), f"{out}/", ",".join(images), ",".join(frames)],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.stdout.splitlines() == [f"failed {name}" for name in images + frames]  # no truncated JPEG passes
+    assert proc.returncode == 2
+    assert proc.stderr.startswith("texsynth: error:") and len(proc.stderr.splitlines()) == 1, proc.stderr
+    assert list(out.iterdir()) == []
+
+
+def test_a_tiff_claiming_a_huge_size_is_refused_before_reading_it(tmp_path, monkeypatch):
+    import struct
+
+    import tifffile
+
+    path = tmp_path / "huge.tif"
+    tifffile.imwrite(path, np.zeros((4, 4), np.uint8), metadata=None)
+    with tifffile.TiffFile(path) as tif:
+        tags = tif.pages[0].tags
+        names = ("ImageWidth", "ImageLength", "RowsPerStrip")  # one strip, of 100000 rows
+        offsets = [tags[name].valueoffset for name in names]
+        assert all(tags[name].dtype == 4 for name in names)  # LONG: 4 bytes
+    raw = bytearray(path.read_bytes())
+    for offset in offsets:
+        raw[offset : offset + 4] = struct.pack("<I", 100_000)
+    path.write_bytes(bytes(raw))
+    decoded = []
+    monkeypatch.setattr(tifffile.TiffFile, "asarray", lambda *a, **k: decoded.append(1))
+    monkeypatch.setattr(tifffile.TiffPage, "asarray", lambda *a, **k: decoded.append(1))
+    with pytest.raises(ValueError, match=r"huge\.tif.* 100000 x 100000 .*limit"):
+        load_image(path)
+    assert not decoded  # refused from the header: nothing read, nothing allocated
 
 
 @pytest.mark.parametrize("bad", [None, 3, ["a.png"], 2.5, True])

@@ -275,6 +275,21 @@ def test_turbulence_is_sum_of_absolute_octaves():
     np.testing.assert_allclose(fbm(points=pts, octaves=4, rng=4), signed, atol=1e-12)
 
 
+@pytest.mark.parametrize("fade", ["quintic", "cubic"])
+def test_noise_and_turbulence_stay_in_the_ranges_the_command_line_maps_from(fade):
+    # the command line maps perlin and fbm from [-1, 1] and turbulence from [0, 2] to [0, 1]
+    # (texsynth.registry), without a pass over the image: |noise| <= 1 in 2-D (at a cell centre,
+    # every corner's gradient pointing there), and turbulence < 1 + 1/2 + 1/4 + ... = 2
+    from texsynth.registry import METHODS
+
+    assert METHODS["perlin"].values == METHODS["fbm"].values == (-1.0, 1.0)
+    assert METHODS["turbulence"].values == (0.0, 2.0)
+    noise = perlin((256, 256), frequency=64, fade=fade, rng=1)  # 64 cells a side: many near their peak
+    assert np.abs(noise).max() <= 1 + 1e-12
+    assert 0 <= turbulence((256, 256), frequency=4, fade=fade, rng=1).min()
+    assert turbulence((256, 256), frequency=4, fade=fade, rng=1).max() < 2
+
+
 def test_grid_octaves_not_stuck_on_lattice():
     # Without the per-octave irrational shift every octave is 0 on the base
     # lattice and turbulence is exactly 0 there; with it, it is not.

@@ -15,14 +15,16 @@ colour PNG as 8 bits, so those go through a small PNG codec of this module
 data go to a hidden temporary file beside the target, which is renamed over the
 target only once complete, so a file is never half-written. The temporary file
 is removed when the write fails or the process is interrupted, by Ctrl-C
-(SIGINT) or by SIGTERM (``kill``, ``timeout``, a job scheduler). New files get
-the permissions the umask gives, as any other program's output; a replaced
-file keeps its permission bits. Nothing is overwritten unless
+(SIGINT) or by SIGTERM (``kill``, ``timeout``, a job scheduler); what a killed
+writer (SIGKILL) left is removed by the next write of the same target. New
+files get the permissions the umask gives, as any other program's output; a
+replaced file keeps its permission bits. Nothing is overwritten unless
 ``overwrite=True``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import glob
 import importlib.util
 import numbers
@@ -33,8 +35,8 @@ import secrets
 import shutil
 import signal
 import stat
-import tempfile
 import threading
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import struct
@@ -61,6 +63,7 @@ _GIF_MAX_DELAY_MS = 655_350
 # Pillow hands their 16-bit samples over as int32 (16-bit Netpbm scaled to 0..65535)
 _PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 _NETPBM_MAGIC = tuple(f"P{k}".encode() for k in range(1, 8))
+_TIFF_MAGIC = (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+")  # little/big-endian TIFF and BigTIFF
 
 _short = reprlib.Repr()
 _short.maxstring = _short.maxother = 60
@@ -284,6 +287,36 @@ def _is_cmyk(path):
         return False
 
 
+def _check_tiff_size(path):
+    """Refuse a TIFF whose header claims an image larger than Pillow's decompression-bomb limit.
+
+    Pillow refuses such PNG and JPEG files before decoding them; tifffile, imageio's TIFF reader,
+    allocates whatever the header claims, so the claim is checked here from the header, before any
+    pixel is read.
+    """
+    import tifffile
+    from PIL import Image
+
+    if Image.MAX_IMAGE_PIXELS is None:  # the user lifted the limit
+        return
+    limit = 2 * Image.MAX_IMAGE_PIXELS  # Pillow warns above MAX_IMAGE_PIXELS and refuses above twice that
+    try:
+        with tifffile.TiffFile(path) as tif:
+            series = tif.series[0]
+            dims = dict(zip(series.axes, series.shape))
+    except Exception:  # a damaged file: imageio's reader gives the error
+        return
+    width, height, depth = dims.get("X", 1), dims.get("Y", 1), dims.get("Z", 1)
+    if width * height * depth > limit:
+        size = f"{width} x {height}" + (f" x {depth}" if depth > 1 else "")
+        raise ValueError(
+            f"{str(path)!r} is a TIFF image of {size} pixels ({width * height * depth:,}), more than the limit of "
+            f"{limit:,} pixels that load_image reads (Pillow's limit against decompression bombs, which PNG and "
+            "JPEG files get too); read a part of it with tifffile (tifffile.imread(path, aszarr=True)), or, "
+            "if you trust the file, raise the limit with PIL.Image.MAX_IMAGE_PIXELS"
+        )
+
+
 def _holds_at_most_16_bits(path):
     """Whether the file is a PNG or Netpbm file: unsigned samples of at most 16 bits, by the format."""
     head = _file_head(path, 8)
@@ -327,8 +360,11 @@ def load_image(path):
     FileNotFoundError
         If ``path`` does not exist or is a folder.
     ValueError
-        If the file cannot be read as an image, holds several frames, or
-        holds pixels of an integer type without an agreed white level.
+        If the file cannot be read as an image, holds several frames, holds
+        pixels of an integer type without an agreed white level, or claims
+        more pixels than Pillow's limit against decompression bombs
+        (``2 * PIL.Image.MAX_IMAGE_PIXELS``, checked from the header for
+        TIFF files as Pillow does for PNG and JPEG).
 
     Notes
     -----
@@ -361,6 +397,8 @@ def load_image(path):
     if not path.is_file():
         raise FileNotFoundError(f"path {str(path)!r} does not exist or is not a file")
     header = _png_header(path)
+    if _file_head(path, 4) in _TIFF_MAGIC:
+        _check_tiff_size(path)
     if header is not None and header[2] == 16 and header[3] in (2, 4, 6):  # 16-bit colour: Pillow reads 8 bits
         data = _read_png16(path, header)
     else:
@@ -476,23 +514,63 @@ class _CleanUpOnSigterm:
         return False
 
 
-def _temp_file_name(path, token):
-    """The hidden temporary name of ``path`` that :func:`_atomic_write` writes before renaming."""
-    return path.parent / f".{path.stem}-{token}{path.suffix}"
+def _temp_parts(path, folder):
+    """``(stem, suffix)``: the parts of ``path``'s name around a temporary's ``-PID-TOKEN`` (a file keeps its
+    suffix last, since writers choose the format by it)."""
+    return (path.name, "") if folder else (path.stem, path.suffix)
 
 
-def _stale_temp_files(path):
-    """The temporary files of ``path`` that a killed write left (``kill -9`` allows no clean-up)."""
+def _temp_name(path, *, folder=False):
+    """A new hidden name beside ``path`` for the temporary file (or ``folder``) a write fills before renaming:
+    ``.noise-PID-TOKEN.png``, ``.big.zarr-PID-TOKEN``. The writer's pid lets a later write tell the
+    leftover of a killed writer from the work of a running one (:func:`_stale_temp_files`)."""
+    stem, suffix = _temp_parts(path, folder)
+    return path.parent / f".{stem}-{os.getpid()}-{secrets.token_hex(4)}{suffix}"
+
+
+def _running(pid):
+    """Whether process ``pid`` runs on this machine; True when that cannot be told."""
+    if os.name != "posix":  # os.kill(pid, 0) would end the process on Windows
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (OSError, OverflowError):  # another user's process, or no valid pid
+        return True
+    return True
+
+
+def _stale_temp_files(path, *, folder=False):
+    """The temporaries of ``path`` that a killed write left (``kill -9`` allows no clean-up): the files (or,
+    with ``folder``, the folders) named exactly as :func:`_temp_name` names them whose writer has ended."""
     path = Path(path)
-    pattern = re.compile(re.escape(_temp_file_name(path, "TOKEN").name).replace("TOKEN", "[0-9a-f]{8}"))
-    return [p for p in path.parent.glob(f".{glob.escape(path.stem)}-*") if pattern.fullmatch(p.name) and p.is_file()]
+    stem, suffix = _temp_parts(path, folder)
+    pattern = re.compile(rf"\.{re.escape(stem)}-([0-9]+)-[0-9a-f]{{8}}{re.escape(suffix)}")
+    stale = []
+    for p in path.parent.glob(f".{glob.escape(stem)}-*"):
+        match = pattern.fullmatch(p.name)
+        kind = (p.is_dir() and not p.is_symlink()) if folder else p.is_file()
+        if match and kind and not _running(int(match[1])):
+            stale.append(p)
+    return stale
+
+
+def _remove_stale_temps(path, *, folder=False):
+    """Remove what killed writes of ``path`` left (best effort: a write never fails for them)."""
+    for p in _stale_temp_files(path, folder=folder):
+        if folder:
+            shutil.rmtree(p, ignore_errors=True)
+        else:
+            with contextlib.suppress(OSError):
+                p.unlink()
 
 
 def _new_temp_file(path):
     """Create an empty hidden file beside ``path`` with the mode the umask gives; return (name, mode)."""
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
     for _ in range(100):
-        tmp = _temp_file_name(path, secrets.token_hex(4))
+        tmp = _temp_name(path)
         try:
             fd = os.open(tmp, flags, 0o666)  # the umask (and default ACLs) apply, as for any new file
         except FileExistsError:  # pragma: no cover - 32 random bits
@@ -508,7 +586,7 @@ def _new_temp_file(path):
 def _new_temp_dir(path):
     """Create a hidden folder beside ``path`` with the mode the umask gives."""
     for _ in range(100):
-        tmp = path.parent / f".{path.name}-{secrets.token_hex(4)}"
+        tmp = _temp_name(path, folder=True)
         try:
             os.mkdir(tmp, 0o777)
         except FileExistsError:  # pragma: no cover
@@ -532,9 +610,11 @@ def _atomic_write(path, write):
 
     The temporary file is created with the permissions the umask gives (a
     replaced file's mode is kept) and removed if anything fails or the
-    process is interrupted (SIGINT, SIGTERM) before the rename.
+    process is interrupted (SIGINT, SIGTERM) before the rename; what killed
+    writes of ``path`` left (SIGKILL) is removed first.
     """
     path = Path(path)
+    _remove_stale_temps(path)
     with _CleanUpOnSigterm():
         tmp = None
         try:
@@ -562,6 +642,19 @@ def _prepare_target(path, overwrite, *, folder=False):
     if not path.parent.exists():
         raise FileNotFoundError(f"folder {str(path.parent)!r} does not exist; create it first")
     return path
+
+
+def _imwrite(tmp, pixels, **kwargs):
+    """``iio.imwrite(tmp, pixels, **kwargs)``, encoded in memory and then written to ``tmp`` by this function.
+
+    Writing to the file through imageio, a failing write (a full disk) is raised, then tried again by
+    imageio's writer when it is collected, which prints an "Exception ignored" traceback after the error;
+    and Pillow's encoders take a short write for a complete one (a truncated JPEG or BMP that passes for
+    written). A file written here raises once, and Python's file object writes all bytes or raises.
+    """
+    data = iio.imwrite("<bytes>", pixels, **kwargs)
+    with open(tmp, "wb") as f:
+        f.write(data)
 
 
 def _save_npy(tmp, data):
@@ -674,7 +767,7 @@ def save_image(path, image, *, bits=None, overwrite=False):
     if bits == 16 and suffix == ".png" and pixels.ndim == 3:  # imageio's Pillow writer has no 16-bit colour PNG
         _atomic_write(path, lambda tmp: _write_png16(tmp, pixels))
     else:
-        _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=suffix))
+        _atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=suffix))
     return path
 
 
@@ -814,8 +907,8 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
         return path
     if suffix == ".png":  # animated PNG, through Pillow: alpha kept, no extra needed
         _prepare_target(path, overwrite)
-        _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=".png",
-                                                    duration=1000.0 / fps, loop=0 if loop else 1))
+        _atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=".png",
+                                                 duration=1000.0 / fps, loop=0 if loop else 1))
         return path
     if pixels.ndim == 4 and pixels.shape[-1] in (2, 4):  # GIF and video store no alpha
         pixels = pixels[..., :-1] if pixels.shape[-1] == 4 else pixels[..., 0]
@@ -827,8 +920,8 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
                 f"pass fps >= {1000.0 / _GIF_MAX_DELAY_MS:.5f} or save a folder of PNG frames"
             )
         _prepare_target(path, overwrite)
-        _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=".gif",
-                                                    duration=duration, loop=0 if loop else 1))
+        _atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=".gif",
+                                                 duration=duration, loop=0 if loop else 1))
         return path
     if importlib.util.find_spec("imageio_ffmpeg") is None:
         raise ValueError(
@@ -866,7 +959,7 @@ def _write_frame_folder(path, pixels):
 
     def write(tmp):
         for t, frame in enumerate(pixels):
-            iio.imwrite(tmp / f"frame_{t:04d}.png", frame)
+            _imwrite(tmp / f"frame_{t:04d}.png", frame, extension=".png")
 
     _swap_folder(path, write)
 
@@ -994,14 +1087,18 @@ def _block_rows(stored, progress):
 
 
 def _write_zarr(zarr, folder, stored, progress):
-    block = tuple(c[0] for c in stored.chunks)
-    array = zarr.create_array(store=str(folder), shape=stored.shape, chunks=block, dtype=stored.dtype,
-                              zarr_format=3, overwrite=True)
-    for r0, blocks in _block_rows(stored, progress):
-        c0 = 0
-        for block in blocks:
-            array[r0 : r0 + block.shape[0], c0 : c0 + block.shape[1]] = block
-            c0 += block.shape[1]
+    # Zarr writes on threads of its own, which go on writing when an exception (SIGTERM, Ctrl-C) ends the main
+    # thread's wait for them: a block landing after the clean-up would leave a partial store. So every Zarr
+    # call runs on a thread of ours, which leaving the ``with`` waits for, before the store is removed.
+    with ThreadPoolExecutor(1) as writer:
+        array = writer.submit(zarr.create_array, store=str(folder), shape=stored.shape, dtype=stored.dtype,
+                              chunks=tuple(c[0] for c in stored.chunks), zarr_format=3, overwrite=True).result()
+        for r0, blocks in _block_rows(stored, progress):
+            c0 = 0
+            for block in blocks:
+                region = (slice(r0, r0 + block.shape[0]), slice(c0, c0 + block.shape[1]))
+                writer.submit(array.__setitem__, region, block).result()
+                c0 += block.shape[1]
 
 
 def _write_tiff(tmp, stored, progress):
@@ -1025,8 +1122,10 @@ def _swap_folder(path, write):
     """Call ``write(tmp)`` on a new hidden folder beside ``path``, then swap it in for ``path``.
 
     The new folder gets the permissions the umask gives, or the mode of the folder it replaces;
-    the temporary folder is removed if anything fails or the process is interrupted.
+    the temporary folder is removed if anything fails or the process is interrupted, and what killed
+    writes of ``path`` left (SIGKILL) is removed first.
     """
+    _remove_stale_temps(path, folder=True)
     with _CleanUpOnSigterm():
         tmp = old = None
         try:
@@ -1035,7 +1134,7 @@ def _swap_folder(path, write):
                 os.chmod(tmp, stat.S_IMODE(path.stat().st_mode))
             write(tmp)
             if path.exists():
-                old = Path(tempfile.mkdtemp(prefix=f".{path.name}-old-", dir=path.parent))
+                old = _new_temp_dir(path)  # a temporary too: removed by a later write if a kill leaves it
                 os.replace(path, old / path.name)
             os.replace(tmp, path)
             tmp = None

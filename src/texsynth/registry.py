@@ -106,7 +106,7 @@ class Method:
     size: str | None = "size"
     files: tuple = ()
     skip: tuple = ()
-    values: str = "unit"
+    values: tuple = (0.0, 1.0)  # the range the function's values lie in, mapped to [0, 1] for saving
     ramps: tuple = ()
     flow: str | None = None
     mixing: str | None = None
@@ -117,14 +117,17 @@ class Method:
     demos: tuple = ()
 
     def to_unit(self, result):
-        """Map the function's values to [0, 1] for saving: "unit" (already), "signed" ([-1, 1]) or "positive"."""
+        """Map ``values``, the function's range, linearly to [0, 1] for saving (clipped).
+
+        The range is known before the function runs, so a lazy (block by block) result is mapped
+        block by block: no pass over the whole image to find its extremes first.
+        """
         import numpy as np
 
-        if self.values == "signed":
-            return np.clip((result + 1.0) / 2.0, 0.0, 1.0)
-        if self.values == "positive":
-            return result / max(float(result.max()), 1e-12)
-        return result
+        low, high = self.values
+        if (low, high) == (0.0, 1.0):
+            return result
+        return np.clip((result - low) / (high - low), 0.0, 1.0)
 
     def function(self):
         """The public function (its family is imported now)."""
@@ -326,11 +329,11 @@ _PROCEDURAL = dict(inputs="none", skip=("points", "offset", "dtype"))
 #: Every method, in the order ``texsynth list`` and the gallery show them.
 METHODS: dict[str, Method] = {
     "perlin": _m("procedural:perlin", "Perlin gradient noise (2-D image, or 3-D volume with --size WxHxD)",
-                 _PERLIN, "procedural", values="signed", **_PROCEDURAL),
+                 _PERLIN, "procedural", values=(-1.0, 1.0), **_PROCEDURAL),
     "turbulence": _m("procedural:turbulence", "Perlin turbulence: sum of |noise| octaves to the band limit",
-                     _PERLIN, "procedural", values="positive", **_PROCEDURAL),
+                     _PERLIN, "procedural", values=(0.0, 2.0), **_PROCEDURAL),
     "fbm": _m("procedural:fbm", "fractional Brownian motion: signed sum of noise octaves", _PERLIN, "procedural",
-              values="signed", **_PROCEDURAL),
+              values=(-1.0, 1.0), **_PROCEDURAL),
     "marble": _m("procedural:marble", "Perlin marble: sin(x + turbulence) through a colour map (2-D or 3-D)",
                  _PERLIN, "procedural", inputs="none", skip=("dtype",),
                  demos=[("marble", "Perlin marble: sin(x + turbulence) through a colour map", None,
