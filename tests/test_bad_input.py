@@ -44,6 +44,10 @@ HUGE = {
     "marble": "texsynth.procedural.marble((100000, 100000))",
     "reaction_diffusion": "texsynth.procedural.reaction_diffusion((100000, 100000), steps=1)",
     "gray_scott": "texsynth.procedural.gray_scott((100000, 100000), steps=1)",
+    "sphere": "texsynth.surface.sphere(10**9)",
+    "torus": "texsynth.surface.torus(10**9)",
+    "bumpy": "texsynth.surface.bumpy(10**9, rng=0)",
+    "default_splotch": "texsynth.surface.default_splotch((100000, 100000), rng=0)",
 }
 
 
@@ -54,7 +58,7 @@ def test_a_size_that_cannot_fit_is_refused_before_allocating(name):
         resource.setrlimit(resource.RLIMIT_AS, (4 * 2**30, 4 * 2**30))
         import texsynth, texsynth.core.flows, texsynth.optimization, texsynth.patch, texsynth.metrics
         import texsynth.core.neighborhood, texsynth.core.pyramid
-        import texsynth.procedural
+        import texsynth.procedural, texsynth.surface
         ex = texsynth.data.load("bread")[:64, :64]
         try:
             {HUGE[name]}
@@ -66,7 +70,7 @@ def test_a_size_that_cannot_fit_is_refused_before_allocating(name):
     # refused (not a MemoryError or a kill under the 4 GiB cap: nothing large was allocated first),
     # naming the parameter and the memory it would need
     assert out.startswith("refused"), (proc.returncode, out, proc.stderr[-500:])
-    assert ("size" in out or "shape" in out) and "GiB" in out, out
+    assert ("size" in out or "shape" in out or "n_vertices" in out) and "GiB" in out, out
 
 
 # --------------------------------------------------------------------------- junk values for every parameter
@@ -168,3 +172,60 @@ def test_junk_in_any_parameter_is_a_clear_error(name, data):
         except (ValueError, TypeError) as exc:
             # the message names the parameter (or, for a value inside a container, a parameter's entry)
             assert param in str(exc) or param.rstrip("s") in str(exc), f"{param}={value!r}: {exc}"
+
+
+# --------------------------------------------------------------------------- the small public helpers
+from texsynth import surface  # noqa: E402
+from texsynth.core._validate import memory_limit  # noqa: E402
+from texsynth.procedural import apply_colormap  # noqa: E402
+
+HELPERS = {
+    "sphere": (surface.sphere, (42,), dict(radius=1.0)),
+    "torus": (surface.torus, (50,), dict(major_radius=1.0, minor_radius=0.4)),
+    "bumpy": (surface.bumpy, (42,), dict(amplitude=0.1, frequency=2.0, rng=0)),
+    "default_splotch": (surface.default_splotch, ((8, 12),), dict(rng=0)),
+    "scanned_mesh": (surface.scanned_mesh, ("bunny",), dict()),
+    "apply_colormap": (apply_colormap, (np.linspace(0, 1, 5), [(0, 0, 0), "#ffffff"]), dict(dtype=np.float32)),
+}
+HELPER_JUNK = st.sampled_from([None, float("nan"), float("inf"), -1, 0, -0.5, 10**12, 1e308, True, "x", [1, 2],
+                               (0, 0), (2.5, 3), np.zeros(3), np.full((3, 3), np.nan), np.array(["a", "b"]), {},
+                               object()])
+
+
+@pytest.mark.parametrize("name", list(HELPERS))
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_junk_in_a_helper_is_a_clear_error(name, data):
+    func, args, kwargs = HELPERS[name]
+    bound = inspect.signature(func).bind_partial(*args, **kwargs).arguments
+    param = data.draw(st.sampled_from(list(bound)), label="parameter")
+    bound[param] = data.draw(HELPER_JUNK, label="value")
+    with _memory_limit():
+        try:
+            func(**bound)
+        except (ValueError, TypeError) as exc:
+            assert param in str(exc), f"{param}={bound[param]!r}: {exc}"
+
+
+def test_a_splotch_that_cannot_fit_is_refused_before_allocating():
+    with memory_limit(1e6, "a test's limit"), pytest.raises(
+            ValueError, match=r"shape=\(1000, 1000\) needs about 0\.\d GiB for the splotch, more than the 0\.0 GiB "
+                              r"of a test's limit; pass a smaller shape"):
+        surface.default_splotch(1000)
+
+
+def test_the_memory_estimate_of_the_splotch_bounds_its_peak(monkeypatch):
+    import tracemalloc
+
+    import texsynth.surface._lapped as lapped
+
+    estimates = []
+    monkeypatch.setattr(lapped, "check_memory", lambda nbytes, *args, **kwargs: estimates.append(nbytes))
+    surface.default_splotch((16, 16), rng=0)  # warm up
+    tracemalloc.start()
+    try:
+        surface.default_splotch((300, 200), rng=0)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert estimates[-1] >= peak

@@ -222,3 +222,42 @@ def test_soft_constraints_too_large_for_memory_are_refused_with_the_fix(monkeypa
 def test_bad_input_names_the_parameter(texture, call, words):
     with pytest.raises(ValueError, match=words):
         call(texture("jcjohnson/bread.png", 32))
+
+
+@pytest.mark.parametrize("dtype, channels", [(np.float64, 3), (np.float32, 3), (np.float64, None)])
+def test_the_memory_check_of_uncrop_bounds_what_is_allocated_before_optimize_texture_checks(monkeypatch, dtype,
+                                                                                           channels):
+    # uncrop checks the arrays it and optimize_texture allocate before optimize_texture checks its own (N11:
+    # an uncrop that passed its check ran out of memory copying the target and the mask in optimize_texture)
+    import tracemalloc
+
+    import texsynth.optimization._completion as completion
+    import texsynth.optimization._kwatra as kwatra
+
+    class Checked(Exception):
+        pass
+
+    estimates, peaks = [], []
+    check = completion.check_memory
+
+    def estimate(nbytes, *args, **kwargs):
+        estimates.append(nbytes)
+        return check(nbytes, *args, **kwargs)
+
+    def optimize_texture_checks(*args, **kwargs):  # from here on its own check counts the memory
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        raise Checked
+
+    shape = (48, 40) if channels is None else (48, 40, channels)
+    image = np.random.default_rng(0).random(shape).astype(dtype)
+    texsynth.uncrop(image, (64, 64), neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)  # warm up
+    monkeypatch.setattr(completion, "check_memory", estimate)
+    monkeypatch.setattr(kwatra, "_check_memory", optimize_texture_checks)
+    for kwargs in (dict(), dict(neighborhood_sizes=(64, 16, 8), position=(0, 0))):
+        tracemalloc.start()
+        try:
+            with pytest.raises(Checked):
+                texsynth.uncrop(image, (400, 300), rng=0, **kwargs)
+        finally:
+            tracemalloc.stop()
+        assert estimates[-1] >= peaks[-1], kwargs

@@ -1,11 +1,13 @@
 """texsynth.surface: the Mesh, its checks (as_mesh), the shapes, the scanned mesh and mesh files."""
 
+import tracemalloc
 import warnings
 
 import numpy as np
 import pytest
 import scipy.sparse
 
+from texsynth.core._validate import memory_limit
 from texsynth.surface import Mesh, as_mesh, bumpy, read_mesh, scanned_mesh, sphere, torus, write_mesh
 
 # a tetrahedron, faces counter-clockwise seen from outside
@@ -231,6 +233,37 @@ def test_shapes_refuse_bad_parameters(call, error, message):
         call()
 
 
+@pytest.mark.parametrize("shape", [sphere, torus, bumpy])
+def test_a_shape_that_cannot_fit_is_refused_before_allocating(shape):
+    # 1 MB allowed: 10^5 vertices need tens of MB; refused with the figures, before anything of that size
+    tracemalloc.start()
+    try:
+        with memory_limit(1e6, "a test's limit"), pytest.raises(
+                ValueError, match=r"n_vertices=100000 needs about 0\.\d GiB .* more than the 0\.0 GiB of a test's "
+                                  r"limit; pass a smaller n_vertices"):
+            shape(100000)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 1e6
+
+
+@pytest.mark.parametrize("shape", [sphere, torus, bumpy])
+def test_the_memory_estimate_of_a_shape_bounds_its_peak(shape, monkeypatch):
+    import texsynth.surface._shapes as shapes
+
+    estimates = []
+    monkeypatch.setattr(shapes, "check_memory", lambda nbytes, *args, **kwargs: estimates.append(nbytes))
+    shape(3000)  # warm up: caches and imports are not the shape's memory
+    tracemalloc.start()
+    try:
+        shape(20000)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert estimates[-1] >= peak
+
+
 # ---------------------------------------------------------------------------- the scanned mesh
 def test_the_scanned_bunny_is_a_valid_closed_mesh():
     bunny = as_mesh(scanned_mesh())
@@ -358,13 +391,21 @@ def test_binary_ply_with_polygons_of_mixed_sizes(tmp_path):
     assert read_mesh(tmp_path / "q.ply").faces.tolist() == [[0, 1, 2], [0, 2, 3], [1, 4, 2]]
 
 
+_PLY_HEAD = ("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+             "element face 2\nproperty list uchar int vertex_indices\nend_header\n")
+
+
 @pytest.mark.parametrize("name, content, message", [
     ("a.obj", "hello world\n", r"it holds no faces \(0 vertices"),
     ("a.obj", "v 0 0 0\nv 1 0 0\n", r"it holds no faces \(2 vertices: a point cloud\?\)"),
     ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "line 4: a face needs at least 3 corners"),
     ("a.obj", "v 0 0 0\nv 1 0 zero\n", r"line 2: cannot read 'v 1 0 zero'"),
     ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4: vertex index 0 \\(OBJ indices count from 1\\)"),
-    ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", r"faces must .*|indices|outside"),
+    ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\n", "line 5: a face uses vertex 7, but the file has 3 "
+                                                                 "vertices"),
+    ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", "line 4: vertex index -4 points before the first vertex"),
+    ("a.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n", r"line 2: vertex \(1.0, nan, 0.0\) is not finite"),
+    ("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 inf\nf 1 2 3\n", r"line 3: vertex \(0.0, 1.0, inf\) is not finite"),
     ("a.ply", "not a ply file", "does not start with 'ply'"),
     ("a.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n", "format 'binary_middle_endian'"),
     ("a.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
@@ -376,16 +417,70 @@ def test_binary_ply_with_polygons_of_mixed_sizes(tmp_path):
               "end_header\n0 zero 0\n", "something that is not a number"),
     ("a.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quaternion x\nend_header\n",
      "header line 4: cannot read property"),
+    ("a.ply", _PLY_HEAD + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 3\n",
+     r"face 1 \(element face\) uses vertex 3, but the file has 3 vertices \(0\.\.2\)"),
+    ("a.ply", _PLY_HEAD + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n4 0 1 -1 2\n", r"face 1 \(element face\) uses vertex -1"),
+    ("a.ply", _PLY_HEAD + "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n3 0 2 1\n",
+     r"vertex 1 \(element vertex\) is \(1.0, nan, 0.0\), not finite"),
 ])
 def test_garbled_files_give_a_value_error_naming_the_file(tmp_path, name, content, message):
     path = tmp_path / name
     path.write_text(content)
-    if "outside" in message:  # read as written; as_mesh (every surface function) finds the bad index
-        with pytest.raises(ValueError, match=r"1 faces with vertex indices outside 0\.\.2"):
-            as_mesh(path)
-        return
     with pytest.raises(ValueError, match=f"cannot read '.*{name}' as a {name[2:].upper()} mesh: .*{message}"):
         read_mesh(path)
+
+
+def _textured_obj(folder, mtllib="m.mtl", map_kd="t.png"):
+    """A textured triangle in ``folder/mesh/m.obj``; its material file and texture are where the names say."""
+    from texsynth.io import save_image
+
+    mesh_folder = folder / "mesh"
+    for place in (folder, mesh_folder):
+        place.mkdir(exist_ok=True)
+        save_image(place / "t.png", np.ones((2, 2)), overwrite=True)
+        (place / "m.mtl").write_text(f"newmtl m\nmap_Kd {map_kd}\n")
+    (mesh_folder / "m.obj").write_text(f"mtllib {mtllib}\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n"
+                                       "f 1/1 2/1 3/1\n")
+    return mesh_folder / "m.obj"
+
+
+@pytest.mark.parametrize("mtllib, map_kd, message", [
+    ("../m.mtl", "t.png", r"m.obj' as a OBJ mesh: line 1: mtllib '\.\./m\.mtl' is outside the mesh's folder"),
+    ("ABSOLUTE", "t.png", r"m.obj' as a OBJ mesh: line 1: mtllib '/.*/m\.mtl' is outside the mesh's folder"),
+    ("m.mtl", "../t.png", r"m.obj' as a OBJ mesh: m\.mtl line 2: map_Kd '\.\./t\.png' is outside the mesh's folder"),
+    ("m.mtl", "ABSOLUTE", r"m.obj' as a OBJ mesh: m\.mtl line 2: map_Kd '/.*/t\.png' is outside the mesh's folder"),
+])
+def test_files_named_outside_the_mesh_folder_are_refused_unless_allowed(tmp_path, mtllib, map_kd, message):
+    mtllib = str(tmp_path / "m.mtl") if mtllib == "ABSOLUTE" else mtllib
+    map_kd = str(tmp_path / "t.png") if map_kd == "ABSOLUTE" else map_kd
+    path = _textured_obj(tmp_path, mtllib, map_kd)
+    with pytest.raises(ValueError, match=message + r" \(.*mesh\); .*pass allow_outside=True"):
+        read_mesh(path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # read, texture and all
+        assert read_mesh(path, allow_outside=True).texture.shape == (2, 2)
+    with pytest.raises(TypeError, match="allow_outside must be True or False"):
+        read_mesh(path, allow_outside="yes")
+
+
+def test_files_in_the_mesh_folder_and_below_are_followed(tmp_path):
+    path = _textured_obj(tmp_path)
+    (path.parent / "sub").mkdir()
+    (path.parent / "t.png").rename(path.parent / "sub" / "t.png")
+    (path.parent / "m.mtl").write_text("newmtl m\nmap_Kd sub/../sub/t.png\n")
+    assert read_mesh(path).texture.shape == (2, 2)
+
+
+def test_a_ply_texture_outside_the_mesh_folder_is_refused_unless_allowed(tmp_path):
+    from texsynth.io import save_image
+
+    save_image(tmp_path / "t.png", np.ones((2, 2)))
+    (tmp_path / "mesh").mkdir()
+    path = write_mesh(tmp_path / "mesh" / "a.ply", _decorated("texture"))
+    path.write_bytes(path.read_bytes().replace(b"TextureFile a.png", b"TextureFile ../t.png"))
+    with pytest.raises(ValueError, match=r"a.ply' as a PLY mesh: comment TextureFile '\.\./t\.png' is outside"):
+        read_mesh(path)
+    assert read_mesh(path, allow_outside=True).texture.shape == (2, 2)
 
 
 def test_truncated_binary_ply(tmp_path):

@@ -134,3 +134,20 @@ def test_thread_limits_of_the_user_are_respected():
         assert max_threads() == 1
     assert max_threads() == before
     assert 1 <= before <= (__import__("os").cpu_count() or 1)
+
+
+def test_under_an_address_space_limit_the_memory_available_is_what_is_left_of_it(monkeypatch):
+    # ``ulimit -v`` caps the process's whole address space, the part it already uses included: a check
+    # against the whole cap let work through that then ran out of memory (N11)
+    import resource
+
+    from texsynth.core._validate import available_memory
+
+    with open("/proc/self/status") as f:
+        in_use = next(int(line.split()[1]) * 1024 for line in f if line.startswith("VmSize:"))
+    cap = in_use + 2**30
+    monkeypatch.setattr(resource, "getrlimit", lambda which: (cap, resource.RLIM_INFINITY)
+                        if which == resource.RLIMIT_AS else (resource.RLIM_INFINITY,) * 2)
+    left = available_memory()
+    assert left <= 2**30 + 2**26  # about what is left (the process may have grown a little since)
+    assert left >= 0

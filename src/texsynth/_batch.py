@@ -73,15 +73,40 @@ class BatchSummary:
         return [item for item in self.items if item["status"] == "failed"]
 
 
-def _parse_size(value):
-    if value is None or value == "":
+def _parse_size(value, name="size"):
+    """None (the exemplar's size), or an int, ``(height, width)`` or ``"WxH"`` as a checked ``(height, width)``."""
+    from .core._validate import as_size
+
+    if value is None or isinstance(value, str) and value == "":
         return None
-    if isinstance(value, int):
-        return (value, value)
     if isinstance(value, str):
-        parts = [int(p) for p in value.lower().split("x")]
-        return (parts[0], parts[0]) if len(parts) == 1 else (parts[1], parts[0])  # WxH -> (H, W)
-    return tuple(int(v) for v in value)
+        parts = value.lower().split("x")
+        if len(parts) > 2 or not all(p.strip().isdigit() for p in parts):
+            raise ValueError(f"{name} must look like WIDTHxHEIGHT (e.g. 256x256) or one number, got {value!r}")
+        value = int(parts[0]) if len(parts) == 1 else (int(parts[1]), int(parts[0]))  # WxH -> (H, W)
+    return as_size(value, name)
+
+
+def _check_methods(methods):
+    """The method names as a list; each must be a registry method taking one exemplar image to one image."""
+    from .registry import METHODS
+
+    usable = [name for name, spec in METHODS.items() if spec.inputs == "image" and spec.output == "image"]
+    hint = f"pass one or more of {', '.join(usable)}"
+    if isinstance(methods, str):
+        methods = [methods]
+    try:
+        methods = list(methods)
+    except TypeError:
+        raise TypeError(f"methods must be a method name or a list of them, got {methods!r}") from None
+    if not methods:
+        raise ValueError(f"methods is empty; {hint}")
+    for name in methods:
+        if name in METHODS and name not in usable:
+            raise ValueError(f"methods: {name!r} does not take one exemplar image to one image; {hint}")
+        if name not in usable:
+            raise ValueError(f"methods: {name!r} is not a method ('texsynth list' names them); {hint}")
+    return methods
 
 
 def _seed_indices(seeds):
@@ -91,7 +116,13 @@ def _seed_indices(seeds):
         if seeds < 1:
             raise ValueError(f"seeds must be a positive count or a list of seed indices, got {seeds}")
         return list(range(seeds))
-    return [int(s) for s in seeds]
+    from .core._validate import check_positive_int
+
+    try:
+        seeds = list(seeds)
+    except TypeError:
+        raise TypeError(f"seeds must be a positive count or a list of seed indices, got {seeds!r}") from None
+    return [check_positive_int(s, "seeds", minimum=0) for s in seeds]
 
 
 def _rows(inputs, methods, options, seeds, size):
@@ -127,7 +158,7 @@ def _manifest_rows(path, methods, options_list):
         with open(path, newline="") as f:
             records = list(csv.DictReader(f))
     rows = []
-    for record in records:
+    for number, record in enumerate(records, 1):
         if "exemplar" not in record:
             raise ValueError(f"manifest {str(path)!r}: every row needs an 'exemplar' column, got {sorted(record)}")
         exemplar = str(record["exemplar"])
@@ -140,9 +171,10 @@ def _manifest_rows(path, methods, options_list):
         if isinstance(seed, int) and "seed" in record and "seeds" not in record:
             seed = [seed]  # a `seed` column is one seed index, `seeds` a count or a list
         row_methods = [record["method"]] if record.get("method") else methods
+        size = _parse_size(record.get("size"), f"size of manifest row {number}")
         for m in row_methods:
             for o in ([opts] if opts is not None else options_list):
-                rows.append((exemplar, file, m, o, seed, _parse_size(record.get("size"))))
+                rows.append((exemplar, file, m, o, seed, size))
     return rows
 
 
@@ -345,15 +377,24 @@ def batch(inputs, output_folder, *, methods=("patchwork",), options=None, seeds=
     BatchSummary
         One record per item; failed items carry their error and never stop
         the others.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Before any work (nothing written, no cluster started), as the
+        ``texsynth batch`` command does: for a ``size`` (or a manifest row's)
+        that is not positive ``(height, width)`` or ``"WxH"``, ``methods``
+        naming something other than a method from one image to one image
+        (``texsynth list``), or ``seeds`` that are not a count or indices.
     """
+    # checked before any work: nothing is written and no cluster started for a bad argument
+    methods = _check_methods(methods)
+    size = _parse_size(size)
     distributed = _distributed()
     from .core._progress import Progress
 
-    if isinstance(methods, str):
-        methods = [methods]
     folder = Path(output_folder)
-    size = _parse_size(size)
-    items = _plan(_rows(inputs, list(methods), options, seeds, size), folder)
+    items = _plan(_rows(inputs, methods, options, seeds, size), folder)
     folder.mkdir(parents=True, exist_ok=True)
     for item in items:
         _remove_stale_temporaries(folder / item["output"])

@@ -328,8 +328,8 @@ def memory_limit(nbytes, holder):
 
 def available_memory():
     """Bytes of memory this process may still take: Linux's MemAvailable (else the physical memory),
-    or less under an address-space limit (``ulimit -v``, ``resource.RLIMIT_AS``) or a
-    :func:`memory_limit`. None if unknown."""
+    or less under an address-space limit (``ulimit -v``, ``resource.RLIMIT_AS``: what is left of it)
+    or a :func:`memory_limit`. None if unknown."""
     free = _machine_memory()
     limit = _MEMORY_LIMIT.get()
     if limit is not None and (free is None or limit[0] < free):
@@ -354,10 +354,19 @@ def _machine_memory():
 
         limit = resource.getrlimit(resource.RLIMIT_AS)[0]
         if limit != resource.RLIM_INFINITY and limit >= 0:
-            free = min(free, limit)
+            free = min(free, max(0, limit - _address_space()))  # the cap counts what the process already maps
     except (ImportError, AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
         pass
     return free
+
+
+def _address_space():
+    """Bytes of address space this process maps (Linux's VmSize), 0 if unknown."""
+    try:
+        with open("/proc/self/status") as f:
+            return next((int(line.split()[1]) * 1024 for line in f if line.startswith("VmSize:")), 0)
+    except (OSError, ValueError, IndexError):
+        return 0
 
 
 def _gib(nbytes):

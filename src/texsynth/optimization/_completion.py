@@ -296,13 +296,19 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
             raise ValueError(f"position {(top, left)} puts the {h}x{w} image outside the {shape} result; pass "
                              f"0 <= row <= {shape[0] - h} and 0 <= col <= {shape[1] - w}, or 'center'")
     allowed = np.ones((h, w), bool) if sample_mask is None else _check_mask(sample_mask, (h, w), "sample_mask") > 0.5
-    # the canvas, its mask and target before optimize_texture checks its own arrays
-    check_memory(float(shape[0]) * shape[1] * (channels.shape[-1] * 2 + 1) * channels.itemsize, shape)
+    sizes = _sizes(channels, shape, neighborhood_sizes)
+    # held at once until optimize_texture checks its own arrays: here the canvas and its mask (a byte a pixel);
+    # there the target's two copies (its conversion, then astype) and the mask's two float64 ones, then both
+    # again on its canvas, up to half the largest neighbourhood larger (its margin); and per exemplar pixel,
+    # two copies, the valid mask and the Fourier transforms of the feature scale (80 + 8 C bytes)
+    margin, c, item = sizes[0] // 2, channels.shape[-1], channels.itemsize
+    check_memory(float(shape[0] + margin) * (shape[1] + margin) * (3 * c * item + 17)
+                 + float(h) * w * (2 * c * item + 8 * c + 96), shape)
     canvas = np.zeros(shape + (channels.shape[-1],), channels.dtype)
     canvas[top : top + h, left : left + w] = channels
     known = np.zeros(shape, bool)
     known[top : top + h, left : left + w] = True
-    sizes, levels = _schedule(channels, shape, ~known, neighborhood_sizes, levels)
+    sizes, levels = _schedule(channels, shape, ~known, sizes, levels)
     _check_sources(allowed, min(sizes), "sample_mask")
     return _complete(channels, canvas, known, allowed, sizes, levels, grey, return_info, origin=(top, left),
                      blend_width=check_positive_int(blend_width, "blend_width", 0), confidence=WEXLER_CONFIDENCE,

@@ -70,7 +70,7 @@ import scipy.sparse.linalg
 from scipy.ndimage import map_coordinates
 
 from ..core._progress import Progress
-from ..core._validate import as_image, as_rng, check_memory, check_positive_float, check_positive_int
+from ..core._validate import as_image, as_rng, as_size, check_memory, check_positive_float, check_positive_int
 from ..core.pyramid import gaussian_pyramid, max_levels
 from ._field import check_field, field_vectors
 from ._meshio import as_mesh
@@ -81,6 +81,7 @@ _FACING = 0.2      # a patch grows over faces whose normals have at least this c
 _RESOLVE = 1.5     # ... and is parametrised again each time it has grown by this factor
 _OPAQUE = 0.99     # alpha above which a corner counts as covered
 _ANCHOR = 1e3      # weight of the seed's position in the least squares
+_SPLOTCH_BYTES = 24 * 8  # the default splotch's float64 arrays per pixel at its peak (18: its harmonics), with a margin
 
 
 @dataclass
@@ -116,8 +117,8 @@ def default_splotch(shape, *, rng=None):
 
     Parameters
     ----------
-    shape : (int, int)
-        ``(h, w)`` of the mask.
+    shape : int or (int, int)
+        ``(h, w)`` of the mask (an int means square).
     rng : None, int or numpy.random.Generator
 
     Returns
@@ -131,8 +132,9 @@ def default_splotch(shape, *, rng=None):
     >>> float(a[16, 16]), float(a[0, 0])
     (1.0, 0.0)
     """
+    h, w = as_size(shape, "shape")
+    check_memory(float(h) * w * _SPLOTCH_BYTES, (h, w), "shape", "the splotch")
     rng = as_rng(rng)
-    h, w = shape
     y, x = np.mgrid[0:h, 0:w]
     dy, dx = (y + 0.5) / h - 0.5, (x + 0.5) / w - 0.5
     theta, rho = np.arctan2(dy, dx), np.hypot(dx, dy)

@@ -14,6 +14,9 @@ writes them), faces ``vertex_indices`` (or ``vertex_index``) with a per-face
 
 Polygons with more than three corners are split into fans of triangles.
 Normals, groups, materials other than the texture, and lines are ignored.
+Vertices must be finite and faces must index them (refused at read time,
+naming the line or element); the files a mesh names (material, texture) are
+followed only inside the mesh's folder unless ``allow_outside=True``.
 """
 
 from __future__ import annotations
@@ -79,9 +82,20 @@ def _colors_from_file(values, what):
     raise _Garbled(f"{what} are not in [0, 1] or 0..255 (largest {values.max():.4g})")
 
 
-def _texture_beside(path, name):
+def _inside(path, name, what, allow_outside):
+    """``name``, a file the mesh file ``path`` refers to (``what``: where and how), relative to the mesh's
+    folder; refused if it leads out of that folder (``../``, an absolute path, a link), unless ``allow_outside``."""
+    folder = path.parent.resolve()
+    target = folder / name
+    if not allow_outside and not target.resolve().is_relative_to(folder):
+        raise _Garbled(f"{what} {name!r} is outside the mesh's folder ({folder}); copy the file into that folder, or "
+                       "pass allow_outside=True if you trust the mesh file")
+    return target
+
+
+def _texture_beside(path, name, what, allow_outside):
     """The texture image ``name`` (relative to the mesh file's folder), or None with a warning if unreadable."""
-    image_path = path.parent / name
+    image_path = _inside(path, name, what, allow_outside)
     try:
         return load_image(image_path)
     except (OSError, ValueError) as exc:
@@ -99,19 +113,30 @@ def _obj_index(token, count, line_number, what):
         raise _Garbled(f"line {line_number}: {token!r} is not a {what} index") from None
     if value == 0:
         raise _Garbled(f"line {line_number}: {what} index 0 (OBJ indices count from 1)")
+    if value < -count:
+        raise _Garbled(f"line {line_number}: {what} index {value} points before the first {what} ({count} read so "
+                       "far)")
     return value - 1 if value > 0 else count + value
 
 
-def _read_mtl(path, name):
-    """``{material: texture file}`` of the ``map_Kd`` lines of an MTL file (empty if it cannot be read)."""
+def _obj_line(text, key, k):
+    """The number of the ``k``-th (0-based) line of ``text`` that starts with ``key``, for an error message."""
+    lines = (number for number, line in enumerate(text.splitlines(), 1) if line.split()[:1] == [key])
+    return next(number for i, number in enumerate(lines) if i == k)
+
+
+def _read_mtl(path, name, line_number, allow_outside):
+    """``{material: texture file}`` of the ``map_Kd`` lines of an MTL file (empty if it cannot be read) and
+    ``{texture file: where it is named}``."""
+    mtl_path = _inside(path, name, f"line {line_number}: mtllib", allow_outside)
     try:
-        text = (path.parent / name).read_text(encoding="utf-8", errors="replace")
+        text = mtl_path.read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
         warnings.warn(f"{str(path)!r} names the material file {name!r}, which cannot be read ({exc}); the mesh is "
                       "read without its texture", stacklevel=4)
-        return {}
-    textures, material = {}, None
-    for line in text.splitlines():
+        return {}, {}
+    textures, named, material = {}, {}, None
+    for number, line in enumerate(text.splitlines(), 1):
         words = line.split()
         if len(words) >= 2 and words[0] == "newmtl":
             material = " ".join(words[1:])
@@ -119,10 +144,11 @@ def _read_mtl(path, name):
             # options (-s 1 1 1, -clamp on, ...) come first; the file name is the rest of the line after them
             textures[material] = re.sub(r"^(?:-\w+(?:\s+[-+\d.eE]+|\s+on|\s+off)*\s+)*", "",
                                         line.split(None, 1)[1].strip())
-    return textures
+            named.setdefault(textures[material], f"{name} line {number}: map_Kd")
+    return textures, named
 
 
-def _read_obj(path):
+def _read_obj(path, allow_outside):
     positions, colors, texcoords = [], [], []
     corners_v, corners_vt, face_material = [], [], []
     material, mtl_files = None, []
@@ -154,7 +180,7 @@ def _read_obj(path):
                 corners_vt.append(vt)
                 face_material.append(material)
             elif key == "mtllib":
-                mtl_files.append(line.split(None, 1)[1].strip())
+                mtl_files.append((line.split(None, 1)[1].strip(), line_number))
             elif key == "usemtl":
                 material = line.split(None, 1)[1].strip() if len(words) > 1 else None
         except _Garbled:
@@ -162,6 +188,15 @@ def _read_obj(path):
         except (ValueError, IndexError) as exc:
             raise _Garbled(f"line {line_number}: cannot read {line.strip()[:60]!r} ({exc})") from None
     vertices = np.array(positions, dtype=np.float64).reshape(-1, 3)
+    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=1))
+    if len(bad):
+        raise _Garbled(f"line {_obj_line(text, 'v', bad[0])}: vertex {tuple(vertices[bad[0]].tolist())} is not "
+                       "finite; a mesh needs real coordinates")
+    top = np.fromiter(map(max, corners_v), np.int64, len(corners_v))  # negative indices were checked as read
+    bad = np.flatnonzero(top >= len(vertices))
+    if len(bad):
+        raise _Garbled(f"line {_obj_line(text, 'f', bad[0])}: a face uses vertex {top[bad[0]] + 1}, but the file "
+                       f"has {len(vertices)} vertices")
     if not corners_v:
         return Mesh(vertices, np.zeros((0, 3), np.int64))
     faces, faces_vt, face_material = _triangulate(corners_v, corners_vt, [[m] * len(c) for m, c in
@@ -177,15 +212,18 @@ def _read_obj(path):
             raise _Garbled(f"a face uses texture coordinate {faces_vt.max() + 1}, but the file has "
                            f"{len(texcoords)} vt lines")
         uv = np.array(texcoords, dtype=np.float64)[faces_vt]
-        textures = {}
-        for name in mtl_files:
-            textures.update(_read_mtl(path, name))
+        textures, named = {}, {}
+        for name, line_number in mtl_files:
+            found, where = _read_mtl(path, name, line_number, allow_outside)
+            textures.update(found)
+            named.update(where)
         used = {textures[m] for m in set(face_material) if m in textures}
         if len(used) > 1:
             warnings.warn(f"{str(path)!r} uses {len(used)} texture images ({sorted(used)}); a texsynth Mesh holds "
                           "one, so the mesh is read without a texture (its uv coordinates are kept)", stacklevel=3)
         elif used:
-            texture = _texture_beside(path, used.pop())
+            name = used.pop()
+            texture = _texture_beside(path, name, named[name], allow_outside)
     elif np.any(faces_vt >= 0):
         warnings.warn(f"{str(path)!r}: only some faces have texture coordinates; the mesh is read without them",
                       stacklevel=3)
@@ -350,7 +388,23 @@ def _ply_read_rows(stream, pos, count, props, fmt):
     return {p[0]: np.array(out[p[0]]) if len(p) == 2 else out[p[0]] for p in props}, pos
 
 
-def _read_ply(path):
+def _ply_check_faces(polygons, n):
+    """Refuse a face (a row of ``polygons``: an array or a list of arrays) with a vertex index outside 0..n-1."""
+    if isinstance(polygons, np.ndarray):
+        if polygons.size == 0 or 0 <= polygons.min() and polygons.max() < n:
+            return
+        wrong = ((polygons < 0) | (polygons >= n)).any(axis=1)
+    else:
+        wrong = np.array([len(p) > 0 and (np.min(p) < 0 or np.max(p) >= n) for p in polygons], dtype=bool)
+    if wrong.any():
+        face = int(np.argmax(wrong))
+        corners = np.asarray(polygons[face], np.int64)
+        index = corners[(corners < 0) | (corners >= n)][0]
+        raise _Garbled(f"face {face} (element face) uses vertex {index}, but the file has {n} vertices"
+                       + (f" (0..{n - 1})" if n else ""))
+
+
+def _read_ply(path, allow_outside):
     data = path.read_bytes()
     fmt, elements, comments, body = _ply_header(data)
     if fmt == "ascii":
@@ -372,6 +426,10 @@ def _read_ply(path):
     if missing:
         raise _Garbled(f"the vertices have no {'/'.join(missing)} property")
     vertices = np.stack([np.asarray(vert[c], dtype=np.float64) for c in "xyz"], axis=1)
+    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=1))
+    if len(bad):
+        raise _Garbled(f"vertex {bad[0]} (element vertex) is {tuple(vertices[bad[0]].tolist())}, not finite "
+                       f"({len(bad)} such vertices); a mesh needs real coordinates")
     colors = None
     channels = [c for c in ("red", "green", "blue", "alpha") if c in vert]
     if channels[:3] == ["red", "green", "blue"]:
@@ -387,6 +445,7 @@ def _read_ply(path):
     if key is None:
         raise _Garbled("the faces have no vertex_indices list")
     polygons = face[key]
+    _ply_check_faces(polygons, len(vertices))
     texcoord = face.get("texcoord")
     fixed = isinstance(polygons, np.ndarray) and isinstance(texcoord, np.ndarray)
     if texcoord is not None and (texcoord.shape[1] != 2 * polygons.shape[1] if fixed else
@@ -405,14 +464,14 @@ def _read_ply(path):
                                         [np.asarray(t, np.float64).reshape(-1, 2) for t in texcoord])
     if corner_uv is None:
         for u, v in _PLY_UV_NAMES:
-            if u in vert and v in vert and len(faces) and faces.max() < len(vertices):
+            if u in vert and v in vert:
                 corner_uv = np.stack([vert[u], vert[v]], axis=1).astype(np.float64)[faces]
                 break
     texture = None
     if corner_uv is not None:
         names = [c.split(None, 1)[1] for c in comments if c.startswith("TextureFile") and len(c.split()) > 1]
         if names:
-            texture = _texture_beside(path, names[0].strip())
+            texture = _texture_beside(path, names[0].strip(), "comment TextureFile", allow_outside)
     return Mesh(vertices, faces, colors=colors, uv=corner_uv, texture=texture)
 
 
@@ -551,7 +610,7 @@ def as_mesh(value, name="mesh"):
     return checked(value, name)
 
 
-def read_mesh(path):
+def read_mesh(path, *, allow_outside=False):
     """Read a triangle mesh from a file.
 
     Parameters
@@ -560,6 +619,13 @@ def read_mesh(path):
         An ``.obj`` (with its ``.mtl`` and texture image) or ``.ply`` file,
         read by texsynth itself; any other suffix (``.stl``, ``.off``,
         ``.glb``, ...) is read through trimesh (``pip install texsynth[mesh]``).
+    allow_outside : bool
+        Follow the files an OBJ or PLY file names (``mtllib``, ``map_Kd``,
+        ``comment TextureFile``) wherever they are. Off by default: a mesh
+        file from elsewhere may only name files in its own folder or below
+        it, not ``../..`` or an absolute path, so reading it cannot read
+        other files of the machine. (Formats read through trimesh are not
+        covered.)
 
     Returns
     -------
@@ -577,8 +643,11 @@ def read_mesh(path):
     FileNotFoundError
         If ``path`` does not exist or is a folder.
     ValueError
-        If the file is not a mesh of its format or is cut short; the message
-        names the file and what is wrong.
+        If the file is not a mesh of its format or is cut short, has a NaN or
+        infinite vertex, a face whose vertex index is past the vertex list,
+        or names a file outside its folder without ``allow_outside``; the
+        message names the file, the line (OBJ) or element (PLY), and what is
+        wrong.
     ModuleNotFoundError
         For a format other than OBJ and PLY without trimesh installed.
 
@@ -598,14 +667,15 @@ def read_mesh(path):
     Mesh(42 vertices, 80 faces)
     """
     path = _as_path(path)
+    allow_outside = check_bool(allow_outside, "allow_outside")
     if path.is_dir():
         raise FileNotFoundError(f"path {str(path)!r} is a folder, not a mesh file")
     if not path.is_file():
         raise FileNotFoundError(f"path {str(path)!r} does not exist or is not a file")
     suffix = path.suffix.lower()
-    reader = {".obj": _read_obj, ".ply": _read_ply}.get(suffix, _read_other)
+    reader = {".obj": _read_obj, ".ply": _read_ply}.get(suffix)
     try:
-        mesh = reader(path)
+        mesh = reader(path, allow_outside) if reader else _read_other(path)
         if len(mesh.faces) == 0:
             raise _Garbled(f"it holds no faces ({len(mesh.vertices)} vertices: a point cloud?); texsynth needs a "
                            "triangle mesh")

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core._validate import as_rng, check_in_range, check_positive_float, check_positive_int
+from ..core._validate import as_rng, check_in_range, check_memory, check_positive_float, check_positive_int
 from ._mesh import Mesh
 
 __all__ = ["sphere", "torus", "bumpy", "scanned_mesh", "SCANNED_MESHES"]
@@ -36,6 +36,26 @@ SCANNED_MESHES = {
               "the Stanford Bunny (Turk & Levoy 1994, Stanford 3D Scanning Repository), holes closed, as "
               "shipped in the visvis package"),
 }
+
+# the most memory a shape holds at once, per vertex: numpy's arrays and the Python objects of the
+# subdivision, as tracemalloc counts them (about 450 bytes for the sphere, 220 for the torus), with a margin
+_SPHERE_BYTES = 512
+_TORUS_BYTES = 320
+_WAVES = 32  # plane waves of bumpy's noise
+_LENGTHS = (1e-75, 1e75)  # lengths whose fourth powers (squared areas) stay normal float64 numbers; frequencies too
+
+
+def _check_length(value, name):
+    """A radius or frequency in ``_LENGTHS``."""
+    value = check_positive_float(value, name, maximum=_LENGTHS[1])
+    if value < _LENGTHS[0]:
+        raise ValueError(f"{name} must be at least {_LENGTHS[0]:g} (smaller, areas underflow), got {value:g}")
+    return value
+
+
+def _check_memory(n_vertices, vertices, per_vertex):
+    """Refuse, before allocating, a shape of ``vertices`` vertices that cannot fit (``n_vertices`` asked)."""
+    check_memory(float(vertices) * per_vertex, n_vertices, "n_vertices", "the mesh")
 
 
 def _geodesic_frequency(n_vertices):
@@ -96,8 +116,10 @@ def sphere(n_vertices=2562, *, radius=1.0):
     Mesh(92 vertices, 180 faces)
     """
     n_vertices = check_positive_int(n_vertices, "n_vertices")
-    radius = check_positive_float(radius, "radius")
-    points, faces = _unit_sphere(_geodesic_frequency(n_vertices))
+    radius = _check_length(radius, "radius")
+    frequency = _geodesic_frequency(n_vertices)
+    _check_memory(n_vertices, 10 * frequency**2 + 2, _SPHERE_BYTES)
+    points, faces = _unit_sphere(frequency)
     return Mesh(radius * points, faces)
 
 
@@ -127,13 +149,14 @@ def torus(n_vertices=2500, *, major_radius=1.0, minor_radius=0.4):
     Mesh(100 vertices, 200 faces)
     """
     n_vertices = check_positive_int(n_vertices, "n_vertices")
-    major_radius = check_positive_float(major_radius, "major_radius")
-    minor_radius = check_positive_float(minor_radius, "minor_radius")
+    major_radius = _check_length(major_radius, "major_radius")
+    minor_radius = _check_length(minor_radius, "minor_radius")
     if minor_radius >= major_radius:
         raise ValueError(f"minor_radius ({minor_radius}) must be less than major_radius ({major_radius}), or the "
                          "tube intersects itself")
     n_tube = max(3, int(round(np.sqrt(n_vertices * minor_radius / major_radius))))
     n_around = max(3, int(round(n_vertices / n_tube)))
+    _check_memory(n_vertices, n_around * n_tube, _TORUS_BYTES)
     u, v = np.meshgrid(2 * np.pi * np.arange(n_around) / n_around, 2 * np.pi * np.arange(n_tube) / n_tube,
                        indexing="ij")
     ring = major_radius + minor_radius * np.cos(v)
@@ -182,14 +205,17 @@ def bumpy(n_vertices=10242, *, radius=1.0, amplitude=0.15, frequency=2.0, rng=No
     True
     """
     n_vertices = check_positive_int(n_vertices, "n_vertices")
-    radius = check_positive_float(radius, "radius")
+    radius = _check_length(radius, "radius")
     amplitude = check_in_range(amplitude, "amplitude", 0.0, 1.0, high_open=True)
-    frequency = check_positive_float(frequency, "frequency")
+    frequency = _check_length(frequency, "frequency")
     rng = as_rng(rng)
-    points, faces = _unit_sphere(_geodesic_frequency(n_vertices))
-    directions = rng.normal(size=(32, 3))
+    sphere_frequency = _geodesic_frequency(n_vertices)
+    # the sphere's, or its mesh (72 bytes per vertex) and three (N, 32) float64 arrays of the waves
+    _check_memory(n_vertices, 10 * sphere_frequency**2 + 2, max(_SPHERE_BYTES, 72 + 3 * 8 * _WAVES))
+    points, faces = _unit_sphere(sphere_frequency)
+    directions = rng.normal(size=(_WAVES, 3))
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    phases = rng.uniform(0, 2 * np.pi, size=32)
+    phases = rng.uniform(0, 2 * np.pi, size=_WAVES)
     noise = np.cos(2 * np.pi * frequency * points @ directions.T + phases).sum(axis=1)
     noise /= np.abs(noise).max()
     return Mesh(radius * (1 + amplitude * noise)[:, None] * points, faces)
@@ -233,7 +259,7 @@ def scanned_mesh(name="bunny"):
         If the package that ships the scan is not installed: ``pip install
         texsynth[mesh]``.
     """
-    if name not in SCANNED_MESHES:
+    if not isinstance(name, str) or name not in SCANNED_MESHES:
         raise ValueError(f"name must be one of {sorted(SCANNED_MESHES)}, got {name!r}")
     package, inside, _ = SCANNED_MESHES[name]
     spec = importlib.util.find_spec(package)  # locates the package without importing it (visvis imports OpenGL)
