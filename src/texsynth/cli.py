@@ -3,7 +3,7 @@
 ::
 
     texsynth list
-    texsynth demo [--out DIR]
+    texsynth demo [--out DIR] [--only NAME,...]
     texsynth batch INPUT_FOLDER_OR_MANIFEST -o FOLDER [--methods a,b] [--seeds N] [--scheduler tcp://HOST:PORT]
     texsynth METHOD INPUT [INPUT ...] -o OUTPUT [--size WxH] [--seed N] [--bits 8|16|32] [method options]
     texsynth quilt albedo.png -o out.png --channels height.png,rough.png --normal-maps normal.png
@@ -712,6 +712,8 @@ def build_parser():
     demo = sub.add_parser("demo", help="write a gallery of every method on bundled sample textures")
     demo.add_argument("--out", default="texsynth-demo", help="gallery folder (default: texsynth-demo)")
     demo.add_argument("--seed", type=int, default=0, help="random seed")
+    demo.add_argument("--only", metavar="NAME[,NAME...]",
+                      help="only these gallery images, by the names the demo prints (e.g. optimize_bread,quilt_brick)")
     _add_batch_parser(sub)
     _add_apply_coordinates_parser(sub)
     _add_surface_parser(sub)
@@ -915,9 +917,10 @@ def main(argv=None):
                 print(f"{name:<{width}}  {method.summary}")
             return 0
         if args.command == "demo":
-            from .demo import run_demo
+            from .demo import run_demo, select_entries
 
-            index = run_demo(args.out, seed=args.seed, log=print)
+            entries = None if args.only is None else select_entries(args.only.split(","))
+            index = run_demo(args.out, seed=args.seed, entries=entries, log=print)
             print(f"gallery written: {index}")
             return 0
         if args.command == "batch":

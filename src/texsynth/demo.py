@@ -16,7 +16,7 @@ from . import data
 from .io import _atomic_write, save_image
 from .registry import Demo, demos
 
-__all__ = ["Entry", "ENTRIES", "run_demo"]
+__all__ = ["Entry", "ENTRIES", "run_demo", "select_entries"]
 
 _MARKER = ".texsynth-demo"
 
@@ -41,6 +41,23 @@ def _prepare_folder(out):
     out.mkdir(parents=True, exist_ok=True)
     (out / _MARKER).write_text("written by texsynth demo; the demo may overwrite files here\n")
     return out
+
+
+def select_entries(names):
+    """The gallery entries named in ``names`` (their slugs, as the demo's log prints them), in gallery order.
+
+    Examples
+    --------
+    >>> [e.slug for e in select_entries(["wood", "marble"])]
+    ['marble', 'wood']
+    """
+    names = [names] if isinstance(names, str) else list(names)
+    known = {e.slug for e in ENTRIES}
+    unknown = [n for n in names if n not in known]
+    if unknown or not names:
+        raise ValueError(f"no gallery entry named {', '.join(map(repr, unknown)) or 'at all'}; "
+                         f"choose among {', '.join(e.slug for e in ENTRIES)}")
+    return [e for e in ENTRIES if e.slug in names]
 
 
 def run_demo(out="texsynth-demo", *, seed=0, entries=None, log=None):
