@@ -217,15 +217,6 @@ WORKER_CONFIG = {
 (``dask.config.set(texsynth._batch.WORKER_CONFIG)`` before it starts)."""
 
 
-def _remove_stale_temporaries(output):
-    """Remove what a killed run left of ``output``: the hidden temporary files texsynth.io writes before
-    renaming (``kill -9`` gives no chance to remove them)."""
-    from .io import _stale_temp_files
-
-    for path in _stale_temp_files(output):
-        path.unlink(missing_ok=True)
-
-
 def _worker_share():
     """On a Dask worker with a memory limit: the methods' pre-flight checks allow what is left of it
     (the limit minus the worker's resident memory), so an item that cannot fit is refused before it
@@ -396,8 +387,7 @@ def batch(inputs, output_folder, *, methods=("patchwork",), options=None, seeds=
     folder = Path(output_folder)
     items = _plan(_rows(inputs, methods, options, seeds, size), folder)
     folder.mkdir(parents=True, exist_ok=True)
-    for item in items:
-        _remove_stale_temporaries(folder / item["output"])
+    for item in items:  # what a killed run left of an item's output is removed when the item is written again
         if item["status"] == "pending" and (folder / item["output"]).exists() and not overwrite:
             item["status"] = "skipped"
     start = time.perf_counter()
