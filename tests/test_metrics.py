@@ -235,3 +235,24 @@ def test_long_wavelength_spectrum_tells_a_repeated_small_tile_from_a_fresh_crop(
     assert metrics.spectrum_distance(tiled, ex, max_wavelength=8) < long_tiled
     with pytest.raises(ValueError, match="min_wavelength"):
         metrics.spectrum_distance(ex, ex, min_wavelength=500)
+
+
+def test_texture_report_measures_the_baselines_of_a_seed_once(monkeypatch):
+    from texsynth import metrics
+
+    rng = np.random.default_rng(4)
+    ex, a, b = rng.random((24, 24, 3)), rng.random((32, 32, 3)), rng.random((32, 32, 3))
+    first = metrics.texture_report(a, ex, rng=11)
+    made = []
+    real = metrics.baselines
+    monkeypatch.setattr(metrics, "baselines", lambda *args, **kwargs: made.append(1) or real(*args, **kwargs))
+    second = metrics.texture_report(b, ex, rng=11)
+    assert made == [] and second.reference == first.reference  # measured once, for the first output
+    second.reference["noise"]["energy"] = -1.0  # a caller's change does not reach the next report
+    assert metrics.texture_report(b, ex, rng=11).reference == first.reference
+    metrics.texture_report(b, ex, rng=None)  # fresh baselines: never from the cache
+    metrics.texture_report(b, ex * 0.9, rng=11)  # another exemplar
+    assert made == [1, 1]
+    # the cached figures are those a fresh measurement gives
+    monkeypatch.setattr(metrics, "_BASELINE_METRICS", {})
+    assert metrics.texture_report(b, ex, rng=11).reference == first.reference
