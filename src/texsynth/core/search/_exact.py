@@ -97,14 +97,24 @@ class _Exact:
             block = q @ v.T
             np.subtract(half_norms[None, :], block, out=block)
             if k == 1:
-                kth = block.min(axis=1)
+                best = block.argmin(axis=1)
+                kth = block[np.arange(len(q)), best]
             else:
                 kth = np.partition(block, k - 1, axis=1)[:, k - 1]
             # the rounding error of that expression is below (dim + 2) eps (||q||^2 + ||v||^2) / 2;
             # keep every vector that could be within it of the k-th best, re-score exactly
             tol = (dim + 2) * eps * (q_norms + max_norm)
-            rows, cols = np.nonzero(block <= (kth + tol)[:, None])
+            near = block <= (kth + tol)[:, None]
             del block
+            if k == 1:
+                # most rows keep one vector, their argmin: only the others need the (slower) nonzero
+                counts = np.count_nonzero(near, axis=1)
+                alone, several = np.flatnonzero(counts == 1), np.flatnonzero(counts > 1)
+                rows, cols = np.nonzero(near[several])
+                rows, cols = np.concatenate([alone, several[rows]]), np.concatenate([best[alone], cols])
+            else:
+                rows, cols = np.nonzero(near)
+            del near
             d2 = pair_sq_distances(q, v, rows, cols, self.memory_budget)
             out_i[start : start + len(q)], out_d[start : start + len(q)] = best_k_of_pairs(
                 len(q), rows, cols, d2, k
