@@ -197,7 +197,8 @@ def test_old_per_part_seconds_still_answer_with_a_warning():
 
 # import name -> the distribution that provides it, where the two differ
 DISTRIBUTIONS = {"skimage": "scikit-image", "sklearn": "scikit-learn", "PIL": "pillow", "distributed": "dask",
-                 "psutil": "dask"}  # psutil comes with dask[distributed], and only the batch imports it
+                 "psutil": "dask",  # psutil comes with dask[distributed], and only the batch imports it
+                 "imageio_ffmpeg": "imageio-ffmpeg"}
 
 
 def _declared():

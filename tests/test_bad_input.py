@@ -177,6 +177,7 @@ def test_junk_in_any_parameter_is_a_clear_error(name, data):
 # --------------------------------------------------------------------------- the small public helpers
 from texsynth import surface  # noqa: E402
 from texsynth.core._validate import memory_limit  # noqa: E402
+from texsynth.core import neighborhood, pyramid  # noqa: E402
 from texsynth.procedural import apply_colormap  # noqa: E402
 
 HELPERS = {
@@ -186,6 +187,22 @@ HELPERS = {
     "default_splotch": (surface.default_splotch, ((8, 12),), dict(rng=0)),
     "scanned_mesh": (surface.scanned_mesh, ("bunny",), dict()),
     "apply_colormap": (apply_colormap, (np.linspace(0, 1, 5), [(0, 0, 0), "#ffffff"]), dict(dtype=np.float32)),
+    # the shared core: every option a user passes straight through to it
+    "patches_within": (neighborhood.patches_within, (np.ones((8, 8), bool), 2), dict()),
+    "all_patches": (neighborhood.all_patches, (np.zeros((8, 8, 1)), 2), dict(mode="wrap")),
+    "extract": (neighborhood.extract, (np.zeros((8, 8, 1)), [[0, 0]], 2), dict(mode="wrap")),
+    "accumulate": (neighborhood.accumulate, (np.ones((1, 2, 2, 1)), [[0, 0]], (4, 4)),
+                   dict(patch_weights=[1.0], pixel_weights=np.ones((2, 2)), mode="wrap")),
+    "grid_centers": (neighborhood.grid_centers, ((8, 8), 2, 2), dict(mode="wrap")),
+    "gaussian_falloff": (neighborhood.gaussian_falloff, (3,), dict(sigma=1.0)),
+    "downsample": (pyramid.downsample, (np.zeros((8, 8)),), dict(spatial_dims=2, mode="wrap")),
+    "upsample": (pyramid.upsample, (np.zeros((4, 4)), (8, 8)), dict(spatial_dims=2, mode="wrap")),
+    "gaussian_pyramid": (pyramid.gaussian_pyramid, (np.zeros((8, 8)), 2), dict(spatial_dims=2, mode="wrap")),
+    "laplacian_pyramid": (pyramid.laplacian_pyramid, (np.zeros((8, 8)), 2), dict(spatial_dims=2, mode="wrap")),
+    "max_levels": (pyramid.max_levels, ((8, 8),), dict()),
+    "max_scales": (pyramid.max_scales, ((8, 8),), dict()),
+    "warp": (flows.warp, (np.zeros((4, 4)), np.zeros((4, 4, 2))), dict(mode="wrap")),
+    "translation": (flows.translation, ((4, 4), (0.0, 1.0)), dict()),
 }
 HELPER_JUNK = st.sampled_from([None, float("nan"), float("inf"), -1, 0, -0.5, 10**12, 1e308, True, "x", [1, 2],
                                (0, 0), (2.5, 3), np.zeros(3), np.full((3, 3), np.nan), np.array(["a", "b"]), {},

@@ -676,3 +676,24 @@ def test_coordinates_are_saved_and_applied_later(tmp_path, capsys):
     assert run(*argv) == 2 and "exists" in capsys.readouterr().err  # the map is an output like the others
     assert run("quilt", str(photo), "-o", str(tmp_path / "q.png"), "--coordinates", str(tmp_path / "q.npy")) == 2
     assert ".npz" in capsys.readouterr().err and not (tmp_path / "q.png").exists()
+
+
+# --------------------------------------------------------------------------- surface
+def test_surface_follows_files_outside_the_mesh_folder_only_with_allow_outside(tmp_path, monkeypatch, capsys):
+    import texsynth.surface
+
+    (tmp_path / "x.mtl").write_text("newmtl m\nKd 1 0 0\n")
+    (tmp_path / "mesh").mkdir()
+    mesh = tmp_path / "mesh" / "m.obj"
+    mesh.write_text("mtllib ../x.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n")
+    exemplar = save_image(tmp_path / "ex.png", data.load("bread")[:16, :16])
+    reads = _spy(monkeypatch, texsynth.surface, "read_mesh")
+    _spy(monkeypatch, texsynth.surface, "synthesize_surface", lambda mesh, exemplar, **kwargs: mesh)  # the read only
+    argv = ["surface", str(mesh), str(exemplar), "-o", str(tmp_path / "out.ply")]
+    err = _one_line_error(capsys, run(*argv))
+    assert "mtllib '../x.mtl' is outside the mesh's folder" in err and not (tmp_path / "out.ply").exists()
+    assert run(*argv, "--allow-outside") == 0 and (tmp_path / "out.ply").exists()
+    assert [call["allow_outside"] for call in reads] == [False, True]
+    with pytest.raises(SystemExit):
+        run("surface", "-h")
+    assert "--allow-outside follow the files MESH names" in " ".join(capsys.readouterr().out.split())

@@ -214,6 +214,9 @@ def test_soft_constraints_too_large_for_memory_are_refused_with_the_fix(monkeypa
     (lambda img: texsynth.inpaint(img, disc((32, 32), (16, 16), 6), sample_mask=np.eye(32, dtype=bool)),
      "sample_mask leaves no"),
     (lambda img: texsynth.uncrop(img, 24), "size .* is smaller than the image"),
+    (lambda img: texsynth.uncrop(img, 32), r"size \(32, 32\) is the image's size: nothing to fill; pass a size larger "
+                                           r"than the image \(32, 32\) on at least one side"),
+    (lambda img: texsynth.uncrop(img[:, :30], (32, 30)), "is the image's size"),
     (lambda img: texsynth.uncrop(img, 48, position=(20, 0)), "position"),
     (lambda img: texsynth.uncrop(img, 48, sample_mask=np.ones((3, 3))), "sample_mask must have shape"),
     (lambda img: texsynth.inpaint(img, disc((32, 32), (16, 16), 6), blend_width=-2), "blend_width must be an integer >= 0"),

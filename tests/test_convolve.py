@@ -29,6 +29,8 @@ def test_a_flipped_kernel_is_the_correlation():
 def test_bad_mode_and_shapes_are_refused():
     with pytest.raises(ValueError, match="mode must be one of"):
         fft_convolve(np.ones((3, 3)), np.ones((2, 2)), mode="valid")
+    with pytest.raises(TypeError, match="mode must be one of 'full', 'same', got ndarray"):
+        fft_convolve(np.ones((3, 3)), np.ones((2, 2)), mode=np.array(["full", "same"]))
     with pytest.raises(ValueError, match="2-D arrays"):
         fft_convolve(np.ones(3), np.ones((2, 2)))
 

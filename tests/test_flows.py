@@ -119,6 +119,12 @@ def test_bad_warp_input(metal):
         warp(metal, bad)
     with pytest.raises(ValueError, match="mode"):
         warp(metal, np.zeros(metal.shape + (2,)), mode="mirror")
+    with pytest.raises(TypeError, match=r"mode must be one of 'constant', .*, got list"):
+        warp(metal, np.zeros(metal.shape + (2,)), mode=["wrap"])
+    with pytest.raises(TypeError, match="mode must be one of"):
+        warp(metal, np.zeros(metal.shape + (2,)), mode=np.array(["wrap", "reflect"]))
+    with pytest.raises(ValueError, match=r"velocity must be a pair \(d_row, d_col\), got array"):
+        translation((4, 4), np.zeros(3))
     with pytest.raises(ValueError, match="radius"):
         vortex((8, 8), 1.0, radius=0.0)
     with pytest.raises(ValueError, match="speed"):
@@ -171,3 +177,5 @@ def test_bad_warp_coordinates_input():
         warp_coordinates(np.zeros((4, 4, 2)), translation((4, 5), (0, 1)))
     with pytest.raises(ValueError, match="mode"):
         warp_coordinates(np.zeros((4, 4, 2)), translation((4, 4), (0, 1)), mode="mirror")
+    with pytest.raises(TypeError, match="mode must be one of"):
+        warp_coordinates(np.zeros((4, 4, 2)), translation((4, 4), (0, 1)), mode=["wrap"])

@@ -98,6 +98,58 @@ def test_to_uint_rounds_and_refuses_what_it_would_have_clipped():
         to_uint(np.zeros(2), True)
 
 
+_TO_UINT_INPUTS = {
+    "uint8": lambda rng: rng.integers(0, 256, 1000, dtype=np.uint8),
+    "uint16": lambda rng: rng.integers(0, 65536, 1000, dtype=np.uint16),
+    "bool": lambda rng: rng.random(1000) < 0.5,
+    "float32": lambda rng: rng.random(1000, dtype=np.float32),
+    "float64": lambda rng: np.append(rng.random(997), [0.5 / 255, 1.5 / 255, 0.5 / 65535]),  # ties round to even
+}
+
+
+@pytest.mark.parametrize("bits", [8, 16])
+@pytest.mark.parametrize("kind", list(_TO_UINT_INPUTS))
+def test_to_uint_gives_the_bits_of_the_plain_formula_and_keeps_its_input(kind, bits):
+    from texsynth.core._validate import as_float_array
+
+    image = _TO_UINT_INPUTS[kind](np.random.default_rng(0))
+    before = image.copy()
+    want = np.round(as_float_array(image) * (2**bits - 1)).astype(np.uint8 if bits == 8 else np.uint16)
+    got = to_uint(image, bits)
+    assert got.dtype == want.dtype and np.array_equal(got, want)
+    assert np.array_equal(image, before)  # the caller's array is not scaled in place
+
+
+def test_to_uint_refuses_what_cannot_fit_before_converting():
+    from texsynth.core._validate import memory_limit
+
+    with memory_limit(1e4, "a test's limit"), pytest.raises(
+            ValueError, match=r"image=\(100, 100\) needs about .* GiB .* of a test's limit; pass a smaller image"):
+        to_uint(np.zeros((100, 100), np.uint8))
+
+
+@pytest.mark.parametrize("bits", [8, 16])
+@pytest.mark.parametrize("kind", list(_TO_UINT_INPUTS))
+def test_to_uint_memory_estimate_bounds_its_peak_and_holds_one_scaled_copy(monkeypatch, kind, bits):
+    import tracemalloc
+
+    import texsynth.io
+
+    estimates = []
+    monkeypatch.setattr(texsynth.io, "check_memory", lambda nbytes, *args, **kwargs: estimates.append(nbytes))
+    image = np.resize(_TO_UINT_INPUTS[kind](np.random.default_rng(0)), 200_000)
+    copy = 4 if kind == "float32" else 8  # bytes of a float value
+    tracemalloc.start()
+    try:
+        out = to_uint(image, bits)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert estimates[-1] + 2**14 >= peak  # (numpy's scalars and views take a few hundred bytes more)
+    # uint8 and uint16 are scaled into a second float copy; the arithmetic then works in place
+    assert peak < 2 * copy * image.size + out.nbytes
+
+
 @pytest.mark.parametrize("target", ["anim.gif", "frames"])
 def test_frames_round_trip(tmp_path, target):
     base = data.load("bumpy")[:24, :32]
@@ -351,6 +403,38 @@ def test_a_full_disk_gives_one_error_and_nothing_else(tmp_path):
     assert proc.stdout.splitlines() == [f"failed {name}" for name in images + frames]  # no truncated JPEG passes
     assert proc.returncode == 2
     assert proc.stderr.startswith("texsynth: error:") and len(proc.stderr.splitlines()) == 1, proc.stderr
+    assert list(out.iterdir()) == []
+
+
+_FULL_DISK_VIDEO = """
+import resource, signal, sys
+import numpy as np
+from texsynth.io import save_frames
+
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+resource.setrlimit(resource.RLIMIT_FSIZE, (2000, 2000))
+noise = np.random.default_rng(0).random((3, 64, 64, 3))
+for name in sys.argv[2:]:
+    try:
+        save_frames(sys.argv[1] + name, noise)
+    except OSError:
+        print("failed", name)
+    else:
+        print("wrote", name)
+"""
+
+
+@POSIX
+def test_a_video_on_a_full_disk_is_an_oserror_and_leaves_nothing(tmp_path):
+    pytest.importorskip("imageio_ffmpeg")
+    script = tmp_path / "full_disk_video.py"
+    script.write_text(_FULL_DISK_VIDEO)
+    out = tmp_path / "out"
+    out.mkdir()
+    names = ["v.mp4", "v.mkv"]  # MP4 writes its index last; Matroska streams its frames
+    proc = subprocess.run([sys.executable, str(script), f"{out}/", *names], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.stdout.splitlines() == [f"failed {name}" for name in names], proc.stderr[-2000:]
     assert list(out.iterdir()) == []
 
 

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from texsynth.core.neighborhood import (PatchSum, accumulate, all_patches, causal_mask, extract, gaussian_falloff,
-                                       grid_centers, multilevel_vectors, _patch_coords)
+                                       grid_centers, multilevel_vectors, patches_within, _patch_coords)
 
 
 @pytest.fixture
@@ -136,6 +136,20 @@ def test_multilevel_vectors_take_the_parent_under_the_pixel():
     (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (0, 8)), "shape must be positive"),
     (lambda img: grid_centers((0, 8), 3, 1), "shape must be positive"),
     (lambda img: grid_centers((8, 8), 3, 0), "spacing must be positive"),
+    (lambda img: patches_within(np.ones(8, bool), 2), r"mask must be .*\(H, W\).* got shape \(8,\)"),
+    (lambda img: patches_within(np.ones((8, 8, 2), bool), 2), r"mask must be .*\(H, W\)"),
+    (lambda img: all_patches(img, 2, mode=np.array(["wrap", "valid"])), "mode must be one of 'valid', 'wrap'"),
+    (lambda img: all_patches(img, 2, mode=["wrap"]), r"mode must be one of .*, got list"),
+    (lambda img: extract(img, [[0, 0]], 3, mode=np.array(["wrap", "valid"])), "mode must be one of"),
+    (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (8, 8), mode=np.array(["wrap", "x"])),
+     "mode must be one of"),
+    (lambda img: grid_centers((8, 8), 3, 1, mode=np.array(["wrap", "x"])), "mode must be one of"),
+    (lambda img: gaussian_falloff(3, sigma="x"), "sigma must be a real number"),
+    (lambda img: gaussian_falloff(3, sigma=[1.0]), "sigma must be a real number"),
+    (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (8, 8), patch_weights="x"),
+     "patch_weights must be .*numbers"),
+    (lambda img: accumulate(np.ones((1, 3, 3, 1)), [[0, 0]], (8, 8), pixel_weights=[[1], [1, 2]]),
+     "pixel_weights must be .*numbers"),
 ])
 def test_bad_input(call, match):
     with pytest.raises((ValueError, TypeError), match=match):

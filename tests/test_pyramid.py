@@ -112,6 +112,30 @@ def test_gaussian_pyramid_bad_levels():
     assert gaussian_pyramid(np.full((4, 4), 255, np.uint8), 2)[1].max() == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("call, match", [
+    (lambda: downsample(np.zeros((8, 8)), mode=["wrap"]), r"mode must be one of 'reflect', 'wrap', got list"),
+    (lambda: downsample(np.zeros((8, 8)), mode=np.array(["wrap", "reflect"])), "mode must be one of"),
+    (lambda: upsample(np.zeros((4, 4)), (8, 8), mode=["wrap"]), "mode must be one of"),
+    (lambda: gaussian_pyramid(np.zeros((8, 8)), 2, mode=["wrap"]), "mode must be one of"),
+    (lambda: laplacian_pyramid(np.zeros((8, 8)), 2, mode=np.array(["wrap"])), "mode must be one of"),
+    (lambda: downsample(np.zeros((8, 8)), spatial_dims=np.array([2, 3])), "spatial_dims must be one of 2, 3"),
+    (lambda: downsample(np.zeros((8, 8)), spatial_dims=2.0), "spatial_dims must be one of 2, 3"),
+    (lambda: max_levels("x"), "shape must be a tuple of ints"),
+    (lambda: max_levels(None), "shape must be a tuple of ints"),
+    (lambda: max_levels(8), "shape must be a tuple of ints"),
+    (lambda: max_levels(()), "shape must be a tuple of ints"),
+    (lambda: max_levels((-1, 4)), r"shape must be .*non-negative.*got \(-1, 4\)"),
+    (lambda: max_scales("x"), "shape must be a tuple of ints"),
+    (lambda: max_scales([[1, 2]]), "shape must be a tuple of ints"),
+    (lambda: max_scales((8.5, 8)), "shape must be a tuple of ints"),
+    (lambda: upsample(np.zeros((4, 4)), "x"), "shape must be a tuple of ints"),
+    (lambda: upsample(np.zeros((4, 4)), (7.5, 8)), "shape must be a tuple of ints"),
+])
+def test_junk_options_name_the_parameter(call, match):
+    with pytest.raises((ValueError, TypeError), match=match):
+        call()
+
+
 @pytest.mark.parametrize("call", [
     lambda a: gaussian_pyramid(a, 2),
     lambda a: laplacian_pyramid(a, 2),

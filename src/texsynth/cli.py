@@ -801,6 +801,9 @@ def _add_surface_parser(sub):
     surface.add_argument("--seed", type=int, default=None, help="random seed")
     surface.add_argument("--preview", help="also write a rendered preview image (PNG)")
     surface.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
+    surface.add_argument("--allow-outside", action="store_true",
+                         help="follow the files MESH names (mtllib, map_Kd, TextureFile) even outside the mesh's "
+                              "folder; off by default, so a mesh from elsewhere cannot read other files")
 
 
 def _surface_field(text, mesh):
@@ -832,7 +835,7 @@ def _run_surface(args):
         raise CommandError(f"output {args.output!r} is also an input; choose another output path")
     if out.exists() and not args.overwrite:
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
-    mesh = read_mesh(args.mesh)
+    mesh = read_mesh(args.mesh, allow_outside=args.allow_outside)
     exemplar = load_image(args.exemplar)
     field = _surface_field(args.field, mesh)
     if args.mode == "lapped":

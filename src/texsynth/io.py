@@ -45,7 +45,7 @@ import zlib
 import imageio.v3 as iio
 import numpy as np
 
-from .core._validate import as_array, as_float_array, as_image, check_bool, check_positive_float
+from .core._validate import as_array, as_float_array, as_image, check_bool, check_memory, check_positive_float
 
 __all__ = ["load_image", "save_image", "save_chunked", "load_frames", "save_frames", "to_uint", "image_bits",
            "save_coordinates",
@@ -441,7 +441,8 @@ def to_uint(image, bits=8):
         If ``image`` is empty, holds NaN or infinity, or floats outside
         [0, 1] (values are not clipped silently: clip them yourself with
         ``np.clip(image, 0, 1)`` if the overshoot is expected, or divide
-        0-255 data by 255), or ``bits`` is not 8 or 16.
+        0-255 data by 255), ``bits`` is not 8 or 16, or the conversion
+        cannot fit in the memory available (refused before it starts).
 
     Examples
     --------
@@ -452,14 +453,21 @@ def to_uint(image, bits=8):
     """
     bits = _check_bits(bits, allow_none=False)
     arr = as_array(image, "image")
+    # held at once: the float copy and the output, or the two float copies of uint8 and uint16's scaling
+    copy = 4 if arr.dtype == np.float32 else 8
+    scaled = arr.dtype in (np.uint8, np.uint16)
+    check_memory(arr.size * (2 * copy if scaled else copy + bits // 8), arr.shape, "image",
+                 f"the conversion to {bits} bits")
     if np.issubdtype(arr.dtype, np.floating) and arr.size and np.all(np.isfinite(arr)):
         lo, hi = float(arr.min()), float(arr.max())
         if lo < -1e-6 or hi > 1 + 1e-6:
             hint = "divide 0-255 data by 255" if hi > 1.5 else "clip it first with np.clip(image, 0, 1) if the overshoot is expected"
             raise ValueError(f"image has values in [{lo:.4g}, {hi:.4g}] but to_uint converts [0, 1]; {hint}")
-    data = as_float_array(arr, "image")
+    data = as_float_array(arr, "image")  # always a new array: scaled in place below
     top = 255 if bits == 8 else 65535
-    return np.round(data * top).astype(np.uint8 if bits == 8 else np.uint16)
+    data *= top
+    np.round(data, out=data)
+    return data.astype(np.uint8 if bits == 8 else np.uint16)
 
 
 # --------------------------------------------------------------------------- #
@@ -875,6 +883,9 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
     FileExistsError
         If ``path`` exists and ``overwrite`` is False (or is a folder with
         other files).
+    OSError
+        If the write fails (a full disk); for a video, also if ffmpeg stops
+        before writing every frame.
 
     Notes
     -----
@@ -882,7 +893,9 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
     name (a folder for PNG frames) and renamed when complete; nothing is left
     behind on failure, SIGINT or SIGTERM. New files and folders get the
     permissions the umask gives; a replaced file or frame folder keeps its
-    mode. GIF and video store no alpha channel: it is dropped.
+    mode. GIF and video store no alpha channel: it is dropped. A video is read
+    back once written and its frames counted, as imageio-ffmpeg does not
+    report a failed ffmpeg (this adds about a sixth to the time of a write).
 
     Examples
     --------
@@ -930,10 +943,34 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
         )
     _prepare_target(path, overwrite)
     try:
-        _atomic_write(path, lambda tmp: iio.imwrite(tmp, pixels, extension=suffix, fps=fps))
+        _atomic_write(path, lambda tmp: _write_video(tmp, pixels, suffix, fps, path))
+    except OSError:
+        raise  # the write failed (a full disk): as for images
     except Exception as exc:
         raise ValueError(f"cannot write {str(path)!r} as a video: {exc}") from None
     return path
+
+
+def _write_video(tmp, pixels, suffix, fps, path):
+    """Encode ``pixels`` into ``tmp`` (for ``path``) with ffmpeg; an OSError if the file does not hold every frame.
+
+    imageio-ffmpeg ignores ffmpeg's exit status, so a write that failed (a full disk) leaves a cut-off
+    video and raises nothing: the file is read back and its frames counted.
+    """
+    import imageio_ffmpeg
+
+    try:
+        iio.imwrite(tmp, pixels, extension=suffix, fps=fps)
+    except OSError:  # ffmpeg ended while it was still sent frames (a broken pipe)
+        written = None
+    else:
+        try:
+            written = imageio_ffmpeg.count_frames_and_secs(tmp)[0]
+        except RuntimeError:  # ffmpeg cannot open the file (an MP4 cut off before its index)
+            written = 0
+    if written != len(pixels):
+        raise OSError(f"cannot write {str(path)!r}: ffmpeg stopped before writing its {len(pixels)} frames (a full "
+                      "disk? its messages above, if any, say why); nothing was saved")
 
 
 _FRAME_NAME = re.compile(r"frame_\d{4,}\.png")

@@ -39,6 +39,7 @@ __all__ = [
     "check_positive_float",
     "check_in_range",
     "check_bool",
+    "check_choice",
     "check_memory",
     "available_memory",
     "memory_limit",
@@ -310,6 +311,24 @@ def check_bool(value, name):
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
     raise TypeError(f"{name} must be True or False, got {type(value).__name__} {reprlib.repr(value)}")
+
+
+def check_choice(value, name, choices):
+    """``value`` if it is one of ``choices`` (strings or ints, such as ``mode`` or ``spatial_dims``).
+
+    A value of another type (a list, an array) is a TypeError, not numpy's "ambiguous truth value".
+
+    >>> check_choice(["wrap"], "mode", ("valid", "wrap"))
+    Traceback (most recent call last):
+    ...
+    TypeError: mode must be one of 'valid', 'wrap', got list ['wrap']
+    """
+    words = ", ".join(map(repr, choices))
+    if not isinstance(value, (str, numbers.Integral)) or isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be one of {words}, got {type(value).__name__} {reprlib.repr(value)}")
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {words}, got {value!r}")
+    return value
 
 
 _MEMORY_LIMIT = contextvars.ContextVar("texsynth_memory_limit", default=None)

@@ -12,6 +12,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
+from ._validate import check_choice
+
 __all__ = ["fft_convolve", "correlate_bank"]
 
 _MODES = ("full", "same")
@@ -39,8 +41,7 @@ def fft_convolve(a, b, mode="full"):
     >>> fft_convolve(np.array([[1.0, 2.0]]), np.array([[1.0], [1.0]])).round(12).tolist()
     [[1.0, 2.0], [1.0, 2.0]]
     """
-    if mode not in _MODES:
-        raise ValueError(f"mode must be one of {', '.join(map(repr, _MODES))}, got {mode!r}")
+    check_choice(mode, "mode", _MODES)
     a, b = np.asarray(a), np.asarray(b)
     if a.ndim != 2 or b.ndim != 2:
         raise ValueError(f"a and b must be 2-D arrays, got shapes {a.shape} and {b.shape}")

@@ -34,12 +34,14 @@ References
 from __future__ import annotations
 
 import numbers
+import reprlib
 
 import numpy as np
 from scipy import ndimage
 
 from ._deprecate import renamed_parameters
-from ._validate import as_image, as_size, check_memory, check_positive_int, restore_channels, with_channels
+from ._validate import (as_image, as_size, check_choice, check_memory, check_positive_int, restore_channels,
+                        with_channels)
 
 __all__ = [
     "translation",
@@ -108,9 +110,12 @@ def translation(size, velocity):
     """
     h, w = _field_size(size)
     try:
-        dy, dx = (_real(v, "velocity") for v in velocity)
+        pair = tuple(velocity)
     except TypeError:
         raise TypeError(f"velocity must be a pair (d_row, d_col), got {velocity!r}") from None
+    if len(pair) != 2:
+        raise ValueError(f"velocity must be a pair (d_row, d_col), got {reprlib.repr(velocity)}")
+    dy, dx = (_real(v, "velocity") for v in pair)
     flow = np.empty((h, w, 2))
     flow[..., 0], flow[..., 1] = dy, dx
     return flow
@@ -385,8 +390,7 @@ def warp(image, flow, *, mode="constant", cval=0.0, spline_order=1, iterations=3
     img, grey = with_channels(as_image(image, "image"))
     h, w = img.shape[:2]
     flow = check_flow(flow, (h, w))
-    if mode not in WARP_MODES:
-        raise ValueError(f"mode must be one of {sorted(WARP_MODES)}, got {mode!r}")
+    check_choice(mode, "mode", WARP_MODES)
     spline_order = check_positive_int(spline_order, "spline_order", minimum=0)
     if spline_order > 5:
         raise ValueError(f"spline_order must be in 0..5, got {spline_order}")
@@ -473,8 +477,7 @@ def warp_coordinates(coords, flow, *, mode="nearest", iterations=3, return_valid
     coords = check_flow(coords, name="coords")
     h, w = coords.shape[:2]
     flow = check_flow(flow, (h, w))
-    if mode not in WARP_MODES:
-        raise ValueError(f"mode must be one of {sorted(WARP_MODES)}, got {mode!r}")
+    check_choice(mode, "mode", WARP_MODES)
     iterations = check_positive_int(iterations, "iterations")
     src = _source_points(flow, mode, iterations)
     near = np.rint(src).astype(np.int64)

@@ -27,13 +27,14 @@ patch-based methods.
 from __future__ import annotations
 
 import numbers
+import reprlib
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from ._deprecate import renamed_parameters
 from ._parallel import parallel_for
-from ._validate import as_size, check_memory, max_threads
+from ._validate import as_size, check_choice, check_memory, check_positive_float, max_threads
 
 __all__ = [
     "MODES",
@@ -74,11 +75,6 @@ def patch_shape(patch_size, name="patch_size"):
     if h < 1 or w < 1:
         raise ValueError(f"{name} must be positive, got ({h}, {w})")
     return int(h), int(w)
-
-
-def _check_mode(mode):
-    if mode not in MODES:
-        raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
 
 
 def _check_fits(image_shape, size, name="patch_size"):
@@ -152,6 +148,8 @@ def patches_within(mask, patch_size):
     """
     h, w = patch_shape(patch_size)
     m = np.asarray(mask, dtype=bool)
+    if m.ndim != 2:
+        raise ValueError(f"mask must be a 2-D (H, W) array of bool, got shape {m.shape}")
     bad = np.zeros((m.shape[0] + 1, m.shape[1] + 1), dtype=np.int64)
     bad[1:, 1:] = np.cumsum(np.cumsum(~m, axis=0), axis=1)
     return (bad[h:, w:] - bad[:-h, w:] - bad[h:, :-w] + bad[:-h, :-w]) == 0
@@ -188,7 +186,7 @@ def all_patches(image, patch_size, *, mode="valid"):
            [ 7.,  4.,  5.]])
     """
     _check_channels_last(image)
-    _check_mode(mode)
+    check_choice(mode, "mode", MODES)
     h, w = patch_shape(patch_size)
     _check_fits(image.shape, (h, w))
     if mode != "valid":
@@ -227,7 +225,7 @@ def extract(image, centers, patch_size, *, mode="wrap"):
            [ 3.,  0.]])
     """
     _check_channels_last(image)
-    _check_mode(mode)
+    check_choice(mode, "mode", MODES)
     patch_size = patch_shape(patch_size)
     _check_fits(image.shape, patch_size)
     rows, cols = _patch_coords(centers, patch_size, image.shape, mode)
@@ -295,6 +293,13 @@ def _as_patches(patches):
     return patches
 
 
+def _as_weights(weights, name):
+    try:
+        return np.asarray(weights, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be an array of non-negative numbers, got {reprlib.repr(weights)}") from None
+
+
 class PatchSum:
     """Weighted sums of patches added into an image, part by part; :meth:`average` divides.
 
@@ -332,7 +337,7 @@ class PatchSum:
     """
 
     def __init__(self, shape, channels, *, mode="wrap"):
-        _check_mode(mode)
+        check_choice(mode, "mode", MODES)
         self.shape = height, width = as_size(shape, "shape")
         self.mode = mode
         check_memory(float(height) * width * (channels + 1) * 8 * 2, (height, width), "shape", "the accumulated image")
@@ -350,13 +355,13 @@ class PatchSum:
             raise ValueError(f"centers holds {rows.shape[0]} positions but patches holds {n}; pass one centre per patch")
         pw = np.ones((1, h, w))
         if pixel_weights is not None:
-            pw = np.asarray(pixel_weights, dtype=np.float64)
+            pw = _as_weights(pixel_weights, "pixel_weights")
             if pw.shape not in {(h, w), (n, h, w)}:
                 raise ValueError(f"pixel_weights must have shape ({h}, {w}) or ({n}, {h}, {w}), got {pw.shape}")
             pw = pw.reshape((-1, h, w))
         aw = np.ones(n)
         if patch_weights is not None:
-            aw = np.asarray(patch_weights, dtype=np.float64)
+            aw = _as_weights(patch_weights, "patch_weights")
             if aw.shape != (n,):
                 raise ValueError(f"patch_weights must have shape ({n},), got {aw.shape}")
         for name, wt in (("pixel_weights", pw), ("patch_weights", aw)):
@@ -543,7 +548,7 @@ def grid_centers(shape, patch_size, grid_spacing, *, mode="wrap"):
     >>> grid_centers((8, 8), 4, 2, mode="valid")[:3].tolist()
     [[2, 2], [2, 4], [2, 6]]
     """
-    _check_mode(mode)
+    check_choice(mode, "mode", MODES)
     shape = as_size(shape, "shape")
     patch_size = patch_shape(patch_size)
     step = patch_shape(grid_spacing, "grid_spacing")
@@ -551,7 +556,7 @@ def grid_centers(shape, patch_size, grid_spacing, *, mode="wrap"):
     axes = []
     for length, s, d in zip(shape, patch_size, step):
         if d > s:
-            raise ValueError(f"grid_spacing {step} is larger than the patch size {patch_size}; the grid would leave gaps")
+            raise ValueError(f"grid_spacing {step} is larger than patch_size {patch_size}; the grid would leave gaps")
         if mode == "valid":
             if s > length:
                 raise ValueError(f"patch_size {patch_size} is larger than the image {tuple(shape)}; pass a smaller patch_size")
@@ -590,10 +595,7 @@ def gaussian_falloff(patch_size, sigma=None):
     """
     h, w = patch_shape(patch_size)
     check_memory(24.0 * h * w, (h, w), "patch_size", "the mask")
-    if sigma is None:
-        sigma = max(h, w) / 4.0
-    if not sigma > 0:
-        raise ValueError(f"sigma must be > 0, got {sigma}")
+    sigma = max(h, w) / 4.0 if sigma is None else check_positive_float(sigma, "sigma")
     y = np.arange(h) - h // 2
     x = np.arange(w) - w // 2
     r2 = (y[:, None] ** 2 + x[None, :] ** 2) / 2.0

@@ -87,7 +87,7 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.ndimage import correlate1d
 
-from ._validate import as_float_array, check_memory
+from ._validate import as_float_array, check_choice, check_memory
 
 __all__ = [
     "BINOMIAL_KERNEL",
@@ -112,15 +112,25 @@ _NDIMAGE_MODES = {"reflect": "mirror", "wrap": "wrap"}
 
 # --------------------------------------------------------------------------- helpers
 def _check_mode(mode):
-    if mode not in _NDIMAGE_MODES:
-        raise ValueError(f"mode must be 'reflect' or 'wrap', got {mode!r}")
-    return _NDIMAGE_MODES[mode]
+    return _NDIMAGE_MODES[check_choice(mode, "mode", _NDIMAGE_MODES)]
+
+
+def _as_shape(shape):
+    """A spatial shape: a non-empty tuple of non-negative ints, any number of axes."""
+    try:
+        axes = () if isinstance(shape, str) else tuple(shape)
+    except TypeError:
+        axes = ()
+    if not axes or not all(isinstance(s, numbers.Integral) and not isinstance(s, bool) for s in axes):
+        raise TypeError(f"shape must be a tuple of ints (a spatial shape such as image.shape[:2]), got {shape!r}")
+    if min(axes) < 0:
+        raise ValueError(f"shape must be non-negative ints (a spatial shape), got {shape!r}")
+    return tuple(int(s) for s in axes)
 
 
 def _spatial(image, spatial_dims, name="image"):
     """Validate the layout (spatial axes, optionally one trailing channel axis)."""
-    if spatial_dims not in (2, 3):
-        raise ValueError(f"spatial_dims must be 2 or 3, got {spatial_dims!r}")
+    check_choice(spatial_dims, "spatial_dims", (2, 3))
     arr = np.asarray(image)
     if arr.ndim not in (spatial_dims, spatial_dims + 1):
         axes = "(H, W)" if spatial_dims == 2 else "(D, H, W)"
@@ -160,7 +170,7 @@ def max_levels(shape):
     >>> max_levels((64, 48)), max_levels((5, 7)), max_levels((1, 9))
     (7, 4, 1)
     """
-    smallest = int(min(shape))
+    smallest = min(_as_shape(shape))
     return 1 + max(0, math.ceil(math.log2(smallest))) if smallest > 0 else 0
 
 
@@ -235,10 +245,7 @@ def upsample(image, shape, *, spatial_dims=2, mode="reflect"):
     """
     arr = _spatial(image, spatial_dims)
     ndmode = _check_mode(mode)
-    try:
-        shape = tuple(int(s) for s in shape)
-    except TypeError:
-        raise TypeError(f"shape must be a tuple of {spatial_dims} ints, got {shape!r}") from None
+    shape = _as_shape(shape)
     small = arr.shape[:spatial_dims]
     expected = tuple((s + 1) // 2 for s in shape)
     if len(shape) != spatial_dims or expected != small:
@@ -391,7 +398,7 @@ def max_scales(shape):
     >>> max_scales((512, 512)), max_scales((64, 100)), max_scales((7, 7))
     (7, 4, 0)
     """
-    smallest = int(min(shape))
+    smallest = min(_as_shape(shape))
     return max(0, int(math.floor(math.log2(smallest))) - 2) if smallest > 0 else 0
 
 

@@ -245,7 +245,8 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
     image : array_like
         ``(h, w)`` or ``(h, w, C)``.
     size : int or (int, int)
-        ``(H, W)`` of the result, at least the image's size.
+        ``(H, W)`` of the result, at least the image's size and larger on
+        at least one side.
     position : "center" or (int, int)
         Where the image's top-left pixel lands in the result: centred
         (default), or ``(row, col)`` (``(0, 0)``: extend to the bottom and
@@ -285,6 +286,9 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
     if shape[0] < h or shape[1] < w:
         raise ValueError(f"size {shape} is smaller than the image ({h}, {w}); pass a size at least the image's "
                          f"(to make it smaller, crop it)")
+    if shape == (h, w):
+        raise ValueError(f"size {shape} is the image's size: nothing to fill; pass a size larger than the image "
+                         f"({h}, {w}) on at least one side")
     if isinstance(position, str) and position == "center":
         top, left = (shape[0] - h) // 2, (shape[1] - w) // 2
     else:
