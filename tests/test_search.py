@@ -483,8 +483,14 @@ def test_tsvq_builds_on_near_duplicate_float32_vectors():
     x = np.stack([values[i % k] for i in range(200)]).astype(np.float32)
     index = PatchIndex(x, method="tsvq", leaf_size=16, rng=3)
     idx, d2 = index.query(x[:10], k=1)
-    # every query's own value exists in the index: the exact search in its leaf finds a copy
-    assert np.allclose(x[idx[:, 0]], x[:10]) and np.all(d2 <= 1e-10)
+    # which leaf a query descends to is decided by float32 distances that tie here, so by the last
+    # bits of the CPU's SIMD sums: the query need not reach the leaf holding its own copy. What holds
+    # on any CPU: a valid index, its true distance, and one of the near-duplicates (the values differ
+    # in about 7 of 34 components by at most 1e-3: squared distances below 7e-6)
+    assert idx.shape == (10, 1) and np.all((0 <= idx) & (idx < len(x)))
+    true = ((x[idx[:, 0]].astype(np.float64) - x[:10]) ** 2).sum(1)
+    np.testing.assert_allclose(d2[:, 0], true, rtol=1e-4, atol=1e-9)
+    assert np.all(true < 1e-5)
 
 
 
