@@ -231,3 +231,25 @@ def test_a_zarr_write_interrupted_mid_block_leaves_nothing(tmp_path, how, sig):
         proc.stderr.close()
     assert proc.returncode == {"default": -signal.SIGTERM, "own-handler": 3, "ctrl-c": -signal.SIGINT}[how]
     assert list(out.iterdir()) == []  # no store, no hidden partial store
+
+
+_OTHER_KERNELS = """
+import numpy as np
+from texsynth.procedural import perlin, turbulence
+for make in (lambda **kw: perlin((150, 259), frequency=30, **kw), lambda **kw: turbulence((150, 259), **kw)):
+    whole = make(rng=3)
+    for chunks in ((64, 100), (1, 300), (150, 1)):
+        assert np.array_equal(make(rng=3, chunks=chunks).compute(), whole), chunks
+print("same")
+"""
+
+
+def test_blocks_equal_the_whole_image_with_the_oldest_simd_kernels():
+    # OpenBLAS's Nehalem kernel (SSE only) rounds a product's elements by its shape, and numpy's
+    # X86_V2 kernels are those of a CPU without AVX: the blocks still equal the whole image
+    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+
+    env = dict(os.environ, OPENBLAS_CORETYPE="Nehalem",
+               NPY_DISABLE_CPU_FEATURES=" ".join(f for f in __cpu_dispatch__ if __cpu_features__.get(f)))
+    done = subprocess.run([sys.executable, "-c", _OTHER_KERNELS], env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0 and done.stdout.strip() == "same", done.stderr[-2000:]

@@ -38,6 +38,11 @@ cells that a block's samples fall in are hashed, as Perlin's own code hashes
 the corners of each sample (the whole lattice of a 64 x 64 image at frequency
 20000 would have 4e8 points).
 
+Every product is computed term by term (:func:`_contract`), so each value is
+rounded the same way whatever the block, the window, the SIMD level of the
+CPU or the BLAS: a block of a chunked image equals the same pixels of the
+whole image bit for bit on any machine.
+
 References
 ----------
 .. [1] K. Perlin, "An image synthesizer", SIGGRAPH 1985, Computer Graphics
@@ -48,7 +53,6 @@ References
 
 from __future__ import annotations
 
-import contextlib
 import math
 import numbers
 
@@ -404,25 +408,16 @@ def _noise_points(points, perm, period, fade, dtype, gradients=None):
 # frequency (the whole lattice of a 64 x 64 image at frequency 20000 would be
 # 4e8 points).
 #
-# Rounding. The products are BLAS calls and must give the same bits as the
-# whole-lattice evaluation of texsynth 0.1 (same seed, same output). Measured
-# on this OpenBLAS (0.3.31, Haswell kernels), float32 and float64, thousands of
-# random products each: a product of two or more rows and columns (gemm)
-# computes every element as the same fused multiply-add chain, so any subset of
-# its rows or columns gives the same bits; a one-row product goes to gemv, whose
-# rounding of a column depends on where it sits within blocks of 4096 columns
-# (not on the other columns' values, nor on memory alignment); and numpy hands
-# a product with a non-C-contiguous operand to another routine. Hence: every
-# operand is C-contiguous, blocks never cut a run of samples into a one-row
-# piece (such a piece is computed as two rows), and a one-row product over a
-# compressed set of lattice slices runs on whole 4096-column blocks of the
-# whole-lattice layout, zeros where no column is wanted
-# (``_GridNoise._gemv_groups``). 1518 configurations hashed before and after
-# the change, and thousands of random ones compared in one process, were identical.
+# Rounding. A BLAS product rounds each element by its kernel's blocking, which
+# depends on the CPU (OpenBLAS's Haswell kernel computes an element of a gemm as
+# one fused multiply-add chain; its Nehalem kernel does not, and rounds by the
+# product's shape), so a block of the image could differ from the whole image
+# on one machine and not on another. The products here have 2 or 4 terms, so
+# they are written out term by term (:func:`_contract`): numpy's element-wise
+# multiply and add round every element alone, the same on every CPU.
 
 _BLOCK = 1 << 18  # lattice points of one block-sized temporary (2 MiB in float64)
-_GEMV_BLOCK = 4096  # OpenBLAS gemv: rounding depends on the position within such blocks
-_GEMV_GROUP = 8  # gemv blocks per product for one-row runs (memory: 8 x 4096 columns)
+_SHORT_RUN = 8  # rows: runs shorter on average are contracted a block at a time (fewer, larger calls)
 
 
 def _axis_factors(coords, fade, dtype):
@@ -453,50 +448,26 @@ class _Axis:
         return _wrap(self.first + np.asarray(lattice, dtype=np.int64), self.period)
 
     def pieces(self, a, b):
-        """The runs of samples in one cell, clipped to ``[a, b)``: ``(cell, start, stop, lo, hi)``.
-
-        ``[lo, hi)`` is what to compute: ``[start, stop)`` itself, or two
-        samples of the run when clipping left a single sample of a longer run
-        (a one-row product would round differently, see above).
-        """
+        """The runs of samples in one cell, clipped to ``[a, b)``: ``(cell, start, stop)``."""
         first = int(np.searchsorted(self.stops, a, side="right"))
         last = int(np.searchsorted(self.starts, b, side="left"))
-        out = []
-        for r in range(first, last):
-            r0, r1 = int(self.starts[r]), int(self.stops[r])
-            start, stop = max(r0, a), min(r1, b)
-            lo, hi = start, stop
-            if stop - start == 1 and r1 - r0 >= 2:
-                lo, hi = (start, start + 2) if start + 2 <= r1 else (start - 1, start + 1)
-            out.append((int(self.rel[r0]), start, stop, lo, hi))
-        return out
+        return [(int(self.rel[self.starts[r]]), max(int(self.starts[r]), a), min(int(self.stops[r]), b))
+                for r in range(first, last)]
 
 
-def _product(coeffs, lo, hi, matrix, out, start, stop):
-    """``out[...] = coeffs[start:stop] @ matrix``, computed over the rows ``[lo, hi)``."""
-    if (lo, hi) == (start, stop):
-        np.matmul(coeffs[lo:hi], matrix, out=out)
-    else:
-        out[...] = np.matmul(coeffs[lo:hi], matrix)[start - lo : stop - lo]
+def _contract(factors, terms, out):
+    """``out = sum_k factors[:, k] terms[k]``, term by term (see Rounding above): a product
+    ``factors @ matrix`` with ``terms = matrix[:, None]``, or one whose rows differ per sample.
 
-
-def _single_thread_blas():
-    """Limit BLAS to one thread: the products here are small, and on a busy
-    machine a multi-threaded BLAS waiting for its second thread was measured
-    3x slower (105 ms vs 370 ms for 8-octave turbulence at 1024^2). It also
-    keeps the rounding of the products independent of the thread count."""
-    if not _BLAS_CONTROLLER:
-        try:
-            import threadpoolctl  # a dependency of scikit-learn
-        except ImportError:  # pragma: no cover
-            _BLAS_CONTROLLER.append(None)
-        else:
-            _BLAS_CONTROLLER.append(threadpoolctl.ThreadpoolController())
-    ctl = _BLAS_CONTROLLER[0]
-    return contextlib.nullcontext() if ctl is None else ctl.limit(limits=1, user_api="blas")
-
-
-_BLAS_CONTROLLER = []
+    ``factors`` is ``(n, K)`` (K = 2 or 4), each ``terms[k]`` ``(1, m)`` or ``(n, m)``; every element
+    of ``out`` (``(n, m)``) is ``((f0 t0 + f1 t1) + f2 t2) + f3 t3``, each operation rounded alone.
+    """
+    np.multiply(factors[:, :1], terms[0], out=out)
+    term = np.empty_like(out)
+    for k in range(1, factors.shape[1]):
+        np.multiply(factors[:, k : k + 1], terms[k], out=term)
+        out += term
+    return out
 
 
 class _GridNoise:
@@ -530,21 +501,18 @@ class _GridNoise:
         self.tables = [table[:, k].astype(dtype) for k in range(self.ndim)]
         self.fyq = np.ascontiguousarray(self.axes[1].factors[:, [0, 2]])  # w0, w1 of y (3-D Qz)
         ay = self.axes[1]
-        runs = list(zip(ay.starts.tolist(), ay.stops.tolist()))
-        self.multi_rows = [r for r in runs if r[1] - r[0] >= 2]
-        self.single_rows = [r for r in runs if r[1] - r[0] == 1]  # one-row products (gemv) in 3-D
+        self.runs = list(zip(ay.starts.tolist(), ay.stops.tolist()))  # rows that share a lattice row
 
     def blocks(self, first=None, last=None):
         """Ranges ``[a, b)`` within ``[first, last)`` (default: all) of the first array axis whose
         lattice rows (slices) hold about ``_BLOCK`` points each (a block of samples finer than the
         lattice touches up to twice as many lattice rows as it has rows). Any cut gives the same
-        values: the products round alike whatever their number of rows (two at least)."""
+        values (:func:`_contract`)."""
         n, inner = self.size[0], math.prod(self.size[1:])
         first = self.y0 if first is None else first
         last = self.y0 + n if last is None else last
         per_row = min(2.0, max(1.0, self.axes[-1].n_lattice / n))
-        # one-column products (inner == 1) are gemv along the samples: never cut them
-        step = n if inner == 1 else max(1, int(_BLOCK / (inner * per_row)))
+        step = max(1, int(_BLOCK / (inner * per_row)))
         return [(a, min(a + step, last)) for a in range(first, last, step)]
 
     def fill(self, out, a, b):
@@ -591,19 +559,18 @@ class _GridNoise:
         lattice = np.unique(np.concatenate([cells, cells + 1]))  # the lattice rows this block touches
         s, v = self._contract_x(ay.wrapped(lattice))
         # rows 2p .. 2p + 3 of `matrix` are [s_j; Vy_j; s_j+1; Vy_j+1] for lattice row j = lattice[p]
-        # (C-contiguous, as the products' operands always are: numpy hands a non-C-contiguous
-        # operand to another BLAS routine, which rounds differently)
-        matrix = np.ascontiguousarray(np.stack([s, v[0]], axis=1)).reshape(-1, width)
+        matrix = np.stack([s, v[0]], axis=1).reshape(-1, width)
         del s, v
         out2 = out.reshape(b - a, width)
         fy = ay.factors
-        for (_, start, stop, lo, hi), p in zip(pieces, np.searchsorted(lattice, cells).tolist()):
-            if hi - lo == 1:  # a one-sample run: as two rows (gemm), which round alike at any width (gemv does not)
-                out2[start - a : stop - a] = np.matmul(fy[[lo, lo]], matrix[2 * p : 2 * p + 4])[:1]
-            elif lo == start and hi == stop:  # (samples x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1]
-                np.matmul(fy[lo:hi], matrix[2 * p : 2 * p + 4], out=out2[start - a : stop - a])
-            else:
-                out2[start - a : stop - a] = np.matmul(fy[lo:hi], matrix[2 * p : 2 * p + 4])[start - lo : stop - lo]
+        rows = 2 * np.searchsorted(lattice, cells)
+        if len(pieces) * _SHORT_RUN > b - a:  # short runs (cells of a few pixels): the block in one go
+            rows = np.repeat(rows, [stop - start for _, start, stop in pieces])
+            _contract(fy[a:b], [matrix[rows + k] for k in range(4)], out2)
+            return
+        for (_, start, stop), r in zip(pieces, rows.tolist()):
+            # (samples x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1]
+            _contract(fy[start:stop], matrix[r : r + 4, None], out2[start - a : stop - a])
 
     # -- 3-D -------------------------------------------------------------------------
 
@@ -617,72 +584,26 @@ class _GridNoise:
         planes = np.empty((2, height, nz, width), dtype=self.dtype)  # P and Qz per row and slice
         flat_planes = planes.reshape(2, height, nz * width)
         fy, fyq = ay.factors, self.fyq
-        # contract y, runs of two or more rows: (rows x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1] and
+        # contract y, each run of rows: (rows x 4) @ [s_j; Vy_j; s_j+1; Vy_j+1] and
         # (rows x 2) @ [Vz_j; Vz_j+1] over every lattice slice at once
-        for group, ylat, pos in self._row_batches(self.multi_rows, nz):
+        for group, ylat, pos in self._row_batches(self.runs, nz):
             s, v = self._contract_x(ay.wrapped(ylat), az.wrapped(zlat))  # each (Nz, Ny, W)
-            # rows 2p .. 2p + 3 of `sy` are [s_j; Vy_j; s_j+1; Vy_j+1], rows p, p + 1 of `vz`
-            # [Vz_j; Vz_j+1] (C-contiguous, as the operands of the products always are: numpy hands
-            # a non-C-contiguous operand to another BLAS routine, which rounds differently)
-            sy = np.ascontiguousarray(np.stack([s, v[0]], axis=0).transpose(2, 0, 1, 3)).reshape(2 * len(ylat), -1)
-            vz = np.ascontiguousarray(v[1].transpose(1, 0, 2)).reshape(len(ylat), -1)
+            # rows 2p .. 2p + 3 of `sy` are [s_j; Vy_j; s_j+1; Vy_j+1], rows p, p + 1 of `vz` [Vz_j; Vz_j+1]
+            sy = np.stack([s, v[0]], axis=0).transpose(2, 0, 1, 3).reshape(2 * len(ylat), -1)
+            vz = v[1].transpose(1, 0, 2).reshape(len(ylat), -1)
             del s, v
             for (r0, r1), p in zip(group, pos):
-                np.matmul(fy[r0:r1], sy[2 * p : 2 * p + 4], out=flat_planes[0, r0:r1])
-                np.matmul(fyq[r0:r1], vz[p : p + 2], out=flat_planes[1, r0:r1])
+                _contract(fy[r0:r1], sy[2 * p : 2 * p + 4, None], flat_planes[0, r0:r1])
+                _contract(fyq[r0:r1], vz[p : p + 2, None], flat_planes[1, r0:r1])
             del sy, vz
-        # one-row runs: products over the columns of whole gemv blocks of the whole lattice's
-        # layout (slice-major, then x), so that they round as over the whole lattice. Columns
-        # of those blocks that are not wanted are zeros, and the blocks go a few at a time (a
-        # gemv column depends only on its own values and its place in its block: measured).
-        if self.single_rows:
-            widest = _GEMV_GROUP * _GEMV_BLOCK  # columns of a group of gemv blocks, at most
-            flat_rows = planes.reshape(2, height, -1)  # row r of P (Qz): the wanted columns in order
-            for group, ylat, pos in self._row_batches(self.single_rows, max(nz, -(-widest // width))):
-                s, v = self._contract_x(ay.wrapped(ylat), az.wrapped(zlat))  # each (Nz, Ny, W)
-                ny = len(ylat)
-                wanted = [x.transpose(1, 0, 2).reshape(ny, -1) for x in (s, v[0], v[1])]  # (Ny, Nz W)
-                del s, v
-                for cols, lo, hi, pick in self._gemv_groups(zlat):
-                    sy = np.zeros((ny, 2, len(cols)), dtype=self.dtype)
-                    vz = np.zeros((ny, len(cols)), dtype=self.dtype)
-                    sy[:, 0, pick] = wanted[0][:, lo:hi]
-                    sy[:, 1, pick] = wanted[1][:, lo:hi]
-                    vz[:, pick] = wanted[2][:, lo:hi]
-                    sy = sy.reshape(2 * ny, -1)  # rows 2p .. 2p + 3: [s_j; Vy_j; s_j+1; Vy_j+1]
-                    for (r0, _), p in zip(group, pos):
-                        flat_rows[0, r0, lo:hi] = np.matmul(fy[r0 : r0 + 1], sy[2 * p : 2 * p + 4])[0, pick]
-                        flat_rows[1, r0, lo:hi] = np.matmul(fyq[r0 : r0 + 1], vz[p : p + 2])[0, pick]
-                    del sy, vz
         # contract z: (slices x 4) @ [P_k; Qz_k; P_k+1; Qz_k+1]
         matrix = np.empty((4, height, width), dtype=self.dtype)
         out2 = out.reshape(b - a, height * width)
         fz = az.factors
-        for (_, start, stop, lo, hi), q in zip(zpieces, np.searchsorted(zlat, zcells).tolist()):
+        for (_, start, stop), q in zip(zpieces, np.searchsorted(zlat, zcells).tolist()):
             matrix[0], matrix[1] = planes[0, :, q], planes[1, :, q]
             matrix[2], matrix[3] = planes[0, :, q + 1], planes[1, :, q + 1]
-            _product(fz, lo, hi, matrix.reshape(4, height * width), out2[start - a : stop - a], start, stop)
-
-    def _gemv_groups(self, zlat):
-        """Columns for one-row products that round as over the whole lattice.
-
-        The whole-lattice layout has ``n_lattice(z) x W`` columns (slice-major).
-        A one-row product (gemv) rounds a column according to its place within
-        blocks of ``_GEMV_BLOCK`` columns, so it runs on whole blocks that hold
-        wanted columns (those of the slices ``zlat``), a few blocks at a time.
-        Yields, per group of blocks, its columns and the range ``[lo, hi)`` of
-        the wanted columns (in the order slice, x) that it holds, and where they
-        lie among the group's columns.
-        """
-        width = self.size[2]
-        n_columns = self.axes[2].n_lattice * width
-        wanted = (zlat[:, None] * width + np.arange(width)[None, :]).ravel()
-        blocks = np.unique(wanted // _GEMV_BLOCK)
-        for k in range(0, len(blocks), _GEMV_GROUP):
-            chosen = blocks[k : k + _GEMV_GROUP]
-            cols = np.concatenate([np.arange(b * _GEMV_BLOCK, min((b + 1) * _GEMV_BLOCK, n_columns)) for b in chosen])
-            lo, hi = np.searchsorted(wanted, [chosen[0] * _GEMV_BLOCK, (chosen[-1] + 1) * _GEMV_BLOCK])
-            yield cols, int(lo), int(hi), np.searchsorted(cols, wanted[lo:hi])
+            _contract(fz[start:stop], matrix.reshape(4, 1, height * width), out2[start - a : stop - a])
 
     def _row_batches(self, runs, nz):
         """Batches of runs of rows ``(r0, r1)`` whose lattice rows x ``nz`` slices x W stay
@@ -696,27 +617,14 @@ class _GridNoise:
             yield group, ylat, np.searchsorted(ylat, cells).tolist()
 
 
-def _window_columns(size, window):
-    """The columns to compute for ``window`` (2-D) and which of them it keeps: two at least, since
-    products over one column (gemv) round differently from the whole grid's."""
-    if window is None:
-        return None, slice(None)
-    c0, c1 = window[1].start, window[1].stop
-    if c1 - c0 > 1 or size[1] == 1:
-        return (c0, c1), slice(None)
-    return ((c0, c0 + 2), slice(0, 1)) if c0 + 2 <= size[1] else ((c0 - 1, c1), slice(1, 2))
-
-
 def _window_grid(size, spacing, origin, perm, period, fade, dtype, window):
-    """The noise of the grid ``size``, or of its ``window`` (rows, cols slices; 2-D): the columns
-    :func:`_window_columns` gives, and the window's rows widened to whole lattice runs (a run is at
-    most ``1 / spacing + 1`` rows), so that every product has the rows it has in the whole grid."""
-    columns, _ = _window_columns(size, window)
-    if columns is None:
+    """The noise of the grid ``size``, or of its ``window`` (rows, cols slices; 2-D): the same
+    values as the whole grid's there (:func:`_contract`)."""
+    if window is None:
         return _GridNoise(size, spacing, origin, perm, period, fade, dtype)
-    reach = 2 + (size[0] if not spacing > 1 / size[0] else math.ceil(1 / spacing))
-    y0, y1 = max(0, window[0].start - reach), min(size[0], window[0].stop + reach)
-    return _GridNoise((y1 - y0, columns[1] - columns[0]), spacing, origin, perm, period, fade, dtype, columns[0], y0)
+    rows, cols = window
+    return _GridNoise((rows.stop - rows.start, cols.stop - cols.start), spacing, origin, perm, period, fade, dtype,
+                      cols.start, rows.start)
 
 
 def _window_rows(size, window):
@@ -729,10 +637,9 @@ def _noise_grid(size, spacing, origin, perm, period, fade, dtype, window=None):
     grid = _window_grid(size, spacing, origin, perm, period, fade, dtype, window)
     first, last = _window_rows(size, window)
     out = np.empty((last - first,) + grid.size[1:], dtype=dtype)
-    with _single_thread_blas():
-        for a, b in grid.blocks(first, last):
-            grid.fill(out[a - first : b - first], a, b)
-    return out[:, _window_columns(size, window)[1]]
+    for a, b in grid.blocks(first, last):
+        grid.fill(out[a - first : b - first], a, b)
+    return out
 
 
 # --------------------------------------------------------------------------

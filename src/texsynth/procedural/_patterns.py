@@ -58,8 +58,6 @@ from ._noise import (
     _noise_points,
     _permutation,
     _pixel_spacing,
-    _single_thread_blas,
-    _window_columns,
     _window_grid,
     _window_rows,
 )
@@ -193,15 +191,14 @@ def _octave_sum(size, points, *, frequency, octaves, lacunarity, gain, absolute,
         first, last = _window_rows(size, window)
         total = np.empty((last - first,) + grids[0].size[1:], dtype=dt)
         buf = None
-        with _single_thread_blas():
-            for a, b in grids[0].blocks(first, last):
-                block = total[a - first : b - first]
-                _accumulate(None, grids[0].fill(block, a, b), plan[0][1], absolute, dt)  # octave 0 writes the total
-                for grid, (_, amp, _, _) in zip(grids[1:], plan[1:]):
-                    if buf is None:
-                        buf = np.empty_like(block)  # the first block is the largest
-                    _accumulate(block, grid.fill(buf[: b - a], a, b), amp, absolute, dt)
-        return total[:, _window_columns(size, window)[1]]
+        for a, b in grids[0].blocks(first, last):
+            block = total[a - first : b - first]
+            _accumulate(None, grids[0].fill(block, a, b), plan[0][1], absolute, dt)  # octave 0 writes the total
+            for grid, (_, amp, _, _) in zip(grids[1:], plan[1:]):
+                if buf is None:
+                    buf = np.empty_like(block)  # the first block is the largest
+                _accumulate(block, grid.fill(buf[: b - a], a, b), amp, absolute, dt)
+        return total
 
     if chunks is None:
         return grid_sum(None), octaves
