@@ -19,7 +19,8 @@ from pathlib import Path
 import numpy as np
 from scipy import ndimage
 
-from texsynth import find_textons, metrics, optimize_texture, synthesize_controlled
+from texsynth import (find_textons, interpolate_textures, linear_blend, metrics, optimize_texture,
+                      ridge_feature_map, synthesize_controlled)
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -32,7 +33,7 @@ def texture(name, size):
     image = load_image(TEXTURES / name)
     if image.ndim == 3 and image.shape[-1] == 4:
         image = image[..., :3]
-    return np.ascontiguousarray(image[:size, :size])
+    return np.ascontiguousarray(image if size is None else image[:size, :size])
 
 
 def _quality(name, seed, **options):
@@ -105,6 +106,26 @@ def texton_turned(name, seed):
     return {"with mask": with_mask, "without": without, "mosaic": _fragments(find_textons(mosaic), reference)}
 
 
+def _sharpness(img):
+    """tests/test_interpolation.py's measure: mean absolute difference of neighbouring grey values."""
+    g = img.mean(-1)
+    return float(np.abs(np.diff(g, axis=0)).mean() + np.abs(np.diff(g, axis=1)).mean())
+
+
+def interpolation_halfway(name, seed):
+    """tests/test_interpolation.py::test_halfway_is_as_sharp_as_the_linear_blend (pebbles <-> paving)."""
+    from skimage.transform import resize
+
+    a = resize(texture(name, None), (96, 96), anti_aliasing=True)
+    b = resize(texture("rohitrango/t13.png", None), (96, 96), anti_aliasing=True)
+    out = interpolate_textures(a, b, 0.5, features=(ridge_feature_map(a), ridge_feature_map(b)),
+                               stages=((2, 17), (1, 17), (1, 9)), max_iterations=4, max_neighborhoods=400, rng=seed)
+    blend = linear_blend(a, b, 0.5)
+    e = metrics.texture_energy
+    return {"sharpness/blend": _sharpness(out) / _sharpness(blend), "energy a/blend": e(out, a) / e(blend, a),
+            "energy b/blend": e(out, b) / e(blend, b)}
+
+
 CHECKS = {
     "optimization_defaults": (optimization_defaults, QUALITY),
     "optimization_paper": (optimization_paper, QUALITY),
@@ -112,6 +133,7 @@ CHECKS = {
     "optimization_4x": (optimization_4x, QUALITY),
     "optimization_pairs": (optimization_pairs, ["rohitrango/t4.png", "jcjohnson/bread.png"]),
     "texton_turned": (texton_turned, ["rohitrango/t4.png"]),
+    "interpolation_halfway": (interpolation_halfway, ["rohitrango/t4.png"]),
 }
 
 
