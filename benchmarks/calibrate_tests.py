@@ -13,17 +13,20 @@ The baselines are drawn with rng=0, as in the tests; only the synthesis' seed ch
 """
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
-from scipy import ndimage
 
 from texsynth import (find_textons, interpolate_textures, linear_blend, metrics, optimize_texture,
                       ridge_feature_map, synthesize_controlled)
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from test_interpolation import _sharpness  # noqa: E402  the tests' own measures, not copies
+from test_texton import _fragments  # noqa: E402
 # tests/test_optimization.py's QUALITY set
 QUALITY = ["rohitrango/t4.png", "jcjohnson/bread.png", "lcv/metal.pgm", "rohitrango/t1.png", "lcv/reptil_skin.pgm",
            "lcv/text.pgm"]
@@ -86,15 +89,6 @@ def optimization_4x(name, seed):
             "verbatim": metrics.verbatim_copy(out, ex)}
 
 
-def _fragments(mask, reference):
-    """tests/test_texton.py's measure: the share of a mask in pieces smaller than the reference's 25th percentile."""
-    labels, _ = ndimage.label(reference)
-    small = np.percentile(np.bincount(labels.ravel())[1:], 25)
-    labels, _ = ndimage.label(mask)
-    sizes = np.bincount(labels.ravel())[1:]
-    return sizes[sizes < small].sum() / max(int(mask.sum()), 1)
-
-
 def texton_turned(name, seed):
     """tests/test_texton.py::test_texton_mask_keeps_pebbles_whole_when_turned."""
     ex = texture(name, 96)
@@ -104,12 +98,6 @@ def texton_turned(name, seed):
     without = _fragments(find_textons(synthesize_controlled(ex, 160, orientation=0.6, texton_mask=None, rng=seed)),
                          reference)
     return {"with mask": with_mask, "without": without, "mosaic": _fragments(find_textons(mosaic), reference)}
-
-
-def _sharpness(img):
-    """tests/test_interpolation.py's measure: mean absolute difference of neighbouring grey values."""
-    g = img.mean(-1)
-    return float(np.abs(np.diff(g, axis=0)).mean() + np.abs(np.diff(g, axis=1)).mean())
 
 
 def interpolation_halfway(name, seed):

@@ -26,3 +26,28 @@ def load_texture(name, size=None, *, rgb=True):
 @pytest.fixture
 def texture():
     return load_texture
+
+
+def interrupt_writer(args, sig):
+    """Run ``python *args``, send it ``sig`` once it prints ``writing``, and return its exit code.
+
+    The waits are guards against a hang, not timing assertions.
+    """
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen([sys.executable, *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    try:
+        if proc.stdout.readline().strip() != "writing":
+            proc.wait(timeout=120)
+            pytest.fail(f"the writer did not start: {proc.stderr.read()[-2000:]}")
+        proc.send_signal(sig)
+        proc.wait(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        proc.stdout.close()
+        proc.stderr.close()
+    return proc.returncode

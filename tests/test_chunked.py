@@ -19,6 +19,7 @@ from texsynth.io import load_image, save_chunked, to_uint  # noqa: E402
 from texsynth.patch import patchwork  # noqa: E402
 from texsynth.procedural import apply_colormap, fbm, marble, perlin, turbulence, wood  # noqa: E402
 from texsynth.statistical import tile_and_blend  # noqa: E402
+from conftest import interrupt_writer  # noqa: E402
 
 # Blocks of odd shapes that cut the grids anywhere: one-pixel rows and columns, blocks wider than
 # the output, blocks that do not divide it.
@@ -215,21 +216,8 @@ def test_a_zarr_write_interrupted_mid_block_leaves_nothing(tmp_path, how, sig):
     script.write_text(_INTERRUPTED_ZARR)
     out = tmp_path / "out"
     out.mkdir()
-    proc = subprocess.Popen([sys.executable, str(script), how, str(out / "big.zarr")],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        if proc.stdout.readline().strip() != "writing":
-            proc.wait(timeout=120)
-            pytest.fail(f"the writer did not start: {proc.stderr.read()[-2000:]}")
-        proc.send_signal(sig)
-        proc.wait(timeout=120)  # a guard against a hang, not a timing assertion
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-        proc.stdout.close()
-        proc.stderr.close()
-    assert proc.returncode == {"default": -signal.SIGTERM, "own-handler": 3, "ctrl-c": -signal.SIGINT}[how]
+    returncode = interrupt_writer([script, how, out / "big.zarr"], sig)
+    assert returncode == {"default": -signal.SIGTERM, "own-handler": 3, "ctrl-c": -signal.SIGINT}[how]
     assert list(out.iterdir()) == []  # no store, no hidden partial store
 
 

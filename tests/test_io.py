@@ -14,6 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+from conftest import interrupt_writer
 from texsynth import data
 from texsynth.io import image_bits, load_frames, load_image, save_frames, save_image, to_uint
 
@@ -318,22 +319,7 @@ def test_sigterm_during_a_write_leaves_no_temporary_file(tmp_path, mode, name, r
     save_frames(target, np.ones((2, 8, 8))) if mode == "frames" else save_image(target, np.ones((8, 8)))
     script = tmp_path / "slow_write.py"
     script.write_text(_SLOW_WRITE)
-    proc = subprocess.Popen([sys.executable, str(script), mode, str(target)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        line = proc.stdout.readline()
-        if line.strip() != "writing":
-            proc.wait(timeout=120)
-            pytest.fail(f"the writer did not start: {proc.stderr.read()[-2000:]}")
-        proc.send_signal(signal.SIGTERM)
-        proc.wait(timeout=120)  # a guard against a hang, not a timing assertion
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-        proc.stdout.close()
-        proc.stderr.close()
-    assert proc.returncode == returncode
+    assert interrupt_writer([script, mode, target], signal.SIGTERM) == returncode
     assert [p.name for p in out.iterdir()] == [name]  # no hidden temporary file or folder
     back = load_frames(target) if mode == "frames" else load_image(target)
     assert back.min() == 1.0 and back.shape[0] == (2 if mode == "frames" else 8)
