@@ -1,4 +1,4 @@
-"""Benchmark of Ruiters et al. 2010 patch-based texture interpolation (texsynth.interpolation).
+"""Benchmark of Ruiters et al. 2010 patch-based texture interpolation (texsynth.interpolate_textures).
 
 Targets (issue 8): one 256x256 intermediate texture from two 128x128 exemplars in at most
 5 minutes on 2 cores, and a 512x128 transition strip in at most 10 minutes; the time of each

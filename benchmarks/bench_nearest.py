@@ -1,4 +1,4 @@
-"""Benchmark of texsynth.nearest against scikit-learn NearestNeighbors.
+"""Benchmark of texsynth.core.search.PatchIndex against scikit-learn NearestNeighbors.
 
 Real patches: every 7x7 colour neighbourhood (147-D) of a 230x230 crop of one
 ink-in-water photograph (50 176 vectors) is indexed; the queries are the

@@ -195,8 +195,8 @@ def test_grouped_parameters_are_described_once(capsys):
 
 
 # --------------------------------------------------------------------------- interpolate
-FAST_INTERPOLATE = ["--stages", "((1, 9),)", "--iterations", "1", "--no-statistics", "--max-neighborhoods", "16",
-                    "--max-feature-points", "8", "--alpha-steps", "2", "--seed", "0"]
+FAST_INTERPOLATE = ["--stages", "((1, 9),)", "--max-iterations", "1", "--no-statistics-step",
+                    "--max-neighborhoods", "16", "--max-feature-points", "8", "--alpha-steps", "2", "--seed", "0"]
 
 
 def _spy(monkeypatch, module, name, fake=None):
@@ -386,8 +386,8 @@ def test_animate_named_flow_to_gif_and_frame_folder(tmp_path):
     from texsynth.io import load_frames
 
     ex = save_image(tmp_path / "ex.png", data.load("bumpy")[:32, :32])
-    fast = ["--size", "24x20", "--frames", "3", "--neighborhood-sizes", "8", "--levels", "1",
-            "--max-iterations", "2", "--frame-iterations", "1", "--seed", "0"]
+    fast = ["--size", "24x20", "--n-frames", "3", "--neighborhood-sizes", "8", "--levels", "1",
+            "--max-iterations", "2", "--max-frame-iterations", "1", "--seed", "0"]
     gif = tmp_path / "vortex.gif"
     assert run("animate", str(ex), "-o", str(gif), "--flows", "vortex:1", *fast) == 0
     assert load_frames(gif).shape == (3, 20, 24, 3)
@@ -506,15 +506,6 @@ def test_version(capsys):
     with pytest.raises(SystemExit) as stop:
         run("--version")
     assert stop.value.code == 0 and capsys.readouterr().out.strip() == f"texsynth {texsynth.__version__}"
-
-
-def test_old_option_names_still_work_with_a_warning(tmp_path, metal_file, capsys):
-    status = run("animate", str(metal_file), "-o", str(tmp_path / "f.gif"), "--size", "16", "--flows",
-                 "rotation:0.1", "--frames", "2", "--neighborhood-sizes", "(8,)", "--levels", "1",
-                 "--max-iterations", "1", "--frame-iterations", "1", "--seed", "0")
-    err = capsys.readouterr().err
-    assert status == 0 and (tmp_path / "f.gif").exists()
-    assert "--frames is deprecated; use --n-frames" in err and "--frame-iterations is deprecated" in err
 
 
 def test_sigterm_during_the_write_leaves_nothing(tmp_path, metal_file):

@@ -66,9 +66,6 @@ def test_rules_of_the_vocabulary(where, func):
         params = inspect.signature(func).parameters
     except (TypeError, ValueError):
         return
-    renamed = getattr(func, "renamed_parameters", {})
-    for old in ("search", "min_improvement", "frame_iterations", "periodic_smooth"):  # the 0.1 spellings
-        assert old not in params, f"{where} takes {old}; the vocabulary says {renamed.get(old, '?')}"
     if "rng" in params and not where.startswith(("texsynth.metrics.baselines", "texsynth.metrics.texture_report",
                                                  "texsynth.testing.assert_texture_like")):
         assert params["rng"].default is None, f"{where}: rng must default to None"

@@ -1,4 +1,4 @@
-"""Tests of texsynth.flows: flow fields and backward warping."""
+"""Tests of texsynth.core.flows: flow fields and backward warping."""
 
 from pathlib import Path
 

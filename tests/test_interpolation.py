@@ -1,4 +1,4 @@
-"""Tests of Ruiters et al. 2010 patch-based texture interpolation (texsynth.interpolation)."""
+"""Tests of Ruiters et al. 2010 patch-based texture interpolation (texsynth.interpolate_textures)."""
 
 import numpy as np
 import pytest

@@ -9,6 +9,7 @@ rescaled distribution, a non-periodic lattice); each comment gives both.
 
 from __future__ import annotations
 
+import inspect
 import math
 import tracemalloc
 
@@ -898,10 +899,10 @@ def test_blocks_do_not_change_the_output(monkeypatch):
 
 
 # --------------------------------------------------------------------------
-# the shape -> size rename
+# size, positional or keyword
 # --------------------------------------------------------------------------
 
-_RENAMED = [
+_SIZED = [
     (perlin, (16, 16), {"rng": 0}),
     (turbulence, (16, 16), {"rng": 0}),
     (fbm, (16, 16), {"rng": 0}),
@@ -913,26 +914,13 @@ _RENAMED = [
 ]
 
 
-@pytest.mark.parametrize("fn,size,kwargs", _RENAMED, ids=[f.__name__ for f, _, _ in _RENAMED])
-def test_size_keyword_and_deprecated_shape(fn, size, kwargs):
+@pytest.mark.parametrize("fn,size,kwargs", _SIZED, ids=[f.__name__ for f, _, _ in _SIZED])
+def test_size_keyword(fn, size, kwargs):
     expected = fn(size, **kwargs)
     assert np.array_equal(fn(size=size, **kwargs), expected)
-    with pytest.warns(DeprecationWarning, match=rf"{fn.__name__}\(shape=\.\.\.\) is deprecated; use size=\.\.\. instead"):
-        old = fn(shape=size, **kwargs)
-    assert np.array_equal(old, expected)
-    with pytest.raises(TypeError, match="size"):
-        fn(shape=size, size=size, **kwargs)
+    assert "size" in inspect.signature(fn).parameters
 
 
 def test_band_limit_octaves_size_keyword():
     assert band_limit_octaves(size=(1024, 512), frequency=8) == 8
-    with pytest.warns(DeprecationWarning, match="use size="):
-        assert band_limit_octaves(shape=(1024, 512), frequency=8) == 8
 
-
-def test_renamed_parameter_table_for_the_command_line():
-    # the command line reads func.renamed_parameters to accept old option names too
-    for fn, _, _ in _RENAMED:
-        expected = {"shape": "size", "pattern": "preset"} if fn.__name__ == "reaction_diffusion" else {"shape": "size"}
-        assert fn.renamed_parameters == expected
-        assert "size" in __import__("inspect").signature(fn).parameters

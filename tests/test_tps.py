@@ -1,4 +1,4 @@
-"""Tests of thin-plate splines and TPS-RPM point matching (texsynth.tps)."""
+"""Tests of thin-plate splines and TPS-RPM point matching (texsynth.core.tps)."""
 
 import numpy as np
 import pytest

@@ -18,7 +18,6 @@ and the tools :mod:`texsynth.metrics`, :mod:`texsynth.testing`,
 so ``import texsynth`` is fast.
 """
 
-from .core._deprecate import install_module_aliases
 from .core._lazy import attach
 
 __version__ = "0.1.0"
@@ -47,20 +46,3 @@ __getattr__, __dir__, __all__ = attach(
 )
 __all__.append("__version__")
 
-# Module paths of version 0.1, importable for one more release with a DeprecationWarning
-# that names the new spelling (``texsynth.patchwork`` and friends stay the functions).
-install_module_aliases({
-    "texsynth.multisource": ("texsynth.pixel._wei_levoy", "texsynth.pixel", {"SEARCHES": "texsynth.core.search.METHODS"}),
-    "texsynth.patchwork": ("texsynth.patch._patchwork", "texsynth.patch"),
-    "texsynth.interpolation": ("texsynth.optimization._ruiters", "texsynth.optimization"),
-    "texsynth.heeger_bergen": ("texsynth.statistical._heeger_bergen", "texsynth.statistical"),
-    "texsynth.portilla_simoncelli": ("texsynth.statistical._portilla_simoncelli", "texsynth.statistical"),
-    "texsynth.nearest": ("texsynth.core.search", "texsynth.core.search"),
-    "texsynth.neighborhood": ("texsynth.core.neighborhood", "texsynth.core.neighborhood"),
-    "texsynth.pyramid": ("texsynth.core.pyramid", "texsynth.core.pyramid"),
-    "texsynth.flows": ("texsynth.core.flows", "texsynth.core.flows"),
-    "texsynth.tps": ("texsynth.core.tps", "texsynth.core.tps"),
-    "texsynth.procedural.noise": ("texsynth.procedural._noise", "texsynth.procedural"),
-    "texsynth.procedural.patterns": ("texsynth.procedural._patterns", "texsynth.procedural"),
-    "texsynth.procedural.reaction_diffusion": ("texsynth.procedural._reaction_diffusion", "texsynth.procedural"),
-})

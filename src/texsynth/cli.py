@@ -193,16 +193,11 @@ def _add_method_parser(sub, name, method):
     params = inspect.signature(func).parameters
     shown = _option_names(method, params)
     help_text = _doc_params(func, shown)
-    renamed = getattr(func, "renamed_parameters", {})
-    deprecated = {}  # old option -> new option, accepted for one release with a warning
     for pname, param in params.items():
         if pname not in shown:
             continue
         flag = "--" + pname.replace("_", "-")
-        converted = getattr(func, "renamed_converters", {})
-        old_flags = ["--" + old.replace("_", "-") for old, new in renamed.items() if new == pname and old not in converted]
-        deprecated.update(dict.fromkeys(old_flags, flag))
-        flags = [flag, *old_flags]
+        flags = [flag]
         desc = _plain(help_text.get(pname, "")).replace("%", "%%")  # argparse %-formats help strings
         default = param.default
         required = default is inspect.Parameter.empty
@@ -247,14 +242,7 @@ def _add_method_parser(sub, name, method):
             word = isinstance(default, str) and default != "auto"
             parser.add_argument(*flags, dest=pname, type=str if word else _parse_value,
                                 default=default, help=f"{desc} (default: {default!r})")
-    for old, convert in getattr(func, "renamed_converters", {}).items():
-        # a renamed option whose values changed form (periodic_smooth=True -> periodic_exemplar=...): the
-        # old spelling is the old boolean flag, converted
-        old_flag = "--" + old.replace("_", "-")
-        parser.add_argument(old_flag, dest=f"_old_{old}", action=argparse.BooleanOptionalAction, default=None,
-                            help=argparse.SUPPRESS)
-        deprecated[old_flag] = "--" + renamed[old].replace("_", "-") + f" {convert(True)}"
-    parser.set_defaults(_method=name, _deprecated=deprecated)
+    parser.set_defaults(_method=name)
     return parser
 
 
@@ -611,9 +599,6 @@ def _run_method(args):
             value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
         if value is not params[pname].default:
             kwargs[pname] = value
-    for old, convert in getattr(func, "renamed_converters", {}).items():
-        if getattr(args, f"_old_{old}", None) is not None:
-            kwargs[func.renamed_parameters[old]] = convert(getattr(args, f"_old_{old}"))
     if chunked:
         kwargs.setdefault("chunks", DEFAULT_CHUNKS)
         kwargs.pop("progress", None)  # the writer reports progress, per row of blocks
@@ -897,11 +882,6 @@ def _run_batch(args):
     return 1 if summary.failed else 0
 
 
-def _used_options(argv):
-    """The ``--options`` a command line names (``--name=value`` included)."""
-    return [a.split("=", 1)[0] for a in argv if a.startswith("--")]
-
-
 def main(argv=None):
     """Entry point of the ``texsynth`` command; returns the exit status."""
     parser = build_parser()
@@ -934,9 +914,6 @@ def main(argv=None):
         if args.command == "surface":
             print("wrote " + ", ".join(str(p) for p in _run_surface(args)))
             return 0
-        for option in _used_options(argv if argv is not None else sys.argv[1:]):
-            if option in args._deprecated:
-                print(f"texsynth: warning: {option} is deprecated; use {args._deprecated[option]}", file=sys.stderr)
         written = _run_method(args)
         print("wrote " + ", ".join(str(p) for p in written))
         return 0

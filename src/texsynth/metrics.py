@@ -36,7 +36,6 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from .core._deprecate import renamed_parameters
 from .core._validate import (
     as_image,
     as_rng,
@@ -181,7 +180,6 @@ def completeness(output, exemplar, *, patch_size=8, stride=None, method="exact",
     return _mean_nearest_distance(ex, out, "the exemplar", "the output", patch_size, stride, method, rng)
 
 
-@renamed_parameters(tolerance="value_tolerance")
 def verbatim_copy(output, exemplar, *, patch_size=8, stride=2, value_tolerance=0.02, method="exact", rng=None):
     """Largest output region copied from the exemplar with a single offset.
 

@@ -39,7 +39,6 @@ import reprlib
 import numpy as np
 from scipy import ndimage
 
-from ._deprecate import renamed_parameters
 from ._validate import (as_image, as_size, check_choice, check_memory, check_positive_int, restore_channels,
                         with_channels)
 
@@ -87,7 +86,6 @@ def _real(value, name):
     return float(value)
 
 
-@renamed_parameters(shape="size")
 def translation(size, velocity):
     """Uniform translation: every pixel moves by ``velocity`` per frame.
 
@@ -121,7 +119,6 @@ def translation(size, velocity):
     return flow
 
 
-@renamed_parameters(shape="size")
 def rotation(size, angle, *, center=None):
     """Rigid rotation by ``angle`` radians per frame about ``center``.
 
@@ -157,7 +154,6 @@ def rotation(size, angle, *, center=None):
     return np.stack([new_y - y, new_x - x], axis=-1)
 
 
-@renamed_parameters(shape="size")
 def vortex(size, speed, *, center=None, radius=None):
     """A Rankine vortex: swirl that turns fastest at ``radius``.
 
@@ -213,7 +209,6 @@ def _radial(shape, speed, center, sign):
     return np.stack([y * scale, x * scale], axis=-1)
 
 
-@renamed_parameters(shape="size")
 def sink(size, speed, *, center=None):
     """Radial inflow at ``speed`` pixels per frame towards ``center``.
 
@@ -229,7 +224,6 @@ def sink(size, speed, *, center=None):
     return _radial(size, speed, center, -1.0)
 
 
-@renamed_parameters(shape="size")
 def source(size, speed, *, center=None):
     """Radial outflow at ``speed`` pixels per frame away from ``center``.
 
@@ -279,7 +273,6 @@ def check_flow(flow, shape=None, name="flow"):
     return arr
 
 
-@renamed_parameters(frames="n_frames")
 def flow_sequence(flows, n_frames=None, *, shape=None):
     """Turn a flow description into a validated sequence ``(L - 1, H, W, 2)``.
 
@@ -343,7 +336,6 @@ def flow_sequence(flows, n_frames=None, *, shape=None):
     return np.stack([check_flow(f, shape, f"flows[{i}]") for i, f in enumerate(arr)])
 
 
-@renamed_parameters(order="spline_order")
 def warp(image, flow, *, mode="constant", cval=0.0, spline_order=1, iterations=3, return_valid=False):
     """Move an image's content along a flow for one frame (backward warping).
 

@@ -32,7 +32,6 @@ import reprlib
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from ._deprecate import renamed_parameters
 from ._parallel import parallel_for
 from ._validate import as_size, check_choice, check_memory, check_positive_float, max_threads
 
@@ -127,7 +126,6 @@ def _patch_coords(centers, size, shape, mode):
     return _index(rows, shape[0], mode, "patches"), _index(cols, shape[1], mode, "patches")
 
 
-@renamed_parameters(size="patch_size")
 def patches_within(mask, patch_size):
     """Which patches lie wholly on the True pixels of a mask: ``(H - h + 1, W - w + 1)`` bool by top-left corner.
 
@@ -196,7 +194,6 @@ def all_patches(image, patch_size, *, mode="valid"):
     return np.moveaxis(view, 2, -1)
 
 
-@renamed_parameters(size="patch_size")
 def extract(image, centers, patch_size, *, mode="wrap"):
     """Copy the patches centred at arbitrary positions.
 
@@ -571,7 +568,6 @@ def grid_centers(shape, patch_size, grid_spacing, *, mode="wrap"):
     return np.stack([rr.ravel(), cc.ravel()], axis=1).astype(np.int64)
 
 
-@renamed_parameters(size="patch_size")
 def gaussian_falloff(patch_size, sigma=None):
     """Gaussian weights over a patch, 1 at the centre.
 
@@ -602,7 +598,6 @@ def gaussian_falloff(patch_size, sigma=None):
     return np.exp(-(r2 / sigma) / sigma)  # (divided twice: sigma**2 overflows for sigma above 1e154)
 
 
-@renamed_parameters(size="patch_size")
 def causal_mask(patch_size):
     """The causal (L-shaped) neighbourhood of scanline synthesis.
 
@@ -625,7 +620,6 @@ def causal_mask(patch_size):
     return mask
 
 
-@renamed_parameters(size="patch_size")
 def multilevel_vectors(image, parent, centers, patch_size, parent_size, *, mode="wrap", mask=None):
     """Neighbourhood vectors that join this pyramid level with its parent.
 

@@ -12,7 +12,6 @@
   along a photo's edges so that it tiles seamlessly.
 """
 
-from ..core._deprecate import warn
 from ..core._lazy import attach
 from ._kwatra import AnimationInfo, OptimizationInfo, StageInfo, animate_texture, optimize_texture
 from ._completion import inpaint, make_tileable, uncrop
@@ -21,7 +20,7 @@ from ._completion import inpaint, make_tileable, uncrop
 # texture optimization does not need
 _RUITERS = ("interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
             "linear_blend", "transition_alpha_map", "InterpolationInfo")
-_ruiters_getattr = attach(__name__, names={name: "._ruiters" for name in _RUITERS})[0]
+__getattr__ = attach(__name__, names={name: "._ruiters" for name in _RUITERS})[0]
 
 __all__ = [
     "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo", "inpaint", "uncrop",
@@ -29,18 +28,6 @@ __all__ = [
     "interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
     "linear_blend", "transition_alpha_map", "InterpolationInfo",
 ]
-
-_MOVED = {"expectation_maximization": "texsynth.core.em", "irls_weights": "texsynth.core.em",
-          "IRLS_EXPONENT": "texsynth.core.em"}
-
-
-def __getattr__(name):
-    if name in _MOVED:  # deprecated in 0.2: the EM loop moved to the shared core
-        import importlib
-
-        warn(f"texsynth.optimization.{name} is deprecated; use {_MOVED[name]}.{name} instead")
-        return getattr(importlib.import_module(_MOVED[name]), name)
-    return _ruiters_getattr(name)
 
 
 def __dir__():

@@ -87,7 +87,6 @@ import numpy as np
 from scipy import fft as sfft
 from scipy import ndimage
 
-from ..core._deprecate import renamed_parameters
 from ..core._parallel import parallel_for
 from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
@@ -1925,7 +1924,6 @@ def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
 
 
 # --------------------------------------------------------------------------- public API
-@renamed_parameters(grid_spacing="relative_grid_spacing")
 def optimize_texture(exemplar, size, *, preset="default", neighborhood_sizes="auto", levels="auto",
                      relative_grid_spacing=0.25, irls_exponent=0.8, max_iterations=5, tolerance="auto",
                      gradient_weight=0.0, mask=None, target=None, constraint_weight=1.0, exemplar_mask=None,
@@ -2446,7 +2444,6 @@ def _first_sources(x, problem, size, opts, rng, cache):
     return _source_map(centers, exm.centers(zidx), x.shape[:2])
 
 
-@renamed_parameters(frames="n_frames", grid_spacing="relative_grid_spacing", frame_iterations="max_frame_iterations")
 def animate_texture(exemplar, flows, *, n_frames=None, neighborhood_sizes=(32, 16, 8), levels=3,
                     frame_sizes=None, relative_grid_spacing=0.25, irls_exponent=0.8, max_iterations=5,
                     tolerance=5e-3,

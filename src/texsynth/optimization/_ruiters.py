@@ -46,7 +46,6 @@ import numpy as np
 from scipy import ndimage
 from scipy.spatial import cKDTree
 
-from ..core._deprecate import TotalSeconds, renamed_parameters
 from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_size, check_bool, check_in_range,
@@ -70,7 +69,7 @@ __all__ = [
     "InterpolationInfo",
 ]
 
-_EPS = 1e-3  # ε² of the IRLS weights (texsynth.optimization.irls_weights): finite for perfect matches
+_EPS = 1e-3  # ε² of the IRLS weights (texsynth.core.em.irls_weights): finite for perfect matches
 # candidates="k-coherent": the size of the k-coherence sets of the correspondences, and the iterations over
 # them after one PatchMatch iteration from random matches
 _CORRESPONDENCE_SET = 4
@@ -206,7 +205,6 @@ def ridge_feature_map(image, *, sigmas=(1.0, 2.0), min_size=8):
     return remove_small_objects(lines, max_size=check_positive_int(min_size, "min_size") - 1, connectivity=2)
 
 
-@renamed_parameters(shape="size")
 def transition_alpha_map(size, *, start=0.0, stop=1.0):
     """A left-to-right ramp of alpha values for a transition strip (Figure 4).
 
@@ -519,7 +517,6 @@ def _interpolated_set(t1, t2, size, alphas, params, rng, info):
     return np.concatenate(out)
 
 
-@renamed_parameters(size="neighborhood_size")
 def interpolate_neighborhoods(a, b, alpha, neighborhood_size, *, features=None, resolution=1, distance_weight=1.0,
                               k=1,
                               keep_fraction=0.5, feature_weight=0.5, max_feature_points=24,
@@ -860,8 +857,6 @@ class _Statistics:
 
 
 # --------------------------------------------------------------------------- public
-@renamed_parameters(iterations="max_iterations", min_improvement="tolerance", grid_spacing="relative_grid_spacing",
-                    statistics="statistics_step")
 def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 33), (2, 17), (1, 17)),
                          max_iterations=10, distance_weight=1.0, k=1, keep_fraction=0.5, feature_weight=0.5,
                          max_feature_points=24, max_neighborhoods=1024, max_set_size=16384, alpha_steps=20, alpha_weight=4.0,
@@ -1235,7 +1230,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, stages=((2, 3
     out = restore_channels(out, p.grey)
     info.energy = np.concatenate([np.asarray(e, float) for e in stage_energies])
     info.stage = np.repeat(np.arange(len(stage_energies)), [len(e) for e in stage_energies])
-    info.seconds = TotalSeconds(time.perf_counter() - t_start, info.stage_seconds, "InterpolationInfo")
+    info.seconds = time.perf_counter() - t_start
     return (out, info) if return_info else out
 
 

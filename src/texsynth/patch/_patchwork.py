@@ -74,7 +74,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
 from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memory, check_positive_int,
                               restore_channels, with_channels)
@@ -1291,7 +1290,6 @@ def _match_sources(geom, pattern, texture, candidates, patch, gen, progress):
     return qy, qx, means.astype(np.float32)
 
 
-@renamed_parameters(patch_size="neighborhood_size")
 def patchwork_transfer(
     texture,
     pattern,

@@ -51,7 +51,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core import search
-from ..core._deprecate import renamed_parameters, warn
 from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memory, check_positive_int, max_threads,
@@ -155,12 +154,6 @@ class PixelSynthesisInfo:
     coordinates: np.ndarray | None = None
     weights: np.ndarray | None = None
     source_index: np.ndarray | None = None
-
-    @property
-    def search(self):
-        """Deprecated name of :attr:`method`."""
-        warn("PixelSynthesisInfo.search is deprecated; use PixelSynthesisInfo.method instead")
-        return self.method
 
 
 # --------------------------------------------------------------------------- #
@@ -1280,7 +1273,6 @@ def _check_order_method(order, method, passes, max_iterations=1):
     check_positive_int(max_iterations, "max_iterations", maximum=MAX_ITERATIONS)
 
 
-@renamed_parameters(search="method")
 def synthesize_pixels(
     exemplar,
     size,
@@ -1498,7 +1490,6 @@ def _check_weights(weights, n, size):
     return result
 
 
-@renamed_parameters(search="method", iterations="max_iterations")
 def mix_textures(
     sources,
     size,
@@ -1680,7 +1671,6 @@ def mix_textures(
     return (out, info) if return_info else out
 
 
-@renamed_parameters(search="method", shape="size", iterations="max_iterations")
 def synthesize_solid(
     views,
     size,

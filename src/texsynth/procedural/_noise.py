@@ -58,7 +58,6 @@ import numbers
 
 import numpy as np
 
-from ..core._deprecate import renamed_parameters
 from ..core._validate import as_rng, as_size, check_memory, check_positive_float
 
 __all__ = ["perlin", "FADES", "band_limit_octaves"]
@@ -287,7 +286,6 @@ def _check_lacunarity(lacunarity):
     return lacunarity
 
 
-@renamed_parameters(shape="size")
 def band_limit_octaves(size, frequency, lacunarity=2.0):
     """Number of octaves up to the band limit of a grid.
 
@@ -300,7 +298,6 @@ def band_limit_octaves(size, frequency, lacunarity=2.0):
     ----------
     size : int or tuple of int
         ``(H, W)`` or ``(D, H, W)`` grid (an int means a square image).
-        ``shape`` is the deprecated name of this parameter.
     frequency : float
         Lattice cells of the first octave across the longest axis (> 0).
     lacunarity : float, default 2.0
@@ -661,7 +658,6 @@ def _chunked(size, chunks, dtype, render, copies, channels=None):
     return chunked_image(size, channels, dtype, chunks, render, bytes_per_pixel=copies * dtype.itemsize)
 
 
-@renamed_parameters(shape="size")
 def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fade="quintic",
            rng=None, dtype=np.float64, chunks=None):
     """Perlin gradient noise on a grid (image or volume) or at arbitrary points.
@@ -670,8 +666,7 @@ def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fad
     ----------
     size : int or tuple of int, optional
         ``(H, W)`` for an image or ``(D, H, W)`` for a volume (an int means a
-        square image). Give either ``size`` or ``points``. ``shape`` is the
-        deprecated name of this parameter.
+        square image). Give either ``size`` or ``points``.
     frequency : float, default 8
         Lattice cells across the longest axis of the grid (cells are square,
         so a 256 x 512 image with ``frequency=8`` has 4 x 8 cells). Ignored

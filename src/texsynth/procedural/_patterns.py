@@ -36,7 +36,6 @@ import numbers
 
 import numpy as np
 
-from ..core._deprecate import renamed_parameters
 from ..core._validate import check_positive_int
 from ._noise import (
     _MAX_COORDINATE,
@@ -222,7 +221,6 @@ def _accumulate(total, layer, amp, absolute, dt):
     return total
 
 
-@renamed_parameters(shape="size")
 def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None, offset=None,
                fade="quintic", rng=None, dtype=np.float64, chunks=None):
     """Perlin's turbulence: the sum of absolute noise octaves, band-limited.
@@ -231,8 +229,7 @@ def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None
     ----------
     size : int or tuple of int, optional
         ``(H, W)`` image or ``(D, H, W)`` volume (an int means a square
-        image); or give ``points``. ``shape`` is the deprecated name of this
-        parameter.
+        image); or give ``points``.
     frequency : float, default 8
         Lattice cells of the first octave across the longest axis.
     octaves : int, optional
@@ -310,7 +307,6 @@ def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None
     return total
 
 
-@renamed_parameters(shape="size")
 def fbm(size=None, *, frequency=8, octaves=None, lacunarity=2.0, gain=0.5, points=None, period=None,
         offset=None, fade="quintic", rng=None, dtype=np.float64, chunks=None):
     """Fractional Brownian motion: the signed, normalised sum of noise octaves.
@@ -318,8 +314,7 @@ def fbm(size=None, *, frequency=8, octaves=None, lacunarity=2.0, gain=0.5, point
     Parameters
     ----------
     size, frequency, points, period, offset, fade, rng, dtype, chunks
-        As in :func:`turbulence` (``shape`` is the deprecated name of
-        ``size``).
+        As in :func:`turbulence`.
     octaves : int, optional
         Number of octaves; None sums up to the band limit (the last octave
         whose lattice spacing is at least one pixel).
@@ -599,7 +594,6 @@ def _sine_transfer(turb, strength, base_phase, colormap, default, return_info):
     return (image, field) if return_info else image
 
 
-@renamed_parameters(shape="size")
 def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None, colormap=None, period=None,
            fade="quintic", rng=None, dtype=np.float64, return_info=False, chunks=None):
     """Marble: layers ``sin(x)`` bent by turbulence, through a colour transfer function.
@@ -608,7 +602,7 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None,
     ----------
     size : int or tuple of int
         ``(H, W)`` image or ``(D, H, W)`` solid (volume); an int means a
-        square image. ``shape`` is the deprecated name of this parameter.
+        square image.
     frequency : float, default 4
         Lattice cells of the turbulence's first octave across the longest axis.
     veins : float, default 3
@@ -687,7 +681,6 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None,
                                 rng=rng, dtype=dtype)
 
 
-@renamed_parameters(shape="size")
 def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, center=None, colormap=None,
          fade="quintic", rng=None, dtype=np.float64, return_info=False, chunks=None):
     """Wood: concentric rings ``sin(radius)`` around a trunk axis, bent by turbulence.
@@ -697,7 +690,7 @@ def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, 
     size : int or tuple of int
         ``(H, W)`` image (a cross-section of the trunk) or ``(D, H, W)``
         solid whose trunk runs along the depth axis; an int means a square
-        image. ``shape`` is the deprecated name of this parameter.
+        image.
     frequency : float, default 4
         Lattice cells of the turbulence's first octave across the longest axis.
     rings : float, default 10

@@ -66,7 +66,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
 from ..core._validate import as_rng, as_size, check_positive_int
 from ._noise import _check_dtype, _check_fits, _check_float
@@ -315,7 +314,6 @@ def _check_record(record_every):
     return check_positive_int(record_every, "record_every")
 
 
-@renamed_parameters(shape="size", pattern="preset")
 def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db=None, beta=None,
                        beta_spread=None, dt=1.0, cascade=None, colormap=None, record_every=None, rng=None,
                        dtype=np.float32, progress=False, return_info=False):
@@ -325,8 +323,7 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db
     ----------
     size : int or (int, int)
         Grid size ``(H, W)`` (an int means a square); the result tiles
-        (periodic boundary). ``shape`` is the deprecated name of this
-        parameter.
+        (periodic boundary).
     steps : int, default 10000
         Time steps. With the "spots" preset the spots have formed after about
         4,000-6,000 steps and then only shift slightly; "stripes" has joined
@@ -506,7 +503,6 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db
     return image, info
 
 
-@renamed_parameters(shape="size")
 def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.009, diff2=0.2, arand=0.02,
                       colormap=None, record_every=None, rng=None, dtype=np.float32, progress=False,
                       return_info=False):
@@ -516,7 +512,7 @@ def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.00
     ----------
     size : int or (int, int)
         Grid size ``(H, W)`` (an int means a square); periodic boundary (the
-        result tiles). ``shape`` is the deprecated name of this parameter.
+        result tiles).
     steps : int, default 4000
         Time steps (dt = 1, as Turk). Stripes have joined into a labyrinth of
         period about 7 px after 2,000 steps at 128^2; the system never
@@ -651,7 +647,6 @@ def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.00
     return image, info
 
 
-@renamed_parameters(shape="size")
 def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0, steps=10000, seeds=None,
                colormap=None, record_every=None, rng=None, dtype=np.float32, progress=False, return_info=False):
     """Gray-Scott reaction-diffusion: spots, stripes, mazes, coral... from (F, k).
@@ -660,7 +655,7 @@ def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0
     ----------
     size : int or (int, int)
         Grid size ``(H, W)`` (an int means a square); periodic boundary (the
-        result tiles). ``shape`` is the deprecated name of this parameter.
+        result tiles).
     preset : str, default "spots"
         A name of :data:`GRAY_SCOTT_PRESETS` supplying F and k when not given.
     F, k : float, optional

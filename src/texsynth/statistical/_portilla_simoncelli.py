@@ -104,7 +104,6 @@ import scipy.fft as sfft
 from numpy.polynomial import polynomial as npoly
 from threadpoolctl import threadpool_limits
 
-from ..core._deprecate import renamed_parameters
 from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_image, as_rng, as_size, check_in_range, check_memory, check_positive_int,
@@ -555,11 +554,6 @@ def _check_periodic(periodic_exemplar):
     return periodic_exemplar == "periodic+smooth"
 
 
-def _old_periodic_smooth(value):
-    """The 0.1 spelling periodic_smooth=True/False as periodic_exemplar."""
-    return "periodic+smooth" if value else "none"
-
-
 def _check_mask(mask, shape):
     if mask is None:
         return None
@@ -584,7 +578,6 @@ def _image_from_components(components, stats):
 
 
 @_single_threaded_blas
-@renamed_parameters(neighborhood="neighborhood_size", periodic_smooth=("periodic_exemplar", _old_periodic_smooth))
 def ps_statistics(image, *, scales=4, orientations=4, neighborhood_size=7, mask=None, color_basis=None,
                   periodic_exemplar="none"):
     """Portilla-Simoncelli statistics of a grey or colour texture.
@@ -1290,7 +1283,6 @@ def _check_from_statistics(stats, size, scales, orientations, neighborhood_size,
 
 
 @_single_threaded_blas
-@renamed_parameters(neighborhood="neighborhood_size", periodic_smooth=("periodic_exemplar", _old_periodic_smooth))
 def portilla_simoncelli(exemplar, size=None, *, scales=None, orientations=None, neighborhood_size=None, iterations=50,
                         periodic_exemplar="none", rng=None, progress=False, return_info=False):
     """Synthesise a texture with an exemplar's (or given) Portilla-Simoncelli statistics.
