@@ -8,7 +8,7 @@ answer is compared with an exact reference:
   scikit-learn's ``KMeans`` and ``MiniBatchKMeans``: tree build time, query
   time, recall@1 and distance ratio of the whole TSVQ search against exact
   search;
-- the kd-tree's PCA (``core.search._kdtree._pca``: scatter matrix up to 256-D,
+- the kd-tree's PCA (``core.search._kdtree.pca``: scatter matrix up to 256-D,
   randomized subspace iteration above) against ``sklearn.utils.extmath.
   randomized_svd`` and ``sklearn.decomposition.PCA``: time and the variance
   the basis captures, relative to an exact SVD;
@@ -146,7 +146,7 @@ def bench_pca(samples):
             proj = centred.astype(np.float64) @ np.asarray(basis, np.float64).T
             return float((proj ** 2).sum() / exact_var.sum())
 
-        t, (s, vt, _) = best_of(lambda: _kdtree._pca(centred, n, np.random.default_rng(0)))
+        t, (s, vt, _) = best_of(lambda: _kdtree.pca(centred, n, np.random.default_rng(0)))
         row(label, "texsynth (scatter matrix; randomized above 256-D, 1 power iteration)", f"{t:.3f}",
             f"{captured(vt[:n]):.4f}")
         t, (_, _, vt) = best_of(lambda: randomized_svd(centred, n, n_oversamples=10, n_iter=1, random_state=0))

@@ -35,7 +35,7 @@ from texsynth.procedural import (
     reaction_diffusion,
     turbulence,
 )
-from texsynth.procedural._noise import _noise_points
+from texsynth.procedural._noise import noise_points
 
 # Perlin's reference permutation (Perlin 2002) and the `noise` package's
 # gradient table (Perlin's, with the last four entries in another order).
@@ -274,11 +274,11 @@ def main():
         noise = found["noise"]
         perm = np.array(PERLIN_PERMUTATION * 2)
         pts = np.random.default_rng(0).uniform(0, 50, (20000, 3))
-        ours2 = _noise_points(pts[:, :2], perm, None, FADES["quintic"], np.float64, NOISE_PKG_GRADIENTS)
+        ours2 = noise_points(pts[:, :2], perm, None, FADES["quintic"], np.float64, NOISE_PKG_GRADIENTS)
         ref2 = np.array([noise.pnoise2(x, y) for x, y in pts[:, :2]])
-        ours3 = _noise_points(pts, perm, None, FADES["quintic"], np.float64, NOISE_PKG_GRADIENTS)
+        ours3 = noise_points(pts, perm, None, FADES["quintic"], np.float64, NOISE_PKG_GRADIENTS)
         ref3 = np.array([noise.pnoise3(*p) for p in pts])
-        ours_p = _noise_points(pts[:, :2], perm, (7, 7), FADES["quintic"], np.float64, NOISE_PKG_GRADIENTS)
+        ours_p = noise_points(pts[:, :2], perm, (7, 7), FADES["quintic"], np.float64, NOISE_PKG_GRADIENTS)
         ref_p = np.array([noise.pnoise2(x, y, repeatx=7, repeaty=7) for x, y in pts[:, :2]])
         print("\ncross-check against the `noise` package (same permutation and gradient table, 20,000 points):")
         print(f"  max |ours - pnoise2| = {np.abs(ours2 - ref2).max():.2e}   "

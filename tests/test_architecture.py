@@ -222,3 +222,44 @@ def test_every_third_party_import_is_declared():
     assert not undeclared, f"imported but not declared in pyproject.toml: {sorted(undeclared)}"
     # texsynth.io reads and writes through imageio's Pillow plugin and writes BigTIFF with tifffile
     assert {"imageio", "pillow", "tifffile"} <= runtime
+
+
+def _private_imports(path):
+    """``from M import _name`` lines of one file: names private to another module (dunders aside).
+
+    A private submodule imported by its own package (``from . import _exact`` in ``core/search``) is
+    the package's business and not counted; one imported from outside its package is.
+    """
+    importer = _module_name(path)
+    package = importer if path.name == "__init__.py" else importer.rpartition(".")[0]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if not isinstance(node, ast.ImportFrom) or node.module == "__future__":
+            continue
+        module = "." * node.level + (node.module or "")
+        if node.level:
+            base = package.split(".")
+            absolute = ".".join(base[: len(base) - node.level + 1] + ([node.module] if node.module else []))
+        else:
+            absolute = node.module
+        for alias in node.names:
+            name = alias.name
+            if not name.startswith("_") or (name.startswith("__") and name.endswith("__")):
+                continue
+            submodule = SRC.parent.joinpath(*absolute.split("."), name)
+            is_module = submodule.with_suffix(".py").is_file() or (submodule / "__init__.py").is_file()
+            if is_module and (importer == absolute or importer.startswith(absolute + ".")):
+                continue
+            found.append(f"{path.relative_to(SRC)}: from {module} import {name}")
+    return found
+
+
+def test_modules_import_only_public_names():
+    """A leading underscore means "this module only": what several modules need is a public name.
+
+    Importing a public name from a private module (``from ..core._validate import check_memory``)
+    is fine: a module's privacy is its package's business (docs/architecture.md).
+    """
+    offenders = [line for path in SOURCES for line in _private_imports(path)]
+    assert not offenders, (f"{len(offenders)} imports of another module's private names; give each a public "
+                           "name where it lives (or in the core):\n" + "\n".join(offenders))

@@ -437,12 +437,12 @@ def metal_file(tmp_path):
 def test_unwritable_folder_is_one_line(tmp_path, metal_file, capsys, monkeypatch):
     import errno
 
-    import texsynth.io as tio
+    import texsynth.core.files as files
 
     def refuse(path):
         raise PermissionError(errno.EACCES, "Permission denied", str(path.parent))
 
-    monkeypatch.setattr(tio, "_new_temp_file", refuse)  # a read-only folder (the tests may run as root)
+    monkeypatch.setattr(files, "_new_temp_file", refuse)  # a read-only folder (the tests may run as root)
     status = run("patchwork", str(metal_file), "-o", str(tmp_path / "out.png"), "--grid-spacing", "8")
     assert "Permission denied" in _one_line_error(capsys, status)
     assert not (tmp_path / "out.png").exists()

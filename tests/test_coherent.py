@@ -172,7 +172,7 @@ def test_optimization_m_step_offers_the_sets_after_the_first_search(texture, mon
     from texsynth.core.search import _patchmatch as pm
 
     calls = []
-    checked = kw._patchmatch_checked
+    checked = kw.patchmatch_features
 
     def spy(*args, sets=None, **kwargs):
         calls.append(sets)
@@ -180,7 +180,7 @@ def test_optimization_m_step_offers_the_sets_after_the_first_search(texture, mon
 
     random_searches = []
     search = pm._Problem.random_search
-    monkeypatch.setattr(kw, "_patchmatch_checked", spy)
+    monkeypatch.setattr(kw, "patchmatch_features", spy)
     monkeypatch.setattr(pm._Problem, "random_search",
                         lambda self, *a: (random_searches.append(self.sets is None), search(self, *a))[1])
     ex = texture("jcjohnson/bread.png", 64)

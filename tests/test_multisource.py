@@ -7,7 +7,7 @@ import pytest
 
 from texsynth.io import load_image
 from texsynth.metrics import histogram_distance, mosaic_baseline, noise_baseline, texture_energy
-from texsynth.pixel._wei_levoy import _footprint, _noise, _prepare
+from texsynth.pixel._wei_levoy import _noise, _prepare, footprint
 from texsynth.pixel import mix_textures, synthesize_pixels, synthesize_solid
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -290,9 +290,9 @@ def test_ambiguous_or_wrong_length_neighborhood_sizes_raise(brick, gravel):
 
 
 def test_disc_footprint(bread, brick, gravel):
-    assert _footprint((3, 3), "disc").all()  # a 3x3 disc is the square
-    assert _footprint((5, 5), "disc").sum() == 21 and _footprint((9, 9), "disc").sum() == 69
-    assert _footprint((5, 9), "disc")[2].all() and not _footprint((5, 9), "disc")[0, :2].any()
+    assert footprint((3, 3), "disc").all()  # a 3x3 disc is the square
+    assert footprint((5, 5), "disc").sum() == 21 and footprint((9, 9), "disc").sum() == 69
+    assert footprint((5, 9), "disc")[2].all() and not footprint((5, 9), "disc")[0, :2].any()
     kw = dict(levels=2, rng=0)
     assert np.array_equal(synthesize_pixels(bread, 20, neighborhood_size=3, neighborhood_shape="disc", **kw),
                           synthesize_pixels(bread, 20, neighborhood_size=3, **kw))

@@ -12,7 +12,7 @@ from scipy import ndimage
 from texsynth import metrics
 from texsynth.core.flows import rotation, translation, warp
 from texsynth.io import load_image
-from texsynth.optimization._kwatra import (_Exemplar, _frame_terms, _m_step_frame, _Options, _scale_schedule, _schedule,
+from texsynth.optimization._kwatra import (_Exemplar, _frame_terms, _m_step_frame, _Options, scale_schedule, _schedule,
                                            _solve_gradient_system)
 from texsynth.optimization import animate_texture, optimize_texture
 from texsynth.core.neighborhood import extract, grid_centers
@@ -544,10 +544,10 @@ def test_default_schedule_follows_the_feature_scale():
     rng = np.random.default_rng(0)
     large = np.kron(rng.random((16, 16)), np.ones((16, 16)))  # 256 px, 16-px squares
     small = np.kron(rng.random((64, 64)), np.ones((4, 4)))    # 256 px, 4-px squares
-    assert _scale_schedule(large[..., None], (1024, 1024)) == ((64, 32, 16), 4)
-    assert _scale_schedule(small[..., None], (1024, 1024)) == ((32, 16, 8), 4)
-    assert _scale_schedule(large[:64, :64, None], (96, 96)) == ((16, 8, 4), 2)
-    assert _scale_schedule(large[..., None], (24, 24)) == ((16,), 4)  # none larger than the output
+    assert scale_schedule(large[..., None], (1024, 1024)) == ((64, 32, 16), 4)
+    assert scale_schedule(small[..., None], (1024, 1024)) == ((32, 16, 8), 4)
+    assert scale_schedule(large[:64, :64, None], (96, 96)) == ((16, 8, 4), 2)
+    assert scale_schedule(large[..., None], (24, 24)) == ((16,), 4)  # none larger than the output
     _, info = optimize_texture(texture("jcjohnson/bread.png", 64), 96, max_iterations=1, rng=0, return_info=True)
     assert [(s.level, s.size) for s in info.stages] == [(1, 16), (1, 8), (1, 4), (0, 16), (0, 8), (0, 4)]
 

@@ -648,7 +648,8 @@ def test_query_patches_gathered_into_the_workspace():
     # values as fancy indexing, the same array again for a search of the same size, a new one for another
     from numpy.lib.stride_tricks import sliding_window_view
 
-    from texsynth.core.search._patchmatch import _gather, _patchmatch_checked
+    from texsynth.core.search import patchmatch_features
+    from texsynth.core.search._patchmatch import _gather
 
     rng = np.random.default_rng(5)
     img = rng.random((40, 37, 3)).astype(np.float32)
@@ -668,10 +669,10 @@ def test_query_patches_gathered_into_the_workspace():
     centers = grid_centers(img.shape[:2], 6, 3, mode="wrap")
     kwargs = dict(centers=centers, init=None, iterations=2, exemplar_mask=None, pixel_weights=gaussian_falloff(6),
                   mode="wrap", penalty=None)
-    plain = _patchmatch_checked(img, exemplar, 6, rng=np.random.default_rng(1), **kwargs)
+    plain = patchmatch_features(img, exemplar, 6, rng=np.random.default_rng(1), **kwargs)
     kept = {}
     for _ in range(2):  # the second search reuses the first one's memory
-        reused = _patchmatch_checked(img, exemplar, 6, rng=np.random.default_rng(1), workspace=kept, **kwargs)
+        reused = patchmatch_features(img, exemplar, 6, rng=np.random.default_rng(1), workspace=kept, **kwargs)
         assert np.array_equal(plain[0], reused[0]) and np.array_equal(plain[1], reused[1])
     assert kept["queries"].shape[0] == len(centers)
 
@@ -679,7 +680,7 @@ def test_query_patches_gathered_into_the_workspace():
 def test_distances_without_the_penalty_that_ranked_them():
     # with a penalty PatchMatch ranks by distance + penalty; distances=True gives the held patches' plain
     # weighted distances, which a caller needs as its energy (texture optimization's ρ_p under the copy limit)
-    from texsynth.core.search._patchmatch import _patchmatch_checked
+    from texsynth.core.search import patchmatch_features
 
     rng = np.random.default_rng(4)
     img, exemplar = rng.random((30, 30, 3)), rng.random((20, 20, 3))
@@ -687,7 +688,7 @@ def test_distances_without_the_penalty_that_ranked_them():
     centers = grid_centers((30, 30), 5, 2, mode="wrap")
     def penalty(q, c):  # favours the exemplar's left half, strongly enough to change choices
         return 0.5 * (c[:, 1] > 10)
-    field, cost, dist = _patchmatch_checked(img, exemplar, 5, centers=centers, init=None, iterations=3,
+    field, cost, dist = patchmatch_features(img, exemplar, 5, centers=centers, init=None, iterations=3,
                                             exemplar_mask=None, pixel_weights=g, mode="wrap", penalty=penalty,
                                             rng=np.random.default_rng(0), distances=True)
     q = extract(img, centers, 5, mode="wrap")
@@ -696,7 +697,7 @@ def test_distances_without_the_penalty_that_ranked_them():
     np.testing.assert_allclose(dist[:, 0], exact, rtol=1e-12)
     np.testing.assert_allclose(cost[:, 0], exact + penalty(None, field[:, 0]), rtol=1e-12)
     assert (field[:, 0, 1] > 10).any() and (cost[:, 0] > dist[:, 0]).any()  # the penalty did apply somewhere
-    plain = _patchmatch_checked(img, exemplar, 5, centers=centers, init=None, iterations=3, exemplar_mask=None,
+    plain = patchmatch_features(img, exemplar, 5, centers=centers, init=None, iterations=3, exemplar_mask=None,
                                 pixel_weights=g, mode="wrap", penalty=None, rng=np.random.default_rng(0),
                                 distances=True)
     assert plain[2] is plain[1]  # without a penalty the costs are the distances

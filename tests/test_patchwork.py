@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from texsynth import cli, data, metrics
 from texsynth.io import load_frames, load_image, save_frames, save_image
-from texsynth.patch._patchwork import _prescale
+from texsynth.patch._patchwork import prescale_pattern
 from texsynth.patch import patchwork, patchwork_transfer, patchwork_video, voronoi_weights
 
 
@@ -443,7 +443,7 @@ def test_prescale_gives_the_pattern_the_textures_mean_and_range(texture):
     photo = resize(skdata.camera(), (48, 64), anti_aliasing=True)
     pattern = np.repeat((0.2 + 0.3 * photo)[..., None], 3, axis=-1).astype(np.float32)  # dim, low contrast
     pattern[..., 2] = 0.5  # a flat channel has no range: it takes the texture's mean
-    scaled = _prescale(pattern, tex)
+    scaled = prescale_pattern(pattern, tex)
     # float32 sums over 3000-16000 values: agreement to 1e-4 (a missed mean or range is off by >= 0.05)
     np.testing.assert_allclose(scaled.mean((0, 1)), tex.mean((0, 1)), atol=1e-4)
     rng_t = tex.max((0, 1)) - tex.min((0, 1))

@@ -36,7 +36,7 @@ from texsynth.procedural import (
     turbulence,
     wood,
 )
-from texsynth.procedural._noise import _GRADIENTS, _GRADIENTS_2D, _permutation
+from texsynth.procedural._noise import _GRADIENTS, _GRADIENTS_2D, permutation
 from texsynth.procedural._patterns import _OCTAVE_SHIFT
 from texsynth.procedural._reaction_diffusion import _PeriodicGrid
 
@@ -110,7 +110,7 @@ def test_matches_perlins_reference_algorithm():
     # Scalar transcription of Perlin 2002 with the same permutation: agreement to
     # rounding (1e-12) shows hash, gradients, fade and interpolation are Perlin's
     # (3-D); 2-D uses the same hash at z = 0 with the 8-direction 2-D table.
-    perm = _permutation(5)
+    perm = permutation(5)
     pts = np.random.default_rng(0).uniform(-20, 300, size=(200, 3))
     ours3 = perlin(points=pts, rng=5)
     ref3 = [_scalar_perlin(x, y, z, perm) for x, y, z in pts]

@@ -272,7 +272,7 @@ def run_item(item, folder):
 
 
 def _write_summary(folder, summary):
-    from .io import _atomic_write
+    from .core.files import atomic_write
 
     fields = ["exemplar", "method", "options", "seed_index", "seed", "size", "output", "status", "error", "seconds"]
     items = [{k: item[k] for k in fields} for item in summary.items]
@@ -290,8 +290,8 @@ def _write_summary(folder, summary):
             writer.writerow({**item, "options": json.dumps(item["options"]), "size": json.dumps(item["size"])})
         Path(tmp).write_text(buffer.getvalue())
 
-    _atomic_write(Path(folder) / "summary.json", write_json)
-    _atomic_write(Path(folder) / "summary.csv", write_csv)
+    atomic_write(Path(folder) / "summary.json", write_json)
+    atomic_write(Path(folder) / "summary.csv", write_csv)
 
 
 def _connect(distributed, client, scheduler, n_workers, processes):

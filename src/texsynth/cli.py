@@ -38,7 +38,7 @@ import re
 import sys
 from pathlib import Path
 
-from .io import _check_suffix
+from .io import check_suffix
 from .registry import COORDINATE_METHODS, METHODS, VIDEO_COORDINATE_METHODS, Method
 
 __all__ = ["main", "METHODS", "Method"]
@@ -536,7 +536,7 @@ def _run_method(args):
     if chunked and out.suffix.lower() not in {".zarr", ".tif", ".tiff"}:
         raise CommandError(f"--chunks writes block by block to a .zarr store or a .tif file, got {args.output!r}")
     if method.output != "volume" and not chunked:  # refuse a format that cannot be written before the synthesis runs
-        _check_suffix(out, frames=method.output == "frames")
+        check_suffix(out, frames=method.output == "frames")
     requested_bits = getattr(args, "bits", None)
     if requested_bits == 32 and out.suffix.lower() not in {".tif", ".tiff", ".npy"}:
         raise CommandError(f"--bits 32 (float samples) needs a .tif output, got {args.output!r}")
@@ -741,12 +741,12 @@ def _run_apply_coordinates(args):
         if len(args.inputs) != 1:
             raise CommandError(f"{args.map!r} is a video map; pass the channel's frames as one GIF, video or folder "
                                f"of images (the input frames' order), got {len(args.inputs)} files")
-        _check_suffix(out, frames=True)
+        check_suffix(out, frames=True)
         frames = load_frames(args.inputs[0])
         rendered = apply_coordinates(list(frames), saved, normals=args.normal_map)
         save_frames(out, np.clip(rendered, 0.0, 1.0), overwrite=args.overwrite)
         return [out]
-    _check_suffix(out)
+    check_suffix(out)
     images = _load_channels([([Path(p) for p in args.inputs], out, args.normal_map)], None)[0][0]
     several = saved.source_index is not None
     if not several and len(images) > 1:

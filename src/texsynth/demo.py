@@ -13,7 +13,8 @@ import time
 from pathlib import Path
 
 from . import data
-from .io import _atomic_write, save_image
+from .core.files import atomic_write
+from .io import save_image
 from .registry import Demo, demos
 
 __all__ = ["Entry", "ENTRIES", "run_demo", "select_entries"]
@@ -81,7 +82,7 @@ def run_demo(out="texsynth-demo", *, seed=0, entries=None, log=None):
             log(f"{entry.slug:<32} {seconds:6.1f} s")
     index = out / "index.html"
     page = _html(rows)
-    _atomic_write(index, lambda tmp: Path(tmp).write_text(page, encoding="utf-8"))
+    atomic_write(index, lambda tmp: Path(tmp).write_text(page, encoding="utf-8"))
     return index
 
 

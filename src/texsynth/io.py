@@ -11,9 +11,10 @@ PNG/JPEG/GIF/BMP, uint16 for 16-bit PNG and TIFF), or writes float32 TIFF
 (``bits=32``). 16-bit PNG is read and written for grey, grey+alpha, RGB and
 RGBA: Pillow (imageio's PNG plugin) handles 16-bit grey only and reads 16-bit
 colour PNG as 8 bits, so those go through a small PNG codec of this module
-(zlib and numpy, no new dependency). Every save is atomic: the
-data go to a hidden temporary file beside the target, which is renamed over the
-target only once complete, so a file is never half-written. The temporary file
+(zlib and numpy, no new dependency). Every save is atomic
+(:mod:`texsynth.core.files`): the data go to a hidden temporary file beside
+the target, which is renamed over the target only once complete, so a file is
+never half-written. The temporary file
 is removed when the write fails or the process is interrupted, by Ctrl-C
 (SIGINT) or by SIGTERM (``kill``, ``timeout``, a job scheduler); what a killed
 writer (SIGKILL) left is removed by the next write of the same target. New
@@ -24,18 +25,10 @@ replaced file keeps its permission bits. Nothing is overwritten unless
 
 from __future__ import annotations
 
-import contextlib
-import glob
 import importlib.util
 import numbers
-import os
 import re
 import reprlib
-import secrets
-import shutil
-import signal
-import stat
-import threading
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -46,6 +39,7 @@ import imageio.v3 as iio
 import numpy as np
 
 from .core._validate import as_array, as_float_array, as_image, check_bool, check_memory, check_positive_float
+from .core.files import as_path, atomic_write, prepare_target, swap_folder
 
 __all__ = ["load_image", "save_image", "save_chunked", "load_frames", "save_frames", "to_uint", "image_bits",
            "save_coordinates",
@@ -72,26 +66,6 @@ _short.maxstring = _short.maxother = 60
 # --------------------------------------------------------------------------- #
 # argument checks
 # --------------------------------------------------------------------------- #
-def _as_path(path, name="path"):
-    """``path`` as a :class:`pathlib.Path`, or a TypeError/ValueError naming ``name``."""
-    if isinstance(path, bytes):
-        path = os.fsdecode(path)
-    if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(
-            f"{name} must be a str or os.PathLike (e.g. pathlib.Path) naming a file, "
-            f"got {type(path).__name__} {_short.repr(path)}"
-        )
-    try:
-        text = os.fsdecode(os.fspath(path))
-    except TypeError as exc:
-        raise TypeError(f"{name} must be a str or os.PathLike naming a file: {exc}") from None
-    if text == "":
-        raise ValueError(f"{name} is an empty string; pass a file name such as 'out.png'")
-    if "\x00" in text:
-        raise ValueError(f"{name} contains a NUL character ({_short.repr(text)}); pass a valid file name")
-    return Path(text)
-
-
 def _check_bits(bits, *, allow_none, allowed=(8, 16)):
     if bits is None and allow_none:
         return None
@@ -254,7 +228,7 @@ def image_bits(path):
     ...     image_bits(save_image(d + "/c.png", np.zeros((2, 2, 3)), bits=16))
     16
     """
-    path = _as_path(path)
+    path = as_path(path)
     header = _png_header(path)
     if header is not None:
         return 16 if header[2] == 16 else 8
@@ -391,7 +365,7 @@ def load_image(path):
     >>> image.shape, image.dtype, image.max()
     ((3, 4), dtype('float64'), np.float64(1.0))
     """
-    path = _as_path(path)
+    path = as_path(path)
     if path.is_dir():
         raise FileNotFoundError(f"path {str(path)!r} is a folder, not an image file; load_frames reads a folder of frames")
     if not path.is_file():
@@ -470,188 +444,6 @@ def to_uint(image, bits=8):
     return data.astype(np.uint8 if bits == 8 else np.uint16)
 
 
-# --------------------------------------------------------------------------- #
-# atomic writes
-# --------------------------------------------------------------------------- #
-class _Terminated(SystemExit):
-    """Raised by the temporary SIGTERM handler of a write, so that its clean-up runs."""
-
-
-class _CleanUpOnSigterm:
-    """Turn SIGTERM into an exception for the duration of a write, then end the process as SIGTERM would.
-
-    Python unwinds (and so removes temporary files) on SIGINT, but SIGTERM's
-    default action ends the process at once. While the block runs, on the main
-    thread and only if SIGTERM has its default action, a handler raises
-    :class:`_Terminated` so the write's ``except`` clauses remove what they
-    made; on leaving the block the default action is restored and the signal
-    re-delivered, so the process still terminates by SIGTERM (exit status 143
-    in a shell). A handler the program installed itself is left alone: its
-    exception, if any, unwinds through the clean-up in the same way. A SIGTERM
-    that arrives when no clean-up can follow (a second one, or one after the
-    block) gets the default action at once.
-    """
-
-    def __enter__(self):
-        self._installed = self._active = self._received = False
-        sig = getattr(signal, "SIGTERM", None)
-        if sig is None or threading.current_thread() is not threading.main_thread():
-            return self
-        try:
-            if signal.getsignal(sig) is not signal.SIG_DFL:
-                return self
-            signal.signal(sig, self._handle)
-        except (ValueError, OSError):  # pragma: no cover - e.g. signals unavailable in an embedded interpreter
-            return self
-        self._installed = self._active = True
-        return self
-
-    def _handle(self, signum, frame):
-        if self._active and not self._received:
-            self._received = True
-            raise _Terminated(128 + signum)
-        signal.signal(signum, signal.SIG_DFL)
-        signal.raise_signal(signum)
-
-    def __exit__(self, *exc):
-        self._active = False
-        if self._installed:
-            signal.signal(signal.SIGTERM, signal.SIG_DFL)
-            if self._received:
-                signal.raise_signal(signal.SIGTERM)
-        return False
-
-
-def _temp_parts(path, folder):
-    """``(stem, suffix)``: the parts of ``path``'s name around a temporary's ``-PID-TOKEN`` (a file keeps its
-    suffix last, since writers choose the format by it)."""
-    return (path.name, "") if folder else (path.stem, path.suffix)
-
-
-def _temp_name(path, *, folder=False):
-    """A new hidden name beside ``path`` for the temporary file (or ``folder``) a write fills before renaming:
-    ``.noise-PID-TOKEN.png``, ``.big.zarr-PID-TOKEN``. The writer's pid lets a later write tell the
-    leftover of a killed writer from the work of a running one (:func:`_stale_temp_files`)."""
-    stem, suffix = _temp_parts(path, folder)
-    return path.parent / f".{stem}-{os.getpid()}-{secrets.token_hex(4)}{suffix}"
-
-
-def _running(pid):
-    """Whether process ``pid`` runs on this machine; True when that cannot be told."""
-    if os.name != "posix":  # os.kill(pid, 0) would end the process on Windows
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except (OSError, OverflowError):  # another user's process, or no valid pid
-        return True
-    return True
-
-
-def _stale_temp_files(path, *, folder=False):
-    """The temporaries of ``path`` that a killed write left (``kill -9`` allows no clean-up): the files (or,
-    with ``folder``, the folders) named exactly as :func:`_temp_name` names them whose writer has ended."""
-    path = Path(path)
-    stem, suffix = _temp_parts(path, folder)
-    pattern = re.compile(rf"\.{re.escape(stem)}-([0-9]+)-[0-9a-f]{{8}}{re.escape(suffix)}")
-    stale = []
-    for p in path.parent.glob(f".{glob.escape(stem)}-*"):
-        match = pattern.fullmatch(p.name)
-        kind = (p.is_dir() and not p.is_symlink()) if folder else p.is_file()
-        if match and kind and not _running(int(match[1])):
-            stale.append(p)
-    return stale
-
-
-def _remove_stale_temps(path, *, folder=False):
-    """Remove what killed writes of ``path`` left (best effort: a write never fails for them)."""
-    for p in _stale_temp_files(path, folder=folder):
-        if folder:
-            shutil.rmtree(p, ignore_errors=True)
-        else:
-            with contextlib.suppress(OSError):
-                p.unlink()
-
-
-def _new_temp_file(path):
-    """Create an empty hidden file beside ``path`` with the mode the umask gives; return (name, mode)."""
-    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
-    for _ in range(100):
-        tmp = _temp_name(path)
-        try:
-            fd = os.open(tmp, flags, 0o666)  # the umask (and default ACLs) apply, as for any new file
-        except FileExistsError:  # pragma: no cover - 32 random bits
-            continue
-        try:
-            mode = stat.S_IMODE(os.fstat(fd).st_mode)
-        finally:
-            os.close(fd)
-        return tmp, mode
-    raise FileExistsError(f"cannot create a temporary file beside {str(path)!r}")  # pragma: no cover
-
-
-def _new_temp_dir(path):
-    """Create a hidden folder beside ``path`` with the mode the umask gives."""
-    for _ in range(100):
-        tmp = _temp_name(path, folder=True)
-        try:
-            os.mkdir(tmp, 0o777)
-        except FileExistsError:  # pragma: no cover
-            continue
-        return tmp
-    raise FileExistsError(f"cannot create a temporary folder beside {str(path)!r}")  # pragma: no cover
-
-
-def _keep_mode(tmp, target, default):
-    """Give ``tmp`` the permission bits of the file it replaces (or ``default`` for a new file)."""
-    try:
-        mode = stat.S_IMODE(os.stat(target).st_mode)
-    except FileNotFoundError:
-        mode = default
-    if stat.S_IMODE(os.stat(tmp).st_mode) != mode:
-        os.chmod(tmp, mode)
-
-
-def _atomic_write(path, write):
-    """Call ``write(tmp_path)`` on a temporary file beside ``path``, then rename it over ``path``.
-
-    The temporary file is created with the permissions the umask gives (a
-    replaced file's mode is kept) and removed if anything fails or the
-    process is interrupted (SIGINT, SIGTERM) before the rename; what killed
-    writes of ``path`` left (SIGKILL) is removed first.
-    """
-    path = Path(path)
-    _remove_stale_temps(path)
-    with _CleanUpOnSigterm():
-        tmp = None
-        try:
-            tmp, mode = _new_temp_file(path)
-            write(str(tmp))
-            _keep_mode(tmp, path, mode)
-            os.replace(tmp, path)
-            tmp = None
-        except BaseException:
-            if tmp is not None:
-                try:
-                    os.remove(tmp)
-                except FileNotFoundError:
-                    pass
-            raise
-
-
-def _prepare_target(path, overwrite, *, folder=False):
-    """Refuse to replace an existing target unless ``overwrite``, a folder by a file, or a missing parent."""
-    if path.is_dir() and not folder:
-        example = path / f"out{path.suffix or '.png'}"
-        raise FileExistsError(f"{str(path)!r} is a folder; pass the path of a file, e.g. {str(example)!r}")
-    if path.exists() and not overwrite:
-        raise FileExistsError(f"{str(path)!r} already exists; pass overwrite=True to replace it")
-    if not path.parent.exists():
-        raise FileNotFoundError(f"folder {str(path.parent)!r} does not exist; create it first")
-    return path
-
-
 def _imwrite(tmp, pixels, **kwargs):
     """``iio.imwrite(tmp, pixels, **kwargs)``, encoded in memory and then written to ``tmp`` by this function.
 
@@ -673,12 +465,12 @@ def _save_npy(tmp, data):
 # --------------------------------------------------------------------------- #
 # saving
 # --------------------------------------------------------------------------- #
-def _check_suffix(path, *, frames=False):
+def check_suffix(path, *, frames=False):
     """The lower-case suffix of ``path`` if :func:`save_image` (or, with ``frames``, :func:`save_frames`)
     writes that format; else a ValueError listing the ones it does. Lets a caller refuse a path before
     a long computation.
 
-    >>> _check_suffix("out.PNG"), _check_suffix("frames", frames=True)
+    >>> check_suffix("out.PNG"), check_suffix("frames", frames=True)
     ('.png', '')
     """
     suffix = Path(path).suffix.lower()
@@ -748,16 +540,16 @@ def save_image(path, image, *, bits=None, overwrite=False):
     ...     print(save_image(d + "/grey.png", np.zeros((4, 4))).name)
     grey.png
     """
-    path = _as_path(path)
+    path = as_path(path)
     overwrite = check_bool(overwrite, "overwrite")
     bits = _check_bits(bits, allow_none=True, allowed=(8, 16, 32))
     suffix = path.suffix.lower()
     if suffix == ".npy":
         data = as_float_array(as_array(image, "image"), "image")
-        _prepare_target(path, overwrite)
-        _atomic_write(path, lambda tmp: _save_npy(tmp, data))
+        prepare_target(path, overwrite)
+        atomic_write(path, lambda tmp: _save_npy(tmp, data))
         return path
-    _check_suffix(path)
+    check_suffix(path)
     data = as_image(as_array(image, "image"), "image")
     if bits is None:
         bits = 16 if suffix in _SIXTEEN_BIT else 8
@@ -771,11 +563,11 @@ def save_image(path, image, *, bits=None, overwrite=False):
         pixels = pixels[..., 0]
     if suffix in _NO_ALPHA and pixels.ndim == 3 and pixels.shape[-1] in (2, 4):
         pixels = pixels[..., :-1] if pixels.shape[-1] == 4 else pixels[..., 0]
-    _prepare_target(path, overwrite)
+    prepare_target(path, overwrite)
     if bits == 16 and suffix == ".png" and pixels.ndim == 3:  # imageio's Pillow writer has no 16-bit colour PNG
-        _atomic_write(path, lambda tmp: _write_png16(tmp, pixels))
+        atomic_write(path, lambda tmp: _write_png16(tmp, pixels))
     else:
-        _atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=suffix))
+        atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=suffix))
     return path
 
 
@@ -806,7 +598,7 @@ def load_frames(path):
         images of different shapes, or the pixels are of an integer type
         without an agreed white level (see :func:`load_image`).
     """
-    path = _as_path(path)
+    path = as_path(path)
     if path.is_dir():
         files = sorted(p for p in path.iterdir() if p.suffix.lower() in _EIGHT_BIT | _SIXTEEN_BIT)
         if not files:
@@ -905,23 +697,23 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
     ...     print(sorted(p.name for p in path.iterdir()))
     ['frame_0000.png', 'frame_0001.png', 'frame_0002.png']
     """
-    path = _as_path(path)
+    path = as_path(path)
     fps = check_positive_float(fps, "fps")
     loop = check_bool(loop, "loop")
     overwrite = check_bool(overwrite, "overwrite")
-    suffix = _check_suffix(path, frames=True)
+    suffix = check_suffix(path, frames=True)
     data = as_image(as_array(frames, "frames"), "frames", spatial_dims=3)
     pixels = to_uint(data, 8)
     if pixels.ndim == 4 and pixels.shape[-1] == 1:
         pixels = pixels[..., 0]
     if suffix == "":
-        _prepare_target(path, overwrite, folder=True)
+        prepare_target(path, overwrite, folder=True)
         _write_frame_folder(path, pixels)
         return path
     if suffix == ".png":  # animated PNG, through Pillow: alpha kept, no extra needed
-        _prepare_target(path, overwrite)
-        _atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=".png",
-                                                 duration=1000.0 / fps, loop=0 if loop else 1))
+        prepare_target(path, overwrite)
+        atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=".png",
+                                                duration=1000.0 / fps, loop=0 if loop else 1))
         return path
     if pixels.ndim == 4 and pixels.shape[-1] in (2, 4):  # GIF and video store no alpha
         pixels = pixels[..., :-1] if pixels.shape[-1] == 4 else pixels[..., 0]
@@ -932,18 +724,18 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
                 f"fps={fps:g} is too slow for a GIF, whose longest frame delay is 655.35 s; "
                 f"pass fps >= {1000.0 / _GIF_MAX_DELAY_MS:.5f} or save a folder of PNG frames"
             )
-        _prepare_target(path, overwrite)
-        _atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=".gif",
-                                                 duration=duration, loop=0 if loop else 1))
+        prepare_target(path, overwrite)
+        atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=".gif",
+                                                duration=duration, loop=0 if loop else 1))
         return path
     if importlib.util.find_spec("imageio_ffmpeg") is None:
         raise ValueError(
             f"path {str(path)!r}: writing {suffix!r} videos needs the video extra "
             "(pip install 'texsynth[video]'); or save as .gif or a folder of PNG frames"
         )
-    _prepare_target(path, overwrite)
+    prepare_target(path, overwrite)
     try:
-        _atomic_write(path, lambda tmp: _write_video(tmp, pixels, suffix, fps, path))
+        atomic_write(path, lambda tmp: _write_video(tmp, pixels, suffix, fps, path))
     except OSError:
         raise  # the write failed (a full disk): as for images
     except Exception as exc:
@@ -998,7 +790,7 @@ def _write_frame_folder(path, pixels):
         for t, frame in enumerate(pixels):
             _imwrite(tmp / f"frame_{t:04d}.png", frame, extension=".png")
 
-    _swap_folder(path, write)
+    swap_folder(path, write)
 
 
 # --------------------------------------------------------------------------- #
@@ -1077,7 +869,7 @@ def save_chunked(path, image, *, bits=None, overwrite=False, progress=False):
     """
     from .core.chunked import require_dask
 
-    path = _as_path(path)
+    path = as_path(path)
     overwrite = check_bool(overwrite, "overwrite")
     bits = _check_bits(bits, allow_none=True, allowed=(8, 16, 32))
     suffix = path.suffix.lower()
@@ -1097,15 +889,15 @@ def save_chunked(path, image, *, bits=None, overwrite=False, progress=False):
         if tile != (image.chunks[0][0], image.chunks[1][0]):
             image = image.rechunk(tile + image.chunks[2:])
     stored = image.map_blocks(_quantize, bits, dtype=np.float32 if bits == 32 else f"uint{bits}")
-    _prepare_target(path, overwrite, folder=suffix == ".zarr")
+    prepare_target(path, overwrite, folder=suffix == ".zarr")
     if suffix == ".zarr":
         try:
             import zarr
         except ImportError:  # pragma: no cover - zarr is in the dask extra
             raise ImportError("writing .zarr needs Zarr: pip install 'texsynth[dask]'") from None
-        _swap_folder(path, lambda tmp: _write_zarr(zarr, tmp, stored, progress))
+        swap_folder(path, lambda tmp: _write_zarr(zarr, tmp, stored, progress))
     else:
-        _atomic_write(path, lambda tmp: _write_tiff(tmp, stored, progress))
+        atomic_write(path, lambda tmp: _write_tiff(tmp, stored, progress))
     return path
 
 
@@ -1155,37 +947,6 @@ def _write_tiff(tmp, stored, progress):
                      extrasamples=("unassalpha",) if channels in (2, 4) else None)
 
 
-def _swap_folder(path, write):
-    """Call ``write(tmp)`` on a new hidden folder beside ``path``, then swap it in for ``path``.
-
-    The new folder gets the permissions the umask gives, or the mode of the folder it replaces;
-    the temporary folder is removed if anything fails or the process is interrupted, and what killed
-    writes of ``path`` left (SIGKILL) is removed first.
-    """
-    _remove_stale_temps(path, folder=True)
-    with _CleanUpOnSigterm():
-        tmp = old = None
-        try:
-            tmp = _new_temp_dir(path)
-            if path.is_dir():
-                os.chmod(tmp, stat.S_IMODE(path.stat().st_mode))
-            write(tmp)
-            if path.exists():
-                old = _new_temp_dir(path)  # a temporary too: removed by a later write if a kill leaves it
-                os.replace(path, old / path.name)
-            os.replace(tmp, path)
-            tmp = None
-        except BaseException:
-            if old is not None and not path.exists():
-                os.replace(old / path.name, path)
-            if tmp is not None:
-                shutil.rmtree(tmp, ignore_errors=True)
-            raise
-        finally:
-            if old is not None:
-                shutil.rmtree(old, ignore_errors=True)
-
-
 # --------------------------------------------------------------------------- #
 # source-coordinate maps
 # --------------------------------------------------------------------------- #
@@ -1230,9 +991,9 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
     >>> bool(np.array_equal(texsynth.apply_coordinates(data.load("bread")[:48, :48], saved), out))
     True
     """
-    from .core.coordinates import _check_map, _check_sources, _video_map
+    from .core.coordinates import check_map, check_sources, video_map
 
-    path = _as_path(path)
+    path = as_path(path)
     if path.suffix.lower() != ".npz":
         raise ValueError(f"a source-coordinate map is saved as .npz, got {str(path)!r}; pass a path ending in .npz")
     if hasattr(coordinates, "coordinates"):  # an info of a synthesis
@@ -1244,25 +1005,25 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
             raise ValueError(f"this {type(info).__name__} has no coordinates; see its docstring for the options "
                              "that record them")
     if np.ndim(coordinates) == 5:  # a video map (patchwork_video): checked as the one tall map it renders as
-        coords, w, sources, _ = _video_map(coordinates, weights, source_index)
-        coords, w = _check_map(coords, w)
-        _check_sources(sources, coords)
+        coords, w, sources, _ = video_map(coordinates, weights, source_index)
+        coords, w = check_map(coords, w)
+        check_sources(sources, coords)
     else:
-        coords, w = _check_map(coordinates, weights)
-        _check_sources(source_index, coords)
+        coords, w = check_map(coordinates, weights)
+        check_sources(source_index, coords)
     arrays = {"coordinates": as_array(coordinates, "coordinates")}
     if w is not None:
         arrays["weights"] = as_array(weights, "weights")
     if source_index is not None:
         arrays["source_index"] = as_array(source_index, "source_index")
     check_bool(overwrite, "overwrite")
-    _prepare_target(path, overwrite)
+    prepare_target(path, overwrite)
 
     def write(tmp):
         with open(tmp, "wb") as f:  # a file object: np.savez would append ".npz" to another name
             np.savez_compressed(f, **arrays)
 
-    _atomic_write(path, write)
+    atomic_write(path, write)
     return path
 
 
@@ -1283,7 +1044,7 @@ def load_coordinates(path):
     """
     from types import SimpleNamespace
 
-    path = _as_path(path)
+    path = as_path(path)
     with np.load(path, allow_pickle=False) as data:
         unknown = sorted(set(data.files) - set(_MAP_ARRAYS))
         if "coordinates" not in data.files or unknown:

@@ -20,6 +20,8 @@
                                    sampling in local frames and its adjoint (splatting)
 :mod:`texsynth.core.convolve`      linear convolution by FFT (``scipy.signal.fftconvolve``'s
                                    values without importing ``scipy.signal``)
+:mod:`texsynth.core.files`         atomic writes of files and folders (the one place a file is
+                                   written)
 =============================  ==========================================================
 
 The core imports no algorithm family; the families import the core (see
@@ -28,4 +30,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve", "files"])

@@ -45,8 +45,12 @@ __all__ = ["apply_coordinates"]
 _NEGLIGIBLE = 0.0
 
 
-def _check_map(coordinates, weights):
-    """The map as ``(H, W, K, 2)`` intp coordinates and ``(H, W, K)`` weights (None for copies)."""
+def check_map(coordinates, weights):
+    """The map as ``(H, W, K, 2)`` intp coordinates and ``(H, W, K)`` weights (None for copies).
+
+    The checks of :func:`apply_coordinates` (and :func:`texsynth.io.save_coordinates`): a ValueError or
+    TypeError naming what is wrong with ``coordinates`` or ``weights``.
+    """
     coords = as_array(coordinates, "coordinates")
     if coords.ndim not in (3, 4) or coords.shape[-1] != 2:
         raise ValueError(
@@ -108,9 +112,9 @@ def _as_channel(image, name):
     return arr
 
 
-def _check_sources(source_index, coords):
+def check_sources(source_index, coords):
     """The map's source index per slot, ``(H, W, K)`` int, or None (one exemplar); -1 is the average of
-    the sources (a blend only)."""
+    the sources (a blend only). ``coords`` is the map as :func:`check_map` returns it."""
     if source_index is None:
         return None
     src = as_array(source_index, "source_index")
@@ -366,9 +370,9 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
                              "docstring for the options that record them")
     frames = None
     if np.ndim(coordinates) == 5:  # a video map: the frames' maps stacked, rendered as one tall map
-        coordinates, weights, source_index, frames = _video_map(coordinates, weights, source_index)
-    coords, w = _check_map(coordinates, weights)
-    src = _check_sources(source_index, coords)
+        coordinates, weights, source_index, frames = video_map(coordinates, weights, source_index)
+    coords, w = check_map(coordinates, weights)
+    src = check_sources(source_index, coords)
     average = src is not None and bool(np.any(src == -1))
     if average and w is None:
         raise ValueError("source_index has -1 (the average of the sources) in a map without weights; pass the "
@@ -431,9 +435,9 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
     return type(channels)(rendered) if isinstance(channels, tuple) else rendered
 
 
-def _video_map(coordinates, weights, source_index):
+def video_map(coordinates, weights, source_index):
     """A video map ``(N, H, W, K, 2)`` (weights and sources ``(N, H, W, K)``) as one ``(N * H, W, K, 2)``
-    map, and ``N``."""
+    map, and ``N``: ``(coordinates, weights, source_index, N)``, to be checked by :func:`check_map`."""
     coords = as_array(coordinates, "coordinates")
     if coords.shape[-1] != 2 or weights is None or source_index is None:
         raise ValueError(

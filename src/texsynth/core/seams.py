@@ -496,7 +496,7 @@ def _as_mask(mask, shape, name, default):
     return arr
 
 
-def _check_disjoint(first, second, names, fix):
+def check_disjoint(first, second, names, fix):
     """Refuse two constraint masks that share a pixel, naming both, the first shared pixel and ``fix``."""
     both = first & second
     if both.any():
@@ -649,7 +649,7 @@ def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None,
     region = _as_mask(mask, shape, "mask", True)
     keep_old = _as_mask(old_mask, shape, "old_mask", False)
     take_new = _as_mask(new_mask, shape, "new_mask", False)
-    _check_disjoint(keep_old, take_new, ("old_mask", "new_mask"), "a pixel can be constrained to one side only")
+    check_disjoint(keep_old, take_new, ("old_mask", "new_mask"), "a pixel can be constrained to one side only")
     for name, constraint in (("old_mask", keep_old), ("new_mask", take_new)):
         if (constraint & ~region).any():
             raise ValueError(f"{name} holds {int((constraint & ~region).sum())} pixels outside mask; "

@@ -85,7 +85,7 @@ import numpy as np
 from ..core._validate import as_image, as_size, check_memory, check_positive_int, with_channels
 from ..core.neighborhood import patches_within
 from ..core.seams import poisson_blend
-from ._kwatra import WEXLER_CONFIDENCE, _check_mask, _check_sizes, _is_auto, _scale_schedule, optimize_texture
+from ._kwatra import WEXLER_CONFIDENCE, check_mask, check_sizes, is_auto, optimize_texture, scale_schedule
 
 __all__ = ["inpaint", "uncrop", "make_tileable"]
 
@@ -107,12 +107,12 @@ BLEND_WIDTH = 32
 def _sizes(exemplar, shape, neighborhood_sizes):
     """The neighbourhood sizes, checked against the image. "auto": the default preset's, halved on down
     to 8 pixels (a last stage of small neighbourhoods joins the fill to the known pixels)."""
-    if _is_auto(neighborhood_sizes):
-        sizes = _scale_schedule(exemplar, shape)[0]
+    if is_auto(neighborhood_sizes):
+        sizes = scale_schedule(exemplar, shape)[0]
         while sizes[-1] > _SMALLEST:
             sizes += (sizes[-1] // 2,)
     else:
-        sizes = _check_sizes(neighborhood_sizes)
+        sizes = check_sizes(neighborhood_sizes)
     if min(sizes) > min(exemplar.shape[:2]):
         raise ValueError(f"the image is {exemplar.shape[0]}x{exemplar.shape[1]} but the smallest neighborhood is "
                          f"{min(sizes)}; pass neighborhood_sizes no larger than {min(exemplar.shape[:2])}")
@@ -122,8 +122,8 @@ def _sizes(exemplar, shape, neighborhood_sizes):
 def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
     """Sizes and levels: the default preset's, with levels enough for the coarsest to span the hole."""
     sizes = _sizes(exemplar, shape, neighborhood_sizes)
-    auto_levels = _scale_schedule(exemplar, shape)[1]
-    if not _is_auto(levels):
+    auto_levels = scale_schedule(exemplar, shape)[1]
+    if not is_auto(levels):
         return sizes, check_positive_int(levels, "levels")
     rows, cols = np.nonzero(hole)
     span = max(rows.max() - rows.min() + 1, cols.max() - cols.min() + 1)
@@ -222,13 +222,13 @@ def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels=
     img = as_image(image, "image")
     channels, grey = with_channels(img)
     shape = channels.shape[:2]
-    hole = _check_mask(hole, shape, "hole") > 0.5
+    hole = check_mask(hole, shape, "hole") > 0.5
     if not hole.any():
         raise ValueError("hole marks no pixel; pass a boolean (H, W) mask that is True where pixels are to be filled")
     if hole.all():
         raise ValueError("hole covers the whole image, so nothing is known to fill it from; leave some pixels "
                          "outside the hole (or use texsynth.optimize_texture to synthesise from an exemplar)")
-    allowed = ~hole if sample_mask is None else ~hole & (_check_mask(sample_mask, shape, "sample_mask") > 0.5)
+    allowed = ~hole if sample_mask is None else ~hole & (check_mask(sample_mask, shape, "sample_mask") > 0.5)
     sizes, levels = _schedule(channels, shape, hole, neighborhood_sizes, levels)
     _check_sources(allowed, min(sizes), "sample_mask" if sample_mask is not None else "hole")
     return _complete(channels, channels, ~hole, allowed, sizes, levels, grey, return_info,
@@ -299,7 +299,7 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
         if not (0 <= top <= shape[0] - h and 0 <= left <= shape[1] - w):
             raise ValueError(f"position {(top, left)} puts the {h}x{w} image outside the {shape} result; pass "
                              f"0 <= row <= {shape[0] - h} and 0 <= col <= {shape[1] - w}, or 'center'")
-    allowed = np.ones((h, w), bool) if sample_mask is None else _check_mask(sample_mask, (h, w), "sample_mask") > 0.5
+    allowed = np.ones((h, w), bool) if sample_mask is None else check_mask(sample_mask, (h, w), "sample_mask") > 0.5
     sizes = _sizes(channels, shape, neighborhood_sizes)
     # held at once until optimize_texture checks its own arrays: here the canvas and its mask (a byte a pixel);
     # there the target's two copies (its conversion, then astype) and the mask's two float64 ones, then both

@@ -98,8 +98,8 @@ from ..core.convolve import fft_convolve
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core.histogram import match_to_targets, quantile_targets
 from ..core import search
-from ..core.search import PatchIndex, check_candidates, coherence_sets, nearest_candidates, sq_distances
-from ..core.search._patchmatch import _patchmatch_checked
+from ..core.search import (PatchIndex, check_candidates, coherence_sets, nearest_candidates, patchmatch_features,
+                           sq_distances)
 from ..core.neighborhood import (PatchSum, all_patches, extract, gaussian_falloff, grid_axes, grid_cells, grid_centers,
                                  patches_within)
 from ..core.pyramid import gaussian_pyramid, max_levels, upsample
@@ -935,7 +935,7 @@ class _Completeness:
         image = np.pad(x, ((0, pad), (0, pad), (0, 0)), mode="wrap") if pad else x
         start = None if current is None else _unwrap(current, x.shape[:2], w, pad)[:, None]
         # float (H, W, C) arrays: x may overshoot [0, 1] a little, and has guide channels when guided
-        field, d2 = _patchmatch_checked(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
+        field, d2 = patchmatch_features(ex.image, image, w, centers=ex.centers(self.jidx), init=start,
                                         iterations=iterations, exemplar_mask=None, pixel_weights=ex.g,
                                         mode="valid", penalty=None, rng=rng)
         found = field[:, 0]
@@ -1089,7 +1089,7 @@ def _m_step_field(ex, x, centers, mode, start, iterations, rng, occurrence=None,
     mask = None if ex.valid.all() else ex.valid
     # x is float (H, W, C), with values beyond [0, 1] where an up-sampled level or the gradient solve
     # overshoots, and more than 4 channels with guide channels (``ex.guided``): the checked entry
-    field, _, d2 = _patchmatch_checked(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
+    field, _, d2 = patchmatch_features(x, ex.image, w, centers=centers, init=start[:, None], iterations=iterations,
                                        exemplar_mask=mask, pixel_weights=ex.g, mode=mode, penalty=penalty, rng=rng,
                                        sets=sets, workspace=workspace, distances=True)
     corner = field[:, 0] - w // 2
@@ -1570,7 +1570,7 @@ def _run_stage(ex, x, shape, level, opts, constraint, rng, record, progress, gui
 
 
 # --------------------------------------------------------------------------- validation
-def _check_sizes(sizes, name="neighborhood_sizes"):
+def check_sizes(sizes, name="neighborhood_sizes"):
     if isinstance(sizes, numbers.Integral) and not isinstance(sizes, bool):
         sizes = (sizes,)
     try:
@@ -1583,7 +1583,7 @@ def _check_sizes(sizes, name="neighborhood_sizes"):
     return tuple(sorted(set(out), reverse=True))
 
 
-def _check_mask(mask, shape, name):
+def check_mask(mask, shape, name):
     arr = np.asarray(mask)
     if arr.ndim == 3 and arr.shape[-1] == 1:
         arr = arr[..., 0]
@@ -1669,7 +1669,7 @@ def _check_options(*, irls_exponent, relative_grid_spacing, max_iterations, tole
     )
 
 
-def _is_auto(value):
+def is_auto(value):
     return isinstance(value, str) and value == "auto"
 
 
@@ -1679,7 +1679,7 @@ def _check_preset(preset):
     return preset
 
 
-def _scale_schedule(ex, shape):
+def scale_schedule(ex, shape):
     """Neighbourhood sizes and levels of preset ``"default"``, from the exemplar and the output.
 
     The largest neighbourhood is 64 pixels for an exemplar whose feature
@@ -1707,15 +1707,15 @@ def _preset(preset, problem, *, tolerance, completeness_weight, copy_limit, hist
                     histogram_matching=True)
     given = dict(tolerance=tolerance, completeness_weight=completeness_weight, copy_limit=copy_limit,
                  histogram_matching=histogram_matching)
-    out = {k: auto[k] if _is_auto(v) else v for k, v in given.items()}
+    out = {k: auto[k] if is_auto(v) else v for k, v in given.items()}
     out["completeness_weight"] = check_positive_float(out["completeness_weight"], "completeness_weight",
                                                       allow_zero=True, maximum=_MAX_WEIGHT)
     # from 4x the exemplar's area the finest level only refines the arrangement: no completeness votes there
     # (they blur) and a looser copy limit (elements stay whole)
     coarse = preset == "default" and ratio >= _COMPLETE_BELOW
-    out["coarse_completeness"] = coarse and _is_auto(completeness_weight)
+    out["coarse_completeness"] = coarse and is_auto(completeness_weight)
     fine_votes = out["completeness_weight"] > 0 and not out["coarse_completeness"]
-    out["coarse_copy_limit"] = preset == "default" and _is_auto(copy_limit) and not fine_votes
+    out["coarse_copy_limit"] = preset == "default" and is_auto(copy_limit) and not fine_votes
     out["paper"] = preset == "paper"
     return out
 
@@ -1791,11 +1791,11 @@ def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.
     ex = as_image(exemplar, "exemplar")
     ex, grey = with_channels(ex)
     shape = as_size(size)
-    if _is_auto(neighborhood_sizes) or _is_auto(levels):
-        auto_sizes, auto_levels = _scale_schedule(ex, shape) if preset == "default" else ((32, 16, 8), 3)
-        neighborhood_sizes = auto_sizes if _is_auto(neighborhood_sizes) else neighborhood_sizes
-        levels = auto_levels if _is_auto(levels) else levels
-    sizes = _check_sizes(neighborhood_sizes, sizes_name)
+    if is_auto(neighborhood_sizes) or is_auto(levels):
+        auto_sizes, auto_levels = scale_schedule(ex, shape) if preset == "default" else ((32, 16, 8), 3)
+        neighborhood_sizes = auto_sizes if is_auto(neighborhood_sizes) else neighborhood_sizes
+        levels = auto_levels if is_auto(levels) else levels
+    sizes = check_sizes(neighborhood_sizes, sizes_name)
     levels = check_positive_int(levels, "levels")
     lam = _check_constraint_weight(constraint_weight)
     smallest = sizes[-1]
@@ -1811,7 +1811,7 @@ def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.
         )
     valid = np.ones(ex.shape[:2])
     if exemplar_mask is not None:
-        valid = _check_mask(exemplar_mask, ex.shape[:2], "exemplar_mask")
+        valid = check_mask(exemplar_mask, ex.shape[:2], "exemplar_mask")
         valid = (valid > 0.5).astype(np.float64)
         free = patches_within(valid > 0.5, smallest)
         if not free.any():
@@ -1825,7 +1825,7 @@ def _prepare(exemplar, size, neighborhood_sizes, levels, *, constraint_weight=1.
         raise ValueError("mask was given without target; pass target=image holding the wanted values at the masked pixels")
     if target is not None:
         t = _check_like(target, shape, channels, "target")
-        m = np.ones(shape) if mask is None else _check_mask(mask, shape, "mask")
+        m = np.ones(shape) if mask is None else check_mask(mask, shape, "mask")
         constraint = (m, t.astype(ex.dtype), lam)
     x_init = None if init is None else _check_like(init, shape, channels, "init").astype(ex.dtype)
     return _Problem(ex, grey, shape, sizes, levels, valid, constraint, x_init)
@@ -2564,8 +2564,8 @@ def animate_texture(exemplar, flows, *, n_frames=None, neighborhood_sizes=(32, 1
         raise ValueError(f"flows must have shape (H, W, 2) or (L-1, H, W, 2), or be a callable, got shape {np.shape(flows)}")
     seq = flow_sequence(flows, n_frames)
     shape = seq.shape[1:3]
-    sizes = _check_sizes(neighborhood_sizes)
-    fsizes = sizes[-2:] if frame_sizes is None else _check_sizes(frame_sizes, "frame_sizes")
+    sizes = check_sizes(neighborhood_sizes)
+    fsizes = sizes[-2:] if frame_sizes is None else check_sizes(frame_sizes, "frame_sizes")
     max_frame_iterations = check_positive_int(max_frame_iterations, "max_frame_iterations")
     warp_order = check_positive_int(warp_order, "warp_order", minimum=0)
     if warp_order > 5:

@@ -52,8 +52,7 @@ from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_siz
                               check_memory, check_positive_float, check_positive_int, restore_channels,
                               with_channels)
 from ..core import search
-from ..core.search import PatchIndex, check_candidates, coherence_sets
-from ..core.search._patchmatch import _patchmatch_checked
+from ..core.search import PatchIndex, check_candidates, coherence_sets, patchmatch_features
 from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.em import expectation_maximization
 from ..statistical import interpolate_statistics, ps_statistics, ps_step
@@ -340,9 +339,9 @@ def _coherent_matches(src, dst, size, channel_weights, k, rng):
     centres = src.corners + size // 2
     common = dict(centers=centres, exemplar_mask=None, pixel_weights=None, mode="valid", penalty=None, rng=rng,
                   k=k)
-    field, _ = _patchmatch_checked(a, b, size, init=None, iterations=1, **common)
+    field, _ = patchmatch_features(a, b, size, init=None, iterations=1, **common)
     sets = coherence_sets(b, size, _CORRESPONDENCE_SET, rng=rng)
-    field, _ = _patchmatch_checked(a, b, size, init=field, iterations=_CORRESPONDENCE_ITERATIONS, sets=sets,
+    field, _ = patchmatch_features(a, b, size, init=field, iterations=_CORRESPONDENCE_ITERATIONS, sets=sets,
                                    **common)
     return field.reshape(-1, 2) - size // 2
 

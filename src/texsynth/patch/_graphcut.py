@@ -78,7 +78,7 @@ from ..core._validate import (
     restore_channels,
     with_channels,
 )
-from ..core.seams import _check_disjoint, gradient_matching_cost, graph_cut, matching_cost
+from ..core.seams import check_disjoint, gradient_matching_cost, graph_cut, matching_cost
 from ..core.search import TemplateSearch, WindowSearch
 
 __all__ = ["GraphcutInfo", "GraphcutMergeInfo", "graphcut_merge", "graphcut_texture"]
@@ -910,8 +910,8 @@ def graphcut_merge(a, b, *, from_a, from_b, edge_cost="gradient", return_info=Fa
                          f"where they overlap first")
     shape = ia.shape[:2]
     keep_a, keep_b = _check_mask(from_a, shape, "from_a"), _check_mask(from_b, shape, "from_b")
-    _check_disjoint(keep_a, keep_b, ("from_a", "from_b"),
-                    "a pixel can come from one image only: remove it from one of the masks")
+    check_disjoint(keep_a, keep_b, ("from_a", "from_b"),
+                   "a pixel can come from one image only: remove it from one of the masks")
     for name, m in (("from_a", keep_a), ("from_b", keep_b)):
         if not m.any():
             raise ValueError(f"{name} marks no pixel; mark at least one pixel that must come from "

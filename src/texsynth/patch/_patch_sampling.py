@@ -41,16 +41,16 @@ import numpy as np
 from ..core._validate import as_image, as_rng, as_size, check_bool, with_channels
 from ..core.search._template import WindowSearch, within_radius
 from ._quilting import (
+    Grid,
     QuiltInfo,
-    _check_block,
-    _check_canvas_memory,
-    _check_overlap,
-    _check_tolerance,
-    _finish,
-    _Grid,
-    _info,
-    _overlap_widths,
-    _paste_blocks,
+    check_block,
+    check_canvas_memory,
+    check_overlap,
+    check_tolerance,
+    finish,
+    overlap_widths,
+    paste_blocks,
+    quilt_info,
 )
 
 __all__ = ["PatchSamplingInfo", "patch_sampling"]
@@ -82,7 +82,7 @@ def feather_weights(known):
     ramps multiply. 1 outside the zones.
     """
     h, w = known.shape
-    left, top, right, bottom = _overlap_widths(known)
+    left, top, right, bottom = overlap_widths(known)
 
     def ramp(n, start, end):
         r = np.ones(n)
@@ -185,12 +185,12 @@ def patch_sampling(exemplar, size, *, block=None, overlap=None, error_tolerance=
     image = as_image(exemplar, "exemplar")
     ex, grey = with_channels(image)
     size = as_size(size)
-    B = _check_block(block, ex.shape[:2])
-    w_E = _check_overlap(overlap, B)
-    epsilon = _check_tolerance(error_tolerance, paper=EPSILON)
-    grid = _Grid(size, B, w_E, check_bool(tileable, "tileable"))
+    B = check_block(block, ex.shape[:2])
+    w_E = check_overlap(overlap, B)
+    epsilon = check_tolerance(error_tolerance, paper=EPSILON)
+    grid = Grid(size, B, w_E, check_bool(tileable, "tileable"))
     gen = as_rng(rng)
-    _check_canvas_memory(grid, ex.shape[2], ex.shape[:2], value=size)
+    check_canvas_memory(grid, ex.shape[2], ex.shape[:2], value=size)
     exf = ex.astype(np.float64)
     search = WindowSearch(exf, (B, B))
     n_positions = search.shape[0] * search.shape[1]
@@ -210,10 +210,10 @@ def patch_sampling(exemplar, size, *, block=None, overlap=None, error_tolerance=
     def join(region, new, known):
         return feather_weights(known)
 
-    canvas, records, searching, sources = _paste_blocks(exf, grid, choose, join, progress, "patch sampling",
-                                                        return_info)
-    out = _finish(canvas, size, image.dtype, grey)
+    canvas, records, searching, sources = paste_blocks(exf, grid, choose, join, progress, "patch sampling",
+                                                       return_info)
+    out = finish(canvas, size, image.dtype, grey)
     if return_info:
-        info = _info(grid, records, w_E, started, searching, sources, size)
+        info = quilt_info(grid, records, w_E, started, searching, sources, size)
         return out, PatchSamplingInfo(**vars(info))
     return out

@@ -1244,7 +1244,7 @@ def patchwork_video(
 # Section 5: texture transfer
 
 
-def _prescale(pattern, texture):
+def prescale_pattern(pattern, texture):
     """Rescale the pattern to the texture's mean colour and colour range (the paper's pre-processing)."""
     axes = tuple(range(pattern.ndim - 1))
     p_mean, t_mean = pattern.mean(axes), texture.mean(axes)
@@ -1447,7 +1447,7 @@ def patchwork_transfer(
     geom = _Geometry((H, W), reference.shape[:2], s, f, m, False, gen, choose_q=False)
     target = pat.astype(np.float32)
     if check_bool(prescale, "prescale"):
-        target = _prescale(target, reference)
+        target = prescale_pattern(target, reference)
     qy, qx, local = _match_sources(geom, target, reference, K, patch, gen, progress)
     matched = time.perf_counter()
     geom.set_sources(qy, qx)

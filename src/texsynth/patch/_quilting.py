@@ -62,7 +62,7 @@ from ..core._validate import (
 )
 from ..core.seams import minimum_error_boundary, seam_mask
 from ..core.search._template import WindowSearch, within_tolerance
-from ._patchwork import _prescale
+from ._patchwork import prescale_pattern
 
 __all__ = ["QuiltInfo", "QuiltTransferInfo", "quilt", "quilt_transfer"]
 
@@ -160,7 +160,7 @@ class QuiltTransferInfo:
 # Checks
 
 
-def _check_block(block, exemplar_shape, name="exemplar"):
+def check_block(block, exemplar_shape, name="exemplar"):
     """The block side: the default is a quarter of the exemplar's shorter side; never larger than the exemplar."""
     shortest = min(exemplar_shape)
     if block is None:
@@ -175,7 +175,7 @@ def _check_block(block, exemplar_shape, name="exemplar"):
     return b
 
 
-def _check_overlap(overlap, block):
+def check_overlap(overlap, block):
     """The overlap width: the default is a sixth of the block (the paper's); it must be smaller than the block."""
     if overlap is None:
         return max(1, round(block * OVERLAP_FRACTION))
@@ -188,7 +188,7 @@ def _check_overlap(overlap, block):
     return o
 
 
-def _check_tolerance(error_tolerance, name="error_tolerance", paper=ERROR_TOLERANCE):
+def check_tolerance(error_tolerance, name="error_tolerance", paper=ERROR_TOLERANCE):
     if isinstance(error_tolerance, (int, float, np.integer, np.floating)) and not isinstance(error_tolerance, bool) \
             and error_tolerance < 0:
         raise ValueError(
@@ -203,7 +203,7 @@ def _check_tolerance(error_tolerance, name="error_tolerance", paper=ERROR_TOLERA
 # The block grid, visited in raster order (shared with patch-based sampling)
 
 
-class _Grid:
+class Grid:
     """Block corners along both axes and the canvas they cover.
 
     Plain output: corners ``k (B - O)`` and a canvas ``(n - 1)(B - O) + B``
@@ -251,7 +251,7 @@ class _Grid:
         return np.stack(np.meshgrid(self.rows, self.cols, indexing="ij"), -1).reshape(-1, 2)
 
 
-def _overlap_widths(known):
+def overlap_widths(known):
     """Widths of the known strips along the block's left, top, right and bottom sides."""
     def leading(full):
         return full.size if full.all() else int(np.argmin(full))
@@ -327,7 +327,7 @@ class _SourceMap:
         return coords, weight
 
 
-def _paste_blocks(exemplar, grid, choose, join, progress, desc, track=False):
+def paste_blocks(exemplar, grid, choose, join, progress, desc, track=False):
     """Visit the grid in raster order and paste one exemplar block per position.
 
     ``choose(window, region, known) -> (top, left, error, best, candidates)`` picks the
@@ -372,7 +372,7 @@ def _draw(distances, error_tolerance, gen):
     return top, left, float(distances.flat[k]), float(distances.min()), int(chosen.size)
 
 
-def _info(grid, records, overlap, started, searching, source_map=None, size=None):
+def quilt_info(grid, records, overlap, started, searching, source_map=None, size=None):
     rec = np.array(records, dtype=np.float64).reshape(-1, 5)
     total = time.perf_counter() - started
     coordinates, weights = source_map.result(size) if source_map is not None else (None, None)
@@ -398,7 +398,7 @@ def _boundary_cut(old, new, known):
     e = ((old - new) ** 2).sum(-1)
     h, w = known.shape
     take = np.ones((h, w), dtype=bool)
-    left, top, right, bottom = _overlap_widths(known)
+    left, top, right, bottom = overlap_widths(known)
     if left:
         take[:, :left] &= ~seam_mask(minimum_error_boundary(e[:, :left]), (h, left))
     if right:
@@ -417,7 +417,7 @@ def _paste_over(old, new, known):
     return np.ones(known.shape, dtype=bool)
 
 
-def _check_canvas_memory(grid, channels, exemplar_shape, name="size", value=None):
+def check_canvas_memory(grid, channels, exemplar_shape, name="size", value=None):
     """The canvas (float64), its filled mask, and the exemplar's spectra."""
     h, w = grid.canvas_shape
     eh, ew = exemplar_shape
@@ -425,7 +425,7 @@ def _check_canvas_memory(grid, channels, exemplar_shape, name="size", value=None
                  value if value is not None else grid.canvas_shape, name)
 
 
-def _finish(canvas, size, dtype, was_grey):
+def finish(canvas, size, dtype, was_grey):
     out = np.clip(canvas[: size[0], : size[1]], 0.0, 1.0)
     return restore_channels(out.astype(dtype, copy=False), was_grey)
 
@@ -540,13 +540,13 @@ def quilt(exemplar, size, *, block=None, overlap=None, error_tolerance=ERROR_TOL
     image = as_image(exemplar, "exemplar")
     ex, grey = with_channels(image)
     size = as_size(size)
-    B = _check_block(block, ex.shape[:2])
-    O = _check_overlap(overlap, B)
-    tolerance = _check_tolerance(error_tolerance)
+    B = check_block(block, ex.shape[:2])
+    O = check_overlap(overlap, B)
+    tolerance = check_tolerance(error_tolerance)
     join = _boundary_cut if check_bool(cut, "cut") else _paste_over
-    grid = _Grid(size, B, O, check_bool(tileable, "tileable"))
+    grid = Grid(size, B, O, check_bool(tileable, "tileable"))
     gen = as_rng(rng)
-    _check_canvas_memory(grid, ex.shape[2], ex.shape[:2], value=size)
+    check_canvas_memory(grid, ex.shape[2], ex.shape[:2], value=size)
     exf = ex.astype(np.float64)
     search = WindowSearch(exf, (B, B))
     n_positions = search.shape[0] * search.shape[1]
@@ -557,10 +557,10 @@ def quilt(exemplar, size, *, block=None, overlap=None, error_tolerance=ERROR_TOL
             return top, left, 0.0, 0.0, n_positions
         return _draw(search.sq_distances(region, known), tolerance, gen)
 
-    canvas, records, searching, sources = _paste_blocks(exf, grid, choose, join, progress, "quilt", return_info)
-    out = _finish(canvas, size, image.dtype, grey)
+    canvas, records, searching, sources = paste_blocks(exf, grid, choose, join, progress, "quilt", return_info)
+    out = finish(canvas, size, image.dtype, grey)
     if return_info:
-        return out, _info(grid, records, O, started, searching, sources, size)
+        return out, quilt_info(grid, records, O, started, searching, sources, size)
     return out
 
 
@@ -718,19 +718,19 @@ def quilt_transfer(texture, pattern, *, block=None, overlap=None, iterations=TRA
     size = pat.shape[:2]
     n_passes = check_positive_int(iterations, "iterations", maximum=MAX_ITERATIONS)
     alphas = _alphas(alpha, n_passes)
-    tolerance = _check_tolerance(error_tolerance)
+    tolerance = check_tolerance(error_tolerance)
     prescale = check_bool(prescale, "prescale")
-    first = _check_block(block, tex.shape[:2], "texture")
+    first = check_block(block, tex.shape[:2], "texture")
     blocks = [round(first * TRANSFER_SHRINK**i) for i in range(n_passes)]
     if blocks[-1] < 2:
         raise ValueError(f"block {first} shrinks below 2 pixels in pass {n_passes} (blocks {blocks}); pass a larger "
                          f"block or fewer iterations")
-    first_overlap = _check_overlap(overlap, first)
+    first_overlap = check_overlap(overlap, first)
     overlaps = [first_overlap if i == 0 else round(first_overlap * TRANSFER_SHRINK**i) for i in range(n_passes)]
     gen = as_rng(rng)
     tex_map, pat_map = _correspondence_maps(correspondence, tex.astype(np.float64), pat.astype(np.float64))
     if prescale:
-        pat_map = _prescale(pat_map, tex_map)
+        pat_map = prescale_pattern(pat_map, tex_map)
     texf = tex.astype(np.float64)
     channels, map_channels = texf.shape[2], tex_map.shape[2]
 
@@ -738,8 +738,8 @@ def quilt_transfer(texture, pattern, *, block=None, overlap=None, iterations=TRA
     with Progress(progress, n_passes, "quilt transfer") as bar:
         for i, (B, O, a) in enumerate(zip(blocks, overlaps, alphas)):
             pass_started = time.perf_counter()
-            grid = _Grid(size, B, O, False)
-            _check_canvas_memory(grid, channels + map_channels, tex.shape[:2], "pattern", pat.shape[:2])
+            grid = Grid(size, B, O, False)
+            check_canvas_memory(grid, channels + map_channels, tex.shape[:2], "pattern", pat.shape[:2])
             search, match = WindowSearch(texf, (B, B)), WindowSearch(tex_map, (B, B))
             target = _pad_to(pat_map, grid.canvas_shape)
             before = None if previous is None else _pad_to(previous, grid.canvas_shape)
@@ -753,13 +753,13 @@ def quilt_transfer(texture, pattern, *, block=None, overlap=None, iterations=TRA
                         / (B * B * channels)
                 return _draw(a * overlap_error + (1 - a) * corr, tolerance, gen)
 
-            canvas, records, searching, sources = _paste_blocks(texf, grid, choose, _boundary_cut, False, "",
-                                                                track=return_info)
+            canvas, records, searching, sources = paste_blocks(texf, grid, choose, _boundary_cut, False, "",
+                                                               track=return_info)
             previous = canvas[: size[0], : size[1]]
-            passes.append(_info(grid, records, O, pass_started, searching, sources, size))
+            passes.append(quilt_info(grid, records, O, pass_started, searching, sources, size))
             stages[f"pass {i + 1}"] = time.perf_counter() - pass_started
             bar.advance({"block": B, "alpha": float(a)})
-    out = _finish(previous, size, tex_image.dtype, grey)
+    out = finish(previous, size, tex_image.dtype, grey)
     if return_info:
         return out, QuiltTransferInfo(passes=passes, alphas=alphas, seconds=time.perf_counter() - started,
                                       stage_seconds=stages)

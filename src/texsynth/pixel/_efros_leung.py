@@ -74,7 +74,7 @@ from ..core._validate import (
 )
 from ..core.neighborhood import all_patches, gaussian_falloff, patches_within
 from ..core.search import MASKED_METHODS, MaskedIndex
-from ._wei_levoy import _one_blas_thread
+from ._wei_levoy import one_blas_thread
 
 __all__ = ["EfrosLeungInfo", "efros_leung"]
 
@@ -567,7 +567,7 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
     # one BLAS thread: the products have a few rows each (one batch of a pass, split by block), where a
     # second thread gains little and, on a machine whose other core is busy, loses much: 64^2 -> 128^2 colour
     # took 3.3 s on one thread and 2.3-28 s on two with one core taken by another process (also the PCA build)
-    with _one_blas_thread():
+    with one_blas_thread():
         vectors, centers = _exemplar_windows(ex, allowed, w)
         gauss = gaussian_falloff(w, sigma).astype(ex.dtype)
         index = MaskedIndex(vectors, weights=np.repeat(gauss.ravel(), channels), method=method,

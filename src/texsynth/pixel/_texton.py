@@ -74,8 +74,8 @@ from ..core.fields import taps as _taps
 from ..core.neighborhood import patch_shape
 from ..core.pyramid import gaussian_pyramid
 from ..core.search import KCoherence, nearest_candidates
-from ._wei_levoy import (SHAPES, _candidates, _check_fits, _check_levels, _check_output_levels, _choice,
-                         _default_parent_size, _exemplar_vectors, _footprint, _masks, _offsets, _Source, _wavefronts)
+from ._wei_levoy import (SHAPES, Source, candidate_pixels, check_choice, check_fits, check_levels, check_output_levels,
+                         default_parent_size, exemplar_vectors, footprint, neighborhood_masks, offsets, wavefronts)
 
 __all__ = ["synthesize_controlled", "find_textons", "ControlledSynthesisInfo"]
 
@@ -263,20 +263,20 @@ class _Grids:
 
 
 def _level_grids(sources, level, levels, k, method, seed):
-    full = _masks(sources[0].size, sources[0].shape)[2]
+    full = neighborhood_masks(sources[0].size, sources[0].shape)[2]
     similar = full.copy()
     similar[sources[0].size[0] // 2, sources[0].size[1] // 2] = True
     vectors, sets, coords, which, origin, shape, base = [], [], [], [], [], [], []
     used = None
     start = 0
     for e, src in enumerate(sources):
-        cen = _candidates(src, level, levels)
+        cen = candidate_pixels(src, level, levels)
         grid = tuple(int(v) for v in cen[-1] - cen[0] + 1)
-        sim = _exemplar_vectors(src, level, levels, cen, similar) if k > 1 else None
+        sim = exemplar_vectors(src, level, levels, cen, similar) if k > 1 else None
         kc = KCoherence(sim, grid, min(k, len(cen)), method=method, profile="default",
                         rng=np.random.default_rng([seed, level, 3, e]))
         used = kc.method or used
-        vectors.append(_exemplar_vectors(src, level, levels, cen, full))
+        vectors.append(exemplar_vectors(src, level, levels, cen, full))
         members = kc.sets + start
         if members.shape[1] < k:  # a tiny exemplar: repeat its own position
             members = np.concatenate([members, np.repeat(members[:, :1], k - members.shape[1], 1)], 1)
@@ -359,16 +359,16 @@ def _controlled_level(lv_out, lv_parent, grids, src, fields, state, channels, rn
     a, inverse, blend, factor = fields
     enlarged = factor > 1.0
     spread = np.maximum(factor - 1.0, 0.0) / 2.0 if enlarged.any() else None
-    above, left, full = _masks(src.size, src.shape)
+    above, left, full = neighborhood_masks(src.size, src.shape)
     causal = above | left
     similar = full.copy()
     similar[src.size[0] // 2, src.size[1] // 2] = True
-    d_full = _offsets(full).astype(np.float64)
-    pmask = _footprint(src.parent_size, src.shape)
-    d_par = _offsets(pmask).astype(np.float64)
+    d_full = offsets(full).astype(np.float64)
+    pmask = footprint(src.parent_size, src.shape)
+    d_par = offsets(pmask).astype(np.float64)
     # the neighbours whose copies are continued: the causal ones, and below the coarsest level all of the
     # footprint (their copies are the parent's prediction until they are synthesised), as in _coherent_level
-    e_cand = _offsets(causal) if lv_parent is None else np.concatenate([_offsets(causal), _offsets(similar & ~causal)])
+    e_cand = offsets(causal) if lv_parent is None else np.concatenate([offsets(causal), offsets(similar & ~causal)])
     flat = lv_out.reshape(-1, cw)
     flat[:, :channels] = _sample_exemplars(grids, state.pos, state.exemplar, channels)
     done = np.zeros(height * width, bool)
@@ -383,7 +383,7 @@ def _controlled_level(lv_out, lv_parent, grids, src, fields, state, channels, rn
             sl = slice(s0, min(n, s0 + 8192))
             pos = centre[sl, None, :] + np.einsum("nij,dj->ndi", a[sl], d_par)
             parent_part[sl] = _bilinear(lv_parent, pos, wrap=True)[0].reshape(sl.stop - sl.start, -1)
-    order, bounds = _wavefronts(height, width, src.size[1] // 2 + 1)
+    order, bounds = wavefronts(height, width, src.size[1] // 2 + 1)
     k = grids.sets.shape[1]
     energy = 0.0
     for t in range(len(bounds) - 1):
@@ -609,12 +609,12 @@ def synthesize_controlled(
     """
     start = time.perf_counter()
     size = as_size(size)
-    levels = _check_levels(levels)
+    levels = check_levels(levels)
     k = check_positive_int(k, "k")
     search.check_method(method)
     texton_weight = check_positive_float(texton_weight, "texton_weight", allow_zero=True, maximum=1e6)
     blend_weight = check_positive_float(blend_weight, "blend_weight", allow_zero=True, maximum=1e6)
-    shape = _choice(neighborhood_shape, SHAPES, "neighborhood_shape")
+    shape = check_choice(neighborhood_shape, SHAPES, "neighborhood_shape")
     rng = as_rng(rng)
     image, grey = with_channels(as_image(exemplar, "exemplar"))
     if k > image.shape[0] * image.shape[1]:
@@ -652,23 +652,23 @@ def synthesize_controlled(
     else:
         raise ValueError("with exemplar_b, texton_mask must be 'auto', None or a pair (mask, mask_b)")
     size_n = patch_shape(neighborhood_size, "neighborhood_size")
-    psize = _default_parent_size(size_n) if parent_size is None else patch_shape(parent_size, "parent_size")
+    psize = default_parent_size(size_n) if parent_size is None else patch_shape(parent_size, "parent_size")
     sources = []
     for e, (img, mask) in enumerate(zip(images, masks)):
         name = "exemplar" if e == 0 else "exemplar_b"
-        _check_fits(img, size_n, name, "neighborhood_size")
-        _check_fits(img, psize, name, "parent_size" if parent_size is not None else "neighborhood_size")
+        check_fits(img, size_n, name, "neighborhood_size")
+        check_fits(img, psize, name, "parent_size" if parent_size is not None else "neighborhood_size")
         work = _work_image(img.astype(np.float64), mask, texton_weight, float(e) if len(images) == 2 else None,
                            blend_weight)
         pyramid = [np.asarray(level, _WORK_DTYPE) for level in gaussian_pyramid(work, levels)]
-        sources.append(_Source(pyramid, size_n, psize, None, name, shape=shape))
+        sources.append(Source(pyramid, size_n, psize, None, name, shape=shape))
     cw = sources[0].pyramid[0].shape[-1]
     written = channels + (masks[0] is not None)
     out_shapes = [tuple(size)]
     for _ in range(levels - 1):  # the Gaussian pyramid's levels: every other pixel, the first kept
         out_shapes.append(tuple((n + 1) // 2 for n in out_shapes[-1]))
     out_pyr = [np.zeros(s + (cw,), _WORK_DTYPE) for s in out_shapes]
-    _check_output_levels(sources, size, out_pyr, levels)
+    check_output_levels(sources, size, out_pyr, levels)
     seed = int(rng.integers(2**62))
     target = None
     if blend_map is not None:  # the transition channel of the output: the blend map, dithered; not synthesised
@@ -677,8 +677,8 @@ def synthesize_controlled(
                                   mode="wrap")
         for lvl in range(levels):
             out_pyr[lvl][..., -1] = np.sqrt(blend_weight) * target[lvl]
-    used = search.resolve(method, max(len(_candidates(s, 0, levels)) for s in sources),
-                          int(_footprint(size_n, shape).sum()) * cw, profile="default", queries=1)
+    used = search.resolve(method, max(len(candidate_pixels(s, 0, levels)) for s in sources),
+                          int(footprint(size_n, shape).sum()) * cw, profile="default", queries=1)
     info = ControlledSynthesisInfo(method=used)
     state = None
     energies = []

@@ -81,7 +81,7 @@ except ImportError:  # pragma: no cover
     _threadpool_limits = None
 
 
-def _one_blas_thread():
+def one_blas_thread():
     return _threadpool_limits(1, user_api="blas") if _threadpool_limits else contextlib.nullcontext()
 
 
@@ -159,13 +159,13 @@ class PixelSynthesisInfo:
 # --------------------------------------------------------------------------- #
 # validation
 # --------------------------------------------------------------------------- #
-def _choice(value, allowed, name):
+def check_choice(value, allowed, name):
     if not isinstance(value, str) or value not in allowed:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
     return value
 
 
-def _default_parent_size(size):
+def default_parent_size(size):
     """Parent neighbourhood: about half the size, odd (5x5 -> 3x3, 9x9 -> 5x5), as in [1]_ Fig. 5."""
     return tuple(max(1, (s // 2) | 1) for s in size)
 
@@ -227,10 +227,10 @@ def _per_source_shape(value, n, name):
             f"({' or '.join(map(repr, SHAPES))}) per source or a single one"
         )
     per_source = n > 1 and not isinstance(value, str)
-    return [_choice(v, SHAPES, f"{name}[{i}]" if per_source else name) for i, v in enumerate(values)]
+    return [check_choice(v, SHAPES, f"{name}[{i}]" if per_source else name) for i, v in enumerate(values)]
 
 
-def _footprint(size, shape):
+def footprint(size, shape):
     """Pixels of an (h, w) neighbourhood box its footprint keeps.
 
     ``"square"``: the whole box (Wei & Levoy 2000). ``"disc"``: the ellipse
@@ -245,11 +245,11 @@ def _footprint(size, shape):
     return dy[:, None] ** 2 + dx[None, :] ** 2 <= 1.0
 
 
-def _check_levels(levels):
+def check_levels(levels):
     return check_positive_int(levels, "levels")
 
 
-def _check_fits(image, size, name, size_name):
+def check_fits(image, size, name, size_name):
     h, w = image.shape[:2]
     if size[0] > h or size[1] > w:
         raise ValueError(
@@ -261,7 +261,7 @@ def _check_fits(image, size, name, size_name):
 # the sources of eq. 1
 # --------------------------------------------------------------------------- #
 @dataclass
-class _Source:
+class Source:
     """One input of eq. 1: exemplar pyramid, neighbourhood N_i, weight images, plane."""
 
     pyramid: list  # exemplar levels (h, w, C), finest first
@@ -275,14 +275,14 @@ class _Source:
     @property
     def parent_mask(self):
         """Parent-level footprint, or None for the whole box (the fast shared-layer path)."""
-        return None if self.shape == "square" else _footprint(self.parent_size, self.shape)
+        return None if self.shape == "square" else footprint(self.parent_size, self.shape)
 
 
-def _masks(size, shape="square"):
+def neighborhood_masks(size, shape="square"):
     """Parts of the neighbourhood inside its footprint: the causal rows above (fixed when a
     scanline starts), the causal pixels left of the centre, and the full non-causal one."""
     h, w = size
-    foot = _footprint(size, shape)
+    foot = footprint(size, shape)
     above = np.zeros((h, w), bool)
     above[: h // 2] = True
     # every footprint keeps the whole centre row, so ``left`` is always the w//2 pixels
@@ -308,7 +308,7 @@ def _vectors(image, parent, centers, size, parent_size, mask, mode, parent_mask=
     return np.concatenate([here, coarse], axis=1)
 
 
-def _candidates(source, level, levels):
+def candidate_pixels(source, level, levels):
     """Exemplar pixels whose neighbourhoods (and parents') lie inside the exemplar."""
     ex = source.pyramid[level]
     has_parent = level + 1 < levels
@@ -329,7 +329,7 @@ def _candidates(source, level, levels):
     return np.stack([rr.ravel(), cc.ravel()], 1)
 
 
-def _exemplar_vectors(source, level, levels, centers, mask):
+def exemplar_vectors(source, level, levels, centers, mask):
     parent = source.pyramid[level + 1] if level + 1 < levels else None
     return _vectors(
         source.pyramid[level], parent, centers, source.size, source.parent_size, mask, "valid", source.parent_mask
@@ -409,7 +409,7 @@ def _weight_pyramids(raw, levels, spatial_dims):
     return result  # [level][source]
 
 
-def _check_output_levels(sources, shape, out_pyr, levels):
+def check_output_levels(sources, shape, out_pyr, levels):
     """The toroidal output's coarsest level must hold every neighbourhood (this level's and the parent's)."""
     coarse = out_pyr[-1].shape[:-1]
     for src in sources:
@@ -480,8 +480,8 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
     noise = _noise(sources, weights[0], channels, dtype, rng)
     # Wei & Levoy 2000, Sec. 3.2: Gaussian pyramids of the exemplar and of the noise output.
     out_pyr = [np.array(level, dtype=dtype) for level in gaussian_pyramid(noise, levels, spatial_dims=spatial_dims, mode="wrap")]
-    _check_output_levels(sources, shape, out_pyr, levels)
-    tables = [[_candidates(s, level, levels) for s in sources] for level in range(levels)]
+    check_output_levels(sources, shape, out_pyr, levels)
+    tables = [[candidate_pixels(s, level, levels) for s in sources] for level in range(levels)]
     # scanline: one step per row; independent: `passes` per level, and one parent-only pass per finer level
     total = sum(out_pyr[lv].shape[0] for lv in range(levels)) if order == "scanline" else levels * passes + levels - 1
     profile = "scanline" if order == "scanline" else "solid" if sources[0].axis is not None else "pixels"
@@ -509,12 +509,12 @@ def _synthesize(sources, shape, channels, dtype, *, levels, order, method, itera
                 parent_cells = None if cells is None else [tables[level + 1][i][c] for i, c in enumerate(cells)]
                 energy, iters, cells = _coherent_level(lv, run, bar, parent_cells)
             elif order == "scanline":
-                with _one_blas_thread():
+                with one_blas_thread():
                     energy, iters = _scanline_level(lv, run, bar, picked if level == 0 else None)
             else:
                 # tree searches make many small BLAS calls, which multi-threaded BLAS
                 # slows down on a busy machine (tsvq 64^3 at load 3: 31 s -> 13 s)
-                with _one_blas_thread() if used != "exact" else contextlib.nullcontext():
+                with one_blas_thread() if used != "exact" else contextlib.nullcontext():
                     energy, iters = _independent_level(lv, run, bar, picked if level == 0 else None)
             energies.append(float(energy))
             steps.append(float(iters))
@@ -548,7 +548,7 @@ class _LineTable:
     pixel by pixel with the joined vector.
     """
 
-    src: _Source
+    src: Source
     weight: np.ndarray  # a_i at this level
     above: np.ndarray  # mask of the fixed part
     pixels: np.ndarray  # candidate pixel values p_i
@@ -570,8 +570,8 @@ def _scanline_level(lv, run, bar, picked=None):
     exact = run.method == "exact"
     tabs = []
     for i, (src, cen, a) in enumerate(zip(lv.sources, lv.centers, lv.weights)):
-        above, left, _ = _masks(src.size, src.shape)
-        fixed = _exemplar_vectors(src, lv.level, run.levels, cen, above)
+        above, left, _ = neighborhood_masks(src.size, src.shape)
+        fixed = exemplar_vectors(src, lv.level, run.levels, cen, above)
         lefts = extract(src.pyramid[lv.level], cen, src.size, mode="valid")[:, left].reshape(len(cen), -1)
         pixels = np.ascontiguousarray(src.pyramid[lv.level][cen[:, 0], cen[:, 1]])
         nw = src.size[1]
@@ -676,8 +676,8 @@ class _WrapSearch:
     def __init__(self, lv, run, table):
         src = table.src
         self.lv, self.table, self.src = lv, table, src
-        _, _, self.full = _masks(src.size, src.shape)
-        self.vectors = _exemplar_vectors(src, lv.level, run.levels, lv.centers[table.i], self.full)
+        _, _, self.full = neighborhood_masks(src.size, src.shape)
+        self.vectors = exemplar_vectors(src, lv.level, run.levels, lv.centers[table.i], self.full)
         self.squares = self.vectors**2
         self.by_pixel = SequentialExact(table.pixels)  # eq. 1's ||p - p_i||^2 term
         self.channels = lv.out.shape[-1]
@@ -838,19 +838,19 @@ def _average(terms, chosen):
 # --------------------------------------------------------------------------- #
 def _set_dim(source, channels, levels):
     """Dimension of the vectors that decide the k-coherence sets: the whole footprint and the parent's."""
-    n = int(_footprint(source.size, source.shape).sum())
+    n = int(footprint(source.size, source.shape).sum())
     if levels > 1:
-        n += int(_footprint(source.parent_size, source.shape).sum())
+        n += int(footprint(source.parent_size, source.shape).sum())
     return n * channels
 
 
-def _offsets(mask):
+def offsets(mask):
     """(row, col) offsets from the centre of the pixels of a neighbourhood mask."""
     h, w = mask.shape
     return np.argwhere(mask) - [h // 2, w // 2]
 
 
-def _wavefronts(height, width, step):
+def wavefronts(height, width, step):
     """Pixels (flat indices) grouped by wavefront ``j + step * i`` of the scanline order, and the groups' bounds.
 
     With ``step = w // 2 + 1`` every causal neighbour of pixel ``(i, j)`` (rows
@@ -880,23 +880,23 @@ class _CoherentSource:
     def __init__(self, lv, run, i, parent_cells):
         src, cen = self.src, self.cen = lv.sources[i], lv.centers[i]
         height, width, _ = lv.out.shape
-        above, left, full = _masks(src.size, src.shape)
+        above, left, full = neighborhood_masks(src.size, src.shape)
         self.causal = above | left
         grid = tuple(int(v) for v in cen[-1] - cen[0] + 1)
-        self.vectors = _exemplar_vectors(src, lv.level, run.levels, cen, self.causal)
+        self.vectors = exemplar_vectors(src, lv.level, run.levels, cen, self.causal)
         self.pixels = src.pyramid[lv.level][cen[:, 0], cen[:, 1]]
         similar = full.copy()
         similar[src.size[0] // 2, src.size[1] // 2] = True  # x's own pixel counts in "similar to x"
-        self.sets = KCoherence(_exemplar_vectors(src, lv.level, run.levels, cen, similar) if run.k > 1 else None,
+        self.sets = KCoherence(exemplar_vectors(src, lv.level, run.levels, cen, similar) if run.k > 1 else None,
                                grid, run.k, method=run.method, profile=run.profile,
                                rng=np.random.default_rng([run.seed, lv.level, 3] + ([i] if i else [])))
         self.draw = np.random.default_rng([run.seed, lv.level] + ([i] if i else []))
         if parent_cells is None:  # Ashikhmin: every pixel starts from a random exemplar position
             self.cells = self.draw.integers(0, len(cen), size=(height, width))
-            self.offsets = _offsets(self.causal)
+            self.offsets = offsets(self.causal)
         else:
             self.cells = _predicted_cells(parent_cells, cen, (height, width))
-            self.offsets = np.concatenate([_offsets(self.causal), _offsets(similar & ~self.causal)])
+            self.offsets = np.concatenate([offsets(self.causal), offsets(similar & ~self.causal)])
         self.flat_cells = self.cells.reshape(-1)
 
     def candidates(self, lv, centers):
@@ -931,7 +931,7 @@ def _coherent_level(lv, run, bar, parent_cells):
     else:
         flat_out[:] = sum(w[:, None] * c.pixels[c.flat_cells] for w, c in zip(weights, srcs))
     step = max(c.src.size[1] // 2 + 1 for c in srcs)  # every source's causal neighbours on earlier wavefronts
-    order, bounds = _wavefronts(height, width, step)
+    order, bounds = wavefronts(height, width, step)
     energy, steps = 0.0, 0.0
     for t in range(len(bounds) - 1):
         pix = order[bounds[t] : bounds[t + 1]]
@@ -1017,7 +1017,7 @@ def _coherent_mixture(a, nds, colours, iterations):
 class _PassTable:
     """One source at one level in independent order: its candidates and their indexes."""
 
-    src: _Source
+    src: Source
     full: np.ndarray  # mask of the non-causal neighbourhood
     pixels: np.ndarray  # candidate pixel values p_i
     index: PatchIndex | None = None  # N_i(p) alone: a source's direct solution
@@ -1084,8 +1084,8 @@ def _independent_level(lv, run, bar, picked=None):
 
 def _level_table(src, cen, level, run, i, *, direct, several, with_parent):
     """Candidate pixels and the indexes over their neighbourhoods at one level, for one source."""
-    _, _, full = _masks(src.size, src.shape)
-    vec = _exemplar_vectors(src, level, run.levels, cen, full)
+    _, _, full = neighborhood_masks(src.size, src.shape)
+    vec = exemplar_vectors(src, level, run.levels, cen, full)
     pixels = np.ascontiguousarray(src.pyramid[level][cen[:, 0], cen[:, 1]])
     t = _PassTable(src, full, pixels)
     if direct:  # N_i(p) alone: Wei & Levoy 2000, a source's direct solution
@@ -1093,7 +1093,7 @@ def _level_table(src, cen, level, run, i, *, direct, several, with_parent):
     if several:  # [N_i(p), p]: one term of eq. 1 with p fixed
         t.index_p = run.index(np.concatenate([vec, pixels], axis=1), level, i, 1)
     if with_parent:  # the parent's neighbourhood alone, per row/column parity of the candidate
-        coarse = _exemplar_vectors(src, level, run.levels, cen, np.zeros(src.size, bool))
+        coarse = exemplar_vectors(src, level, run.levels, cen, np.zeros(src.size, bool))
         t.by_parity = []
         for c in range(4):
             subset = np.flatnonzero((cen[:, 0] % 2) * 2 + cen[:, 1] % 2 == c)
@@ -1254,20 +1254,20 @@ def _prepare(images, names, sizes, parent_sizes, axes, levels, size_name, work_d
     sources, pyramids = [], {}
     for i, ((img, _), name, axis) in enumerate(zip(converted, names, axes)):
         size = patch_shape(sizes[i], f"{size_name}[{i}]" if len(images) > 1 else size_name)
-        psize = _default_parent_size(size) if parent_sizes[i] is None else patch_shape(parent_sizes[i], "parent_size")
-        _check_fits(img, size, name, size_name)
-        _check_fits(img, psize, name, size_name.replace("neighborhood", "parent") if parent_sizes[i] is not None else size_name)
+        psize = default_parent_size(size) if parent_sizes[i] is None else patch_shape(parent_sizes[i], "parent_size")
+        check_fits(img, size, name, size_name)
+        check_fits(img, psize, name, size_name.replace("neighborhood", "parent") if parent_sizes[i] is not None else size_name)
         if id(images[i]) not in pyramids:
             pyramids[id(images[i])] = [
                 np.asarray(level, dtype=work) for level in gaussian_pyramid(img.astype(work, copy=False), levels)
             ]
         shape = "square" if shapes is None else shapes[i]
-        sources.append(_Source(pyramids[id(images[i])], size, psize, axis, name, shape=shape))
+        sources.append(Source(pyramids[id(images[i])], size, psize, axis, name, shape=shape))
     return sources, channels, dtype, converted[0][1]
 
 
 def _check_order_method(order, method, passes, max_iterations=1):
-    _choice(order, ORDERS, "order")
+    check_choice(order, ORDERS, "order")
     search.check_method(method)
     check_positive_int(passes, "passes", maximum=MAX_ITERATIONS)
     check_positive_int(max_iterations, "max_iterations", maximum=MAX_ITERATIONS)
@@ -1418,14 +1418,14 @@ def synthesize_pixels(
     True
     """
     size = as_size(size)
-    levels = _check_levels(levels)
+    levels = check_levels(levels)
     _check_order_method(order, method, passes)
     tileable = check_bool(tileable, "tileable")
     k = _check_candidates(candidates, k, order, tileable)
     rng = as_rng(rng)
     sources, channels, dtype, grey = _prepare(
         [exemplar], ["exemplar"], [neighborhood_size], [parent_size], [None], levels, "neighborhood_size",
-        shapes=[_choice(neighborhood_shape, SHAPES, "neighborhood_shape")],
+        shapes=[check_choice(neighborhood_shape, SHAPES, "neighborhood_shape")],
     )
     sources[0].weights = 1.0
     out, info = _synthesize(
@@ -1647,7 +1647,7 @@ def mix_textures(
         raise ValueError("sources must be a non-empty list of exemplar images, e.g. [a, b]")
     n = len(sources)
     size = as_size(size)
-    levels = _check_levels(levels)
+    levels = check_levels(levels)
     _check_order_method(order, method, passes, max_iterations)
     tileable = check_bool(tileable, "tileable")
     k = _check_candidates(candidates, k, order, tileable)
@@ -1776,7 +1776,7 @@ def synthesize_solid(
     (8, 8, 8, 3)
     """
     size = as_size(size, "size", ndim=3)
-    levels = _check_levels(levels)
+    levels = check_levels(levels)
     _check_order_method("independent", method, passes, max_iterations)
     rng = as_rng(rng)
     if isinstance(views, np.ndarray) or not isinstance(views, (list, tuple)):
@@ -1802,7 +1802,7 @@ def synthesize_solid(
     # of exemplar pixels, so 1e-7 rounding is far below any visible change.
     srcs, channels, dtype, grey = _prepare(
         views, names, [neighborhood_size] * n, [parent_size] * n, list(axes), levels, "neighborhood_size",
-        work_dtype=_SOLID_DTYPE, shapes=[_choice(neighborhood_shape, SHAPES, "neighborhood_shape")] * n,
+        work_dtype=_SOLID_DTYPE, shapes=[check_choice(neighborhood_shape, SHAPES, "neighborhood_shape")] * n,
     )
     for src in srcs:
         src.weights = 1.0

@@ -108,7 +108,7 @@ FADES = {"quintic": _fade_quintic, "cubic": _fade_cubic}
 
 # Largest lattice coordinate: at 2**52 a float64 has no fractional bits left, so
 # every sample would sit on a lattice point (where the noise is 0).
-_MAX_COORDINATE = 2.0**52
+MAX_COORDINATE = 2.0**52
 
 
 def _is_real(value):
@@ -121,7 +121,7 @@ def _is_sequence(value):
     return isinstance(value, (tuple, list)) or (isinstance(value, np.ndarray) and value.ndim > 0)
 
 
-def _finite_real(value):
+def finite_real(value):
     """A real, non-bool number that converts to a finite float."""
     if not _is_real(value):
         return False
@@ -131,7 +131,7 @@ def _finite_real(value):
         return False
 
 
-def _check_float(value, name, *, allow_zero=False):
+def check_float(value, name, *, allow_zero=False):
     """``check_positive_float``, also for ints too large for a float (ValueError naming ``name``)."""
     try:
         return check_positive_float(value, name, allow_zero=allow_zero)
@@ -140,7 +140,7 @@ def _check_float(value, name, *, allow_zero=False):
         raise ValueError(f"{name} must be a finite number {bound}, got {value!r} (too large for a float)") from None
 
 
-def _check_fade(fade):
+def check_fade(fade):
     if isinstance(fade, str):
         if fade not in FADES:
             raise ValueError(f"fade must be one of {sorted(FADES)} or a callable, got {fade!r}")
@@ -162,7 +162,7 @@ def _check_fade(fade):
     return fade
 
 
-def _check_dtype(dtype):
+def check_dtype(dtype):
     try:
         dt = None if dtype is None else np.dtype(dtype)  # (np.dtype(None) would be float64)
     except (TypeError, ValueError):
@@ -172,7 +172,7 @@ def _check_dtype(dtype):
     return dt
 
 
-def _check_size(size, name="size"):
+def check_size(size, name="size"):
     """A 2-D (H, W) or 3-D (D, H, W) size; an int means a square image."""
     if isinstance(size, numbers.Integral) and not isinstance(size, (bool, np.bool_)):
         return as_size(size, name, 2)
@@ -184,7 +184,7 @@ def _check_size(size, name="size"):
     return as_size(tuple(size), name, ndim)
 
 
-def _check_fits(size, itemsize, copies, name="size", value=None):
+def check_fits(size, itemsize, copies, name="size", value=None):
     """Refuse, before allocating, an output that cannot fit in memory (:func:`~texsynth.core._validate.check_memory`).
 
     ``copies`` is how many arrays of ``size`` elements of ``itemsize`` bytes the
@@ -194,7 +194,7 @@ def _check_fits(size, itemsize, copies, name="size", value=None):
     check_memory(float(math.prod(size)) * itemsize * copies, size if value is None else value, name)
 
 
-def _check_points(points):
+def check_points(points):
     try:
         pts = np.asarray(points)
     except (TypeError, ValueError) as exc:  # ragged lists
@@ -209,7 +209,7 @@ def _check_points(points):
     return pts
 
 
-def _check_period(period, ndim):
+def check_period(period, ndim):
     """``None`` or a positive integer lattice period per axis, in (x, y[, z]) order."""
     if period is None:
         return None
@@ -222,52 +222,52 @@ def _check_period(period, ndim):
         if isinstance(p, np.ndarray) and p.ndim == 0:
             p = p.item()
         integral = isinstance(p, numbers.Integral) and _is_real(p)
-        value = int(p) if integral or (_finite_real(p) and float(p).is_integer()) else 0
+        value = int(p) if integral or (finite_real(p) and float(p).is_integer()) else 0
         if value < 1:
             raise ValueError(f"period must be {hint}, each a positive integer number of lattice cells, "
                              f"got {period!r}")
-        if value > _MAX_COORDINATE:
+        if value > MAX_COORDINATE:
             raise ValueError(f"period must be at most 2**52 lattice cells (float64 coordinates cannot go "
                              f"further), got {period!r}")
         out.append(value)
     return tuple(out)
 
 
-def _check_offset(offset, ndim):
+def check_offset(offset, ndim):
     if offset is None:
         return (0.0,) * ndim
     items = tuple(offset) if _is_sequence(offset) else (offset,) * ndim
     items = tuple(o.item() if isinstance(o, np.ndarray) and o.ndim == 0 else o for o in items)
-    if len(items) != ndim or not all(_finite_real(o) for o in items):
+    if len(items) != ndim or not all(finite_real(o) for o in items):
         raise ValueError(f"offset must be a number or {ndim} finite numbers (x, y[, z]), got {offset!r}")
     return tuple(float(o) for o in items)
 
 
-def _check_extent(largest, what, hint):
+def check_extent(largest, what, hint):
     """Lattice coordinates must stay below 2**52, where float64 still resolves a cell."""
-    if not largest <= _MAX_COORDINATE:  # also catches inf and NaN
+    if not largest <= MAX_COORDINATE:  # also catches inf and NaN
         raise ValueError(f"{what} put lattice coordinates at up to {largest:.3g}, beyond 2**52 = 4.5e15 where "
                          f"float64 has no fractional part left (the noise would be 0 everywhere); {hint}")
 
 
-def _grid_extent(size, spacing, origin):
+def grid_extent(size, spacing, origin):
     """Largest absolute lattice coordinate of the grid (``origin`` in x, y[, z] order)."""
     with np.errstate(over="ignore", invalid="ignore"):
         return max(max(abs(o), abs(o + spacing * (n - 1))) for o, n in zip(origin, size[::-1]))
 
 
-def _permutation(rng):
+def permutation(rng):
     """Perlin's permutation table of 0..255, drawn from ``rng``, doubled to 512 entries."""
     perm = as_rng(rng).permutation(256)
     return np.concatenate([perm, perm]).astype(np.intp)
 
 
-def _pixel_spacing(size, frequency):
+def pixel_spacing(size, frequency):
     """Lattice units per pixel: ``frequency`` cells across the longest axis (square cells)."""
     return float(frequency) / max(size)
 
 
-def _band_limit(size, frequency, lacunarity):
+def band_limit(size, frequency, lacunarity):
     """:func:`band_limit_octaves` without the argument checks."""
     cell = max(size) / float(frequency)
     if cell < 1:
@@ -279,8 +279,8 @@ def _band_limit(size, frequency, lacunarity):
     return int(np.floor(ratio + 1e-9)) + 1
 
 
-def _check_lacunarity(lacunarity):
-    lacunarity = _check_float(lacunarity, "lacunarity")
+def check_lacunarity(lacunarity):
+    lacunarity = check_float(lacunarity, "lacunarity")
     if lacunarity <= 1:
         raise ValueError(f"lacunarity must be > 1 (each octave finer than the last), got {lacunarity}")
     return lacunarity
@@ -322,10 +322,10 @@ def band_limit_octaves(size, frequency, lacunarity=2.0):
     >>> band_limit_octaves(64, 64)
     1
     """
-    size = _check_size(size)
-    frequency = _check_float(frequency, "frequency")
-    lacunarity = _check_lacunarity(lacunarity)
-    return _band_limit(size, frequency, lacunarity)
+    size = check_size(size)
+    frequency = check_float(frequency, "frequency")
+    lacunarity = check_lacunarity(lacunarity)
+    return band_limit(size, frequency, lacunarity)
 
 
 # --------------------------------------------------------------------------
@@ -345,7 +345,7 @@ def _wrap(indices, period):
 # --------------------------------------------------------------------------
 
 
-def _noise_points(points, perm, period, fade, dtype, gradients=None):
+def noise_points(points, perm, period, fade, dtype, gradients=None):
     """Perlin noise at ``points`` (N, d) in lattice units, columns (x, y[, z]).
 
     ``gradients`` (16, 3) can replace the gradient table (the benchmark uses
@@ -386,7 +386,7 @@ def _noise_points(points, perm, period, fade, dtype, gradients=None):
 # separable evaluation on a regular grid
 # --------------------------------------------------------------------------
 #
-# On a grid the corner sum of ``_noise_points`` factorises axis by axis. With
+# On a grid the corner sum of ``noise_points`` factorises axis by axis. With
 # w0 = 1 - fade(f), w1 = fade(f) per axis, contracting the x axis of the
 # lattice gradients g gives, for every lattice row (and slice),
 #     s(x)   = w0(x) f(x) gx[i] + w1(x) (f(x) - 1) gx[i + 1]   (the x part of g . d)
@@ -472,7 +472,7 @@ class _GridNoise:
 
     ``size`` is in array order ((H, W) or (D, H, W)); ``origin`` in (x, y[, z])
     order. :meth:`fill` writes the rows (2-D) or slices (3-D) ``[a, b)``.
-    Equal to ``_noise_points`` at the grid's coordinates up to rounding.
+    Equal to ``noise_points`` at the grid's coordinates up to rounding.
     """
 
     def __init__(self, size, spacing, origin, perm, period, fade, dtype, x_start=0, y_start=0):
@@ -614,7 +614,7 @@ class _GridNoise:
             yield group, ylat, np.searchsorted(ylat, cells).tolist()
 
 
-def _window_grid(size, spacing, origin, perm, period, fade, dtype, window):
+def window_grid(size, spacing, origin, perm, period, fade, dtype, window):
     """The noise of the grid ``size``, or of its ``window`` (rows, cols slices; 2-D): the same
     values as the whole grid's there (:func:`_contract`)."""
     if window is None:
@@ -624,15 +624,15 @@ def _window_grid(size, spacing, origin, perm, period, fade, dtype, window):
                       cols.start, rows.start)
 
 
-def _window_rows(size, window):
+def window_rows(size, window):
     """``(first, last)``: the rows of ``window`` (all rows without one)."""
     return (0, size[0]) if window is None else (window[0].start, window[0].stop)
 
 
 def _noise_grid(size, spacing, origin, perm, period, fade, dtype, window=None):
-    """Perlin noise on a grid (see :class:`_GridNoise`), or on the ``window`` of it (see :func:`_window_grid`)."""
-    grid = _window_grid(size, spacing, origin, perm, period, fade, dtype, window)
-    first, last = _window_rows(size, window)
+    """Perlin noise on a grid (see :class:`_GridNoise`), or on the ``window`` of it (see :func:`window_grid`)."""
+    grid = window_grid(size, spacing, origin, perm, period, fade, dtype, window)
+    first, last = window_rows(size, window)
     out = np.empty((last - first,) + grid.size[1:], dtype=dtype)
     for a, b in grid.blocks(first, last):
         grid.fill(out[a - first : b - first], a, b)
@@ -644,12 +644,12 @@ def _noise_grid(size, spacing, origin, perm, period, fade, dtype, window=None):
 # --------------------------------------------------------------------------
 
 
-def _no_chunks(chunks):
+def no_chunks(chunks):
     if chunks is not None:
         raise ValueError("chunks= renders a grid (size=) block by block; with points= pass chunks=None")
 
 
-def _chunked(size, chunks, dtype, render, copies, channels=None):
+def chunked(size, chunks, dtype, render, copies, channels=None):
     """``chunks=``: the lazy image whose blocks are ``render(rows, cols)`` (2-D grids only)."""
     if len(size) != 2:
         raise ValueError(f"chunks= renders 2-D images block by block; size={size} is a volume, pass chunks=None")
@@ -764,30 +764,30 @@ def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fad
     >>> perlin((8, 8, 8), frequency=2, rng=0).shape
     (8, 8, 8)
     """
-    fade_fn = _check_fade(fade)
-    dt = _check_dtype(dtype)
+    fade_fn = check_fade(fade)
+    dt = check_dtype(dtype)
     if (size is None) == (points is None):
         raise ValueError("give exactly one of size (a grid) or points (lattice coordinates), "
                          f"got size={size!r} and points={'None' if points is None else 'an array'}")
     if points is not None:
-        _no_chunks(chunks)
-        pts = _check_points(points)
+        no_chunks(chunks)
+        pts = check_points(points)
         ndim = pts.shape[1]
-        per = _check_period(period, ndim)
-        pts = pts + np.asarray(_check_offset(offset, ndim))
-        _check_extent(float(np.abs(pts).max(initial=0.0)), "points (plus offset)",
-                      "pass smaller coordinates (the lattice repeats every 256 cells, or every period)")
-        return _noise_points(pts, _permutation(rng), per, fade_fn, dt)
-    size = _check_size(size)
-    frequency = _check_float(frequency, "frequency")
-    per = _check_period(period, len(size))
-    origin = _check_offset(offset, len(size))
-    spacing = _pixel_spacing(size, frequency)
-    _check_extent(_grid_extent(size, spacing, origin), f"frequency={frequency:g} and offset={offset!r}",
-                  "pass a smaller frequency or offset")
-    perm = _permutation(rng)
+        per = check_period(period, ndim)
+        pts = pts + np.asarray(check_offset(offset, ndim))
+        check_extent(float(np.abs(pts).max(initial=0.0)), "points (plus offset)",
+                     "pass smaller coordinates (the lattice repeats every 256 cells, or every period)")
+        return noise_points(pts, permutation(rng), per, fade_fn, dt)
+    size = check_size(size)
+    frequency = check_float(frequency, "frequency")
+    per = check_period(period, len(size))
+    origin = check_offset(offset, len(size))
+    spacing = pixel_spacing(size, frequency)
+    check_extent(grid_extent(size, spacing, origin), f"frequency={frequency:g} and offset={offset!r}",
+                 "pass a smaller frequency or offset")
+    perm = permutation(rng)
     if chunks is not None:
-        return _chunked(size, chunks, dt, lambda rows, cols: _noise_grid(size, spacing, origin, perm, per, fade_fn,
-                                                                         dt, (rows, cols)), 2)
-    _check_fits(size, dt.itemsize, 1)
+        return chunked(size, chunks, dt, lambda rows, cols: _noise_grid(size, spacing, origin, perm, per, fade_fn,
+                                                                        dt, (rows, cols)), 2)
+    check_fits(size, dt.itemsize, 1)
     return _noise_grid(size, spacing, origin, perm, per, fade_fn, dt)

@@ -38,27 +38,27 @@ import numpy as np
 
 from ..core._validate import check_positive_int
 from ._noise import (
-    _MAX_COORDINATE,
-    _band_limit,
-    _check_dtype,
-    _check_extent,
-    _check_fade,
-    _check_fits,
-    _check_float,
-    _check_lacunarity,
-    _check_offset,
-    _check_period,
-    _check_points,
-    _check_size,
-    _finite_real,
-    _grid_extent,
-    _chunked,
-    _no_chunks,
-    _noise_points,
-    _permutation,
-    _pixel_spacing,
-    _window_grid,
-    _window_rows,
+    MAX_COORDINATE,
+    band_limit,
+    check_dtype,
+    check_extent,
+    check_fade,
+    check_fits,
+    check_float,
+    check_lacunarity,
+    check_offset,
+    check_period,
+    check_points,
+    check_size,
+    chunked,
+    finite_real,
+    grid_extent,
+    no_chunks,
+    noise_points,
+    permutation,
+    pixel_spacing,
+    window_grid,
+    window_rows,
 )
 
 __all__ = ["turbulence", "fbm", "marble", "wood", "apply_colormap", "MARBLE_COLORS", "WOOD_COLORS"]
@@ -92,7 +92,7 @@ def _check_octaves(octaves, size, frequency, lacunarity, points):
         if points is not None:
             raise ValueError("octaves=None (up to the band limit) needs a grid; with points, pass octaves=k, "
                              "e.g. octaves=6")
-        return _band_limit(size, frequency, lacunarity)
+        return band_limit(size, frequency, lacunarity)
     return check_positive_int(octaves, "octaves")
 
 
@@ -123,12 +123,12 @@ def _octave_plan(octaves, lacunarity, gain, per, origin, extent, dtype, frequenc
             raise ValueError(f"{what}: lacunarity**{i} overflows float64; pass a larger frequency or at most "
                              f"octaves={i}")
         per_i = None if per is None else tuple(int(round(p * scale)) for p in per)
-        if per_i is not None and max(per_i) > _MAX_COORDINATE:
+        if per_i is not None and max(per_i) > MAX_COORDINATE:
             raise ValueError(f"period={per} with octaves={octaves} and lacunarity={lacunarity:g} gives octave "
                              f"{i + 1} a period of {max(per_i):.3g} cells, beyond 2**52; pass fewer octaves")
         shift = origin * scale + i * _OCTAVE_SHIFT[:ndim]
-        _check_extent(extent(scale, shift), what,
-                      f"pass at most octaves={i}" if i else "pass a smaller frequency, offset or points")
+        check_extent(extent(scale, shift), what,
+                     f"pass at most octaves={i}" if i else "pass a smaller frequency, offset or points")
         plan.append((scale, amp, per_i, shift))
     return plan
 
@@ -141,26 +141,26 @@ def _octave_sum(size, points, *, frequency, octaves, lacunarity, gain, absolute,
     ``finish(total, rows, cols)`` of the block's sum (``total`` itself without ``finish``);
     ``copies`` and ``channels`` describe what ``finish`` makes of a block.
     """
-    fade_fn = _check_fade(fade)
-    dt = _check_dtype(dtype)
-    lacunarity = _check_lacunarity(lacunarity)
-    gain = _check_float(gain, "gain")
+    fade_fn = check_fade(fade)
+    dt = check_dtype(dtype)
+    lacunarity = check_lacunarity(lacunarity)
+    gain = check_float(gain, "gain")
     if (size is None) == (points is None):
         raise ValueError("give exactly one of size (a grid) or points (lattice coordinates)")
     if points is not None:
-        _no_chunks(chunks)
-        pts = _check_points(points)
+        no_chunks(chunks)
+        pts = check_points(points)
         ndim = pts.shape[1]
     else:
-        size = _check_size(size)
+        size = check_size(size)
         ndim = len(size)
-        frequency = _check_float(frequency, "frequency")
+        frequency = check_float(frequency, "frequency")
     octaves = _check_octaves(octaves, size, frequency, lacunarity, points)
-    per = _check_period(period, ndim)
+    per = check_period(period, ndim)
     if per is not None and not float(lacunarity).is_integer():
         raise ValueError(f"period needs an integer lacunarity (octave periods period * lacunarity**i must be "
                          f"integers), got lacunarity={lacunarity}")
-    origin = np.asarray(_check_offset(offset, ndim))
+    origin = np.asarray(check_offset(offset, ndim))
     given = "" if offset is None else f" and offset={offset!r}"
     if points is not None:
         largest = float(np.abs(pts).max(initial=0.0))
@@ -169,25 +169,25 @@ def _octave_sum(size, points, *, frequency, octaves, lacunarity, gain, absolute,
                             "these points" + given)
     else:
         if chunks is None:
-            _check_fits(size, dt.itemsize, 1)
-        spacing = _pixel_spacing(size, frequency)
+            check_fits(size, dt.itemsize, 1)
+        spacing = pixel_spacing(size, frequency)
         plan = _octave_plan(octaves, lacunarity, gain, per, origin,
-                            lambda scale, shift: _grid_extent(size, spacing * scale, tuple(shift)), dt,
+                            lambda scale, shift: grid_extent(size, spacing * scale, tuple(shift)), dt,
                             f"frequency={frequency:g}{given}")
-    perm = _permutation(rng)
+    perm = permutation(rng)
     if points is not None:
         total = None
         for scale, amp, per_i, shift in plan:
-            layer = _noise_points(pts * scale + shift, perm, per_i, fade_fn, dt)
+            layer = noise_points(pts * scale + shift, perm, per_i, fade_fn, dt)
             total = _accumulate(total, layer, amp, absolute, dt)
         return total, octaves
 
     def grid_sum(window):
         # Grid: every octave is evaluated block by block (rows, or slices of a volume) into the
         # total, so that the only full-size array is the result (of the window, with chunks).
-        grids = [_window_grid(size, spacing * scale, tuple(shift), perm, per_i, fade_fn, dt, window)
+        grids = [window_grid(size, spacing * scale, tuple(shift), perm, per_i, fade_fn, dt, window)
                  for scale, amp, per_i, shift in plan]
-        first, last = _window_rows(size, window)
+        first, last = window_rows(size, window)
         total = np.empty((last - first,) + grids[0].size[1:], dtype=dt)
         buf = None
         for a, b in grids[0].blocks(first, last):
@@ -206,7 +206,7 @@ def _octave_sum(size, points, *, frequency, octaves, lacunarity, gain, absolute,
         total = grid_sum((rows, cols))
         return total if finish is None else finish(total, rows, cols)
 
-    return _chunked(size, chunks, dt, render, copies + 1, channels), octaves
+    return chunked(size, chunks, dt, render, copies + 1, channels), octaves
 
 
 def _accumulate(total, layer, amp, absolute, dt):
@@ -390,12 +390,12 @@ def _parse_color(color, name):
     if not isinstance(color, (tuple, list, np.ndarray)):
         raise TypeError(f"{hint}, got {color!r}")
     items = [c.item() if isinstance(c, np.ndarray) and c.ndim == 0 else c for c in color]
-    if len(items) not in (3, 4) or not all(_finite_real(c) and 0 <= float(c) <= 1 for c in items):
+    if len(items) not in (3, 4) or not all(finite_real(c) and 0 <= float(c) <= 1 for c in items):
         raise ValueError(f"{hint}, got {color!r}")
     return tuple(float(c) for c in items)[:3]
 
 
-def _colormap_function(colormap, name="colormap"):
+def colormap_function(colormap, name="colormap"):
     """Turn a colour list, a (position, colour) list, a callable or a name into f(t) -> RGB."""
     if isinstance(colormap, str):
         try:
@@ -418,7 +418,7 @@ def _colormap_function(colormap, name="colormap"):
     paired = all(isinstance(e, (tuple, list)) and len(e) == 2 and isinstance(e[0], numbers.Real)
                  and not isinstance(e[1], numbers.Real) for e in entries)
     if paired:
-        if not all(_finite_real(p) for p, _ in entries):
+        if not all(finite_real(p) for p, _ in entries):
             raise ValueError(f"{name} positions must be finite numbers in [0, 1], got {[p for p, _ in entries]!r}")
         positions = np.array([float(p) for p, _ in entries])
         colors = np.array([_parse_color(c, name) for _, c in entries])
@@ -506,12 +506,12 @@ def apply_colormap(values, colormap=None, *, default=MARBLE_COLORS, dtype=None):
     [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]
     """
     if hasattr(values, "map_blocks") and getattr(values, "ndim", 0) >= 1:  # lazy (dask): block by block
-        _colormap_function(default, "default") if colormap is None else _colormap_function(colormap)
+        colormap_function(default, "default") if colormap is None else colormap_function(colormap)
         out = values.dtype if np.issubdtype(values.dtype, np.floating) and dtype is None else np.dtype(dtype or float)
         return values.map_blocks(apply_colormap, colormap, default=default, dtype=out, new_axis=values.ndim,
                                  chunks=values.chunks + ((3,),))
     arr = _check_values(values)
-    fn = _colormap_function(default, "default") if colormap is None else _colormap_function(colormap)
+    fn = colormap_function(default, "default") if colormap is None else colormap_function(colormap)
     values = np.clip(arr, 0.0, 1.0)
     if dtype is None:
         out_dtype = values.dtype if np.issubdtype(values.dtype, np.floating) else np.dtype(np.float64)
@@ -555,7 +555,7 @@ def _unit_coords(shape, dtype):
 
 def _check_phase(dtype, largest, names):
     """The phase of the sine transfer must stay finite in ``dtype`` (else sin gives NaN)."""
-    dt = _check_dtype(dtype)
+    dt = check_dtype(dtype)
     if not largest < float(np.finfo(dt).max) / 16:
         given = ", ".join(f"{k}={v!r}" for k, v in names.items())
         raise ValueError(f"{given} give phases up to {largest:.3g} radians, beyond the range of {dt.name}; "
@@ -564,11 +564,11 @@ def _check_phase(dtype, largest, names):
 
 def _marble_wood_checks(size, colormap, dtype, return_info, chunks):
     """Checks shared by marble and wood, before the turbulence is computed."""
-    size = _check_size(size)
+    size = check_size(size)
     if colormap is not None:
-        _colormap_function(colormap)  # a bad colour map fails before the turbulence is computed
+        colormap_function(colormap)  # a bad colour map fails before the turbulence is computed
     if chunks is None:
-        _check_fits(size, _check_dtype(dtype).itemsize, 8 if return_info else 7)  # field, RGB and temporaries
+        check_fits(size, check_dtype(dtype).itemsize, 8 if return_info else 7)  # field, RGB and temporaries
     elif return_info:
         raise ValueError("return_info=True returns the whole field in memory; with chunks= pass return_info=False")
     return size
@@ -668,8 +668,8 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None,
     >>> img.shape, bool(img.min() >= 0 and img.max() <= 1)
     ((32, 32, 3), True)
     """
-    veins = _check_float(veins, "veins", allow_zero=True)
-    strength = _check_float(turbulence_strength, "turbulence_strength", allow_zero=True)
+    veins = check_float(veins, "veins", allow_zero=True)
+    strength = check_float(turbulence_strength, "turbulence_strength", allow_zero=True)
     _check_phase(dtype, 2 * np.pi * veins + 2 * strength, {"veins": veins, "turbulence_strength": strength})
     size = _marble_wood_checks(size, colormap, dtype, return_info, chunks)
 
@@ -743,17 +743,17 @@ def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, 
     >>> wood((4, 16, 16), rng=0).shape
     (4, 16, 16, 3)
     """
-    rings = _check_float(rings, "rings", allow_zero=True)
-    strength = _check_float(turbulence_strength, "turbulence_strength", allow_zero=True)
+    rings = check_float(rings, "rings", allow_zero=True)
+    strength = check_float(turbulence_strength, "turbulence_strength", allow_zero=True)
     if center is None:
         center = (0.5, 0.5)
     items = tuple(center) if isinstance(center, (tuple, list, np.ndarray)) else ()
-    if len(items) != 2 or not all(_finite_real(c) for c in items):
+    if len(items) != 2 or not all(finite_real(c) for c in items):
         raise ValueError(f"center must be (row, col), two finite fractions of the image, got {center!r}")
     reach = 2 + max(abs(float(c)) for c in items)  # largest distance from the trunk, in image widths
     _check_phase(dtype, 2 * np.pi * rings * reach + 2 * strength,
                  {"rings": rings, "center": center, "turbulence_strength": strength})
-    if not reach < np.sqrt(float(np.finfo(_check_dtype(dtype)).max)) / 16:
+    if not reach < np.sqrt(float(np.finfo(check_dtype(dtype)).max)) / 16:
         raise ValueError(f"center={center!r} is too far from the image for {np.dtype(dtype).name} distances")
     size = _marble_wood_checks(size, colormap, dtype, return_info, chunks)
 

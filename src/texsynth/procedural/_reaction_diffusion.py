@@ -68,8 +68,8 @@ import numpy as np
 
 from ..core._progress import Progress
 from ..core._validate import as_rng, as_size, check_positive_int
-from ._noise import _check_dtype, _check_fits, _check_float
-from ._patterns import _colormap_function, apply_colormap
+from ._noise import check_dtype, check_fits, check_float
+from ._patterns import apply_colormap, colormap_function
 
 __all__ = [
     "reaction_diffusion",
@@ -183,8 +183,8 @@ def stability_limit(diffusion, h=1.0):
     >>> stability_limit(0)
     inf
     """
-    diffusion = _check_float(diffusion, "diffusion", allow_zero=True)
-    h = _check_float(h, "h")
+    diffusion = check_float(diffusion, "diffusion", allow_zero=True)
+    h = check_float(h, "h")
     if diffusion == 0:
         return math.inf
     try:
@@ -211,7 +211,7 @@ def _check_grid(size):
 
 
 def _check_rate(value, name):
-    return _check_float(value, name, allow_zero=True)
+    return check_float(value, name, allow_zero=True)
 
 
 def _check_choice(value, choices, name):
@@ -303,9 +303,9 @@ def _colour(field, colormap):
 
 def _check_memory(size, dtype, copies, steps, record_every):
     """Refuse a grid, or recorded frames, that cannot fit in memory (before allocating)."""
-    _check_fits(size, max(dtype.itemsize, 8), copies)  # the chemicals, buffers and float64 set-up
+    check_fits(size, max(dtype.itemsize, 8), copies)  # the chemicals, buffers and float64 set-up
     if record_every:
-        _check_fits((steps // record_every,) + tuple(size), dtype.itemsize, 1, "record_every", record_every)
+        check_fits((steps // record_every,) + tuple(size), dtype.itemsize, 1, "record_every", record_every)
 
 
 def _check_record(record_every):
@@ -435,7 +435,7 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db
             params[name] = value
     for name in ("s", "Da", "Db", "beta", "beta_spread"):
         params[name] = _check_rate(params[name], name)
-    dt = _check_float(dt, "dt")
+    dt = check_float(dt, "dt")
     _check_stable(dt, {"Da": params["Da"], "Db": params["Db"]})
     stages = [(params["s"], steps)]
     if cascade is not None and not isinstance(cascade, (tuple, list)):
@@ -445,9 +445,9 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db
             raise ValueError(f"cascade must be a sequence of (s, steps) pairs, got {cascade!r}")
         stages.append((_check_rate(item[0], "cascade s"), check_positive_int(item[1], "cascade steps")))
     record_every = _check_record(record_every)
-    dt_ = _check_dtype(dtype)
+    dt_ = check_dtype(dtype)
     if colormap is not None:
-        _colormap_function(colormap)
+        colormap_function(colormap)
     _check_memory(size, dt_, 10, sum(n for _, n in stages), record_every)
     gen = as_rng(rng)
 
@@ -580,15 +580,15 @@ def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.00
     """
     size = _check_grid(size)
     steps = check_positive_int(steps, "steps")
-    p1 = _check_float(p1, "p1")
-    p2 = _check_float(p2, "p2")
+    p1 = check_float(p1, "p1")
+    p2 = check_float(p2, "p2")
     p3 = _check_rate(p3, "p3")
     diff1 = _check_rate(diff1, "diff1")
     diff2 = _check_rate(diff2, "diff2")
     arand = _check_rate(arand, "arand")
     _check_stable(1.0, {"diff1": diff1, "diff2": diff2})
     record_every = _check_record(record_every)
-    dt_ = _check_dtype(dtype)
+    dt_ = check_dtype(dtype)
     a0 = p2 / (2 * p1)  # semi-stable equilibrium (Turk's semi_equilibria)
     try:
         c0 = 0.02 * a0 ** 3 / p2
@@ -598,7 +598,7 @@ def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.00
         raise ValueError(f"p1={p1:g} and p2={p2:g} put the steady state at a = p2 / (2 p1) = {a0:.3g}, "
                          f"c = 0.02 a^3 / p2 = {c0:.3g}, beyond the range of {dt_.name}; use a larger p1")
     if colormap is not None:
-        _colormap_function(colormap)
+        colormap_function(colormap)
     _check_memory(size, dt_, 16, steps, record_every)
     gen = as_rng(rng)
 
@@ -718,10 +718,10 @@ def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0
     params["k"] = _check_rate(params["k"], "k")
     Du = _check_rate(Du, "Du")
     Dv = _check_rate(Dv, "Dv")
-    dt = _check_float(dt, "dt")
+    dt = check_float(dt, "dt")
     _check_stable(dt, {"Du": Du, "Dv": Dv})
     record_every = _check_record(record_every)
-    dt_ = _check_dtype(dtype)
+    dt_ = check_dtype(dtype)
     h, w = size
     if seeds is None:
         seeds = max(1, (h * w) // 1000)
@@ -729,7 +729,7 @@ def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0
     if seeds > h * w:
         raise ValueError(f"seeds must be at most the number of pixels ({h * w}), got {seeds}")
     if colormap is not None:
-        _colormap_function(colormap)
+        colormap_function(colormap)
     _check_memory(size, dt_, 10, steps, record_every)
     gen = as_rng(rng)
 

@@ -30,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from ..core._validate import check_bool
-from ..io import _as_path, _atomic_write, _prepare_target, load_image, save_image
+from ..core.files import as_path, atomic_write, prepare_target
+from ..io import load_image, save_image
 from ._mesh import Mesh, checked
 
 __all__ = ["as_mesh", "read_mesh", "write_mesh"]
@@ -244,7 +245,7 @@ def _write_obj(path, mesh, overwrite):
     if mesh.texture is not None:
         targets += [path.with_suffix(".mtl"), path.with_suffix(".png")]
     for target in targets:
-        _prepare_target(target, overwrite)
+        prepare_target(target, overwrite)
     parts = ["# written by texsynth\n"]
     if mesh.texture is not None:
         parts.append(f"mtllib {targets[1].name}\n")
@@ -265,9 +266,9 @@ def _write_obj(path, mesh, overwrite):
     if mesh.texture is not None:
         save_image(targets[2], mesh.texture, overwrite=True)
         mtl = f"# written by texsynth\nnewmtl texture\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd {targets[2].name}\n"
-        _atomic_write(targets[1], lambda tmp: Path(tmp).write_text(mtl, encoding="utf-8"))
+        atomic_write(targets[1], lambda tmp: Path(tmp).write_text(mtl, encoding="utf-8"))
     text = "".join(parts)
-    _atomic_write(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+    atomic_write(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
 
 
 # ---------------------------------------------------------------------------- PLY
@@ -478,7 +479,7 @@ def _read_ply(path, allow_outside):
 def _write_ply(path, mesh, overwrite):
     targets = [path] + ([path.with_suffix(".png")] if mesh.texture is not None else [])
     for target in targets:
-        _prepare_target(target, overwrite)
+        prepare_target(target, overwrite)
     header = ["ply", "format binary_little_endian 1.0", "comment written by texsynth"]
     if mesh.texture is not None:
         header.append(f"comment TextureFile {targets[1].name}")
@@ -513,7 +514,7 @@ def _write_ply(path, mesh, overwrite):
     data = ("\n".join(header + ["end_header"]) + "\n").encode("ascii") + vertex_rows.tobytes() + face_rows.tobytes()
     if mesh.texture is not None:
         save_image(targets[1], mesh.texture, overwrite=True)
-    _atomic_write(path, lambda tmp: Path(tmp).write_bytes(data))
+    atomic_write(path, lambda tmp: Path(tmp).write_bytes(data))
 
 
 # ---------------------------------------------------------------------------- other formats (trimesh)
@@ -548,7 +549,7 @@ def _read_other(path):
 
 def _write_other(path, mesh, overwrite):
     trimesh = _trimesh()
-    _prepare_target(path, overwrite)
+    prepare_target(path, overwrite)
     colors = None
     if mesh.colors is not None:
         c = mesh.colors.shape[1]
@@ -558,7 +559,7 @@ def _write_other(path, mesh, overwrite):
     out = trimesh.Trimesh(mesh.vertices, mesh.faces, vertex_colors=colors, process=False)
     suffix = path.suffix.lower().lstrip(".")
     try:
-        _atomic_write(path, lambda tmp: out.export(tmp, file_type=suffix))
+        atomic_write(path, lambda tmp: out.export(tmp, file_type=suffix))
     except (ValueError, KeyError, NotImplementedError) as exc:
         raise ValueError(f"path {str(path)!r}: trimesh cannot write {suffix!r} files ({exc}); use .obj or .ply"
                          ) from None
@@ -666,7 +667,7 @@ def read_mesh(path, *, allow_outside=False):
     ...     read_mesh(path)
     Mesh(42 vertices, 80 faces)
     """
-    path = _as_path(path)
+    path = as_path(path)
     allow_outside = check_bool(allow_outside, "allow_outside")
     if path.is_dir():
         raise FileNotFoundError(f"path {str(path)!r} is a folder, not a mesh file")
@@ -726,7 +727,7 @@ def write_mesh(path, mesh, *, overwrite=False):
     renamed when complete (:mod:`texsynth.io`), so a reader never sees half a
     file.
     """
-    path = _as_path(path)
+    path = as_path(path)
     mesh = as_mesh(mesh, "mesh")
     overwrite = check_bool(overwrite, "overwrite")
     suffix = path.suffix.lower()

@@ -317,12 +317,12 @@ def retile(mesh, n_vertices=None, *, spacing=None, rng=None):
     (True, 3)
     """
     mesh = as_mesh(mesh)
-    n = _resolve_count(mesh, n_vertices, spacing, "spacing")
+    n = resolve_count(mesh, n_vertices, spacing, "spacing")
     points, _ = _repel(mesh, n, as_rng(rng))
     return _triangulate(mesh, points)
 
 
-def _resolve_count(mesh, n_vertices, spacing, spacing_name):
+def resolve_count(mesh, n_vertices, spacing, spacing_name):
     """The vertex count from ``n_vertices`` or from a vertex ``spacing`` (named ``spacing_name``)."""
     if (n_vertices is None) == (spacing is None):
         raise ValueError(f"pass exactly one of n_vertices (how many vertices) and {spacing_name} (their spacing), "

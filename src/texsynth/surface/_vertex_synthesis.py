@@ -114,7 +114,7 @@ from ..core.pyramid import gaussian_pyramid
 from ..core.search import KCoherence, MaskedIndex, PatchIndex, check_method, nearest_candidates
 from ._field import check_field, field_vectors
 from ._meshio import as_mesh
-from ._retile import _resolve_count, lattice_spacing, mesh_hierarchy
+from ._retile import lattice_spacing, mesh_hierarchy, resolve_count
 
 __all__ = ["synthesize_surface", "SurfaceSynthesisInfo", "CANDIDATES", "ORDERS", "PRESETS"]
 
@@ -408,7 +408,7 @@ def synthesize_surface(
         n = len(mesh.vertices)
         density = "n_vertices"
     else:
-        n = _resolve_count(mesh, n_vertices, pixel_size, "pixel_size")
+        n = resolve_count(mesh, n_vertices, pixel_size, "pixel_size")
         density = "n_vertices" if pixel_size is None else "pixel_size"
     j_total = size[0] * size[1] + psize[0] * psize[1]
     per_vertex = j_total * (_RESAMPLE_NEIGHBORS * 24 + 8 * image.shape[2]) + (_SWEEP_BYTES if order == "sweep" else 0)

@@ -32,7 +32,9 @@ neighbourhood is closest to this one?*, and asks it here:
     position of a partly known image (graph-cut textures' whole input).
 :func:`patchmatch`
     For every patch of an image, the k nearest patches of an exemplar
-    (PatchMatch): fields on grids, warm-started, with masks and wrap.
+    (PatchMatch): fields on grids, warm-started, with masks and wrap;
+    :func:`patchmatch_features` the same for feature arrays the caller has
+    checked (any channels and values: an EM loop's M-step).
 :func:`nearest_field`
     The same question of any backend: ``method="exact"``, ``"kdtree"``,
     ``"tsvq"`` or ``"patchmatch"``.
@@ -74,6 +76,7 @@ from ._patchmatch import (
     check_field_method,
     nearest_field,
     patchmatch,
+    patchmatch_features,
     project_patches,
     resolve_field,
 )
@@ -86,6 +89,6 @@ METHODS = _methods()
 __all__ = [
     "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "candidate_sq_distances", "sq_distances",
     "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "TemplateSearch", "within_tolerance", "within_radius",
-    "KCoherence", "neighbor_sources", "coherence_sets", "check_candidates", "COHERENT_MODES", "CANDIDATES", "patchmatch", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
+    "KCoherence", "neighbor_sources", "coherence_sets", "check_candidates", "COHERENT_MODES", "CANDIDATES", "patchmatch", "patchmatch_features", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]

@@ -63,7 +63,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import as_rng, check_memory, check_positive_int
-from ._index import _DEFAULT_MEMORY_BUDGET, PatchIndex
+from ._index import DEFAULT_MEMORY_BUDGET, PatchIndex
 from ._patchmatch import project_patches
 
 __all__ = ["KCoherence", "neighbor_sources", "coherence_sets", "check_candidates", "COHERENT_MODES", "CANDIDATES"]
@@ -163,7 +163,7 @@ class KCoherence:
     """
 
     def __init__(self, vectors, shape, k=1, *, min_distance=0, weights=None, method="auto", profile="default",
-                 memory_budget=_DEFAULT_MEMORY_BUDGET, rng=None):
+                 memory_budget=DEFAULT_MEMORY_BUDGET, rng=None):
         shape = tuple(shape) if isinstance(shape, (tuple, list, np.ndarray)) else shape
         if not (isinstance(shape, tuple) and len(shape) == 2):
             raise TypeError(f"shape must be a pair (rows, cols) of the grid of exemplar positions, got {shape!r}")

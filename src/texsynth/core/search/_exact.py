@@ -60,8 +60,12 @@ def exact_chunk_rows(n, itemsize, memory_budget):
 # workers run one) and the same 0.88 s on two; for k = 3 on two threads scikit-learn is faster
 # (0.88 s against 1.18 s). scikit-learn ranks float32 input in float64; this backend ranks float32
 # in float32 (the float64 truth differs for 0.04 % of queries, all within float32 rounding).
-class _Exact:
-    """Chunked BLAS brute force with an exact, tie-stable re-ranking."""
+class Exact:
+    """Chunked BLAS brute force with an exact, tie-stable re-ranking: the ``"exact"`` backend.
+
+    Built by :class:`~texsynth.core.search.PatchIndex` (``method="exact"``);
+    the TSVQ backend answers with it the queries whose leaves hold fewer than k vectors.
+    """
 
     name = "exact"
 
@@ -261,4 +265,4 @@ def candidate_sq_distances(queries, candidates, vectors, weights=None):
     return scores
 
 
-register("exact", _Exact.build, summary="brute force by chunked BLAS, memory-bounded, exact re-ranking")
+register("exact", Exact.build, summary="brute force by chunked BLAS, memory-bounded, exact re-ranking")

@@ -12,7 +12,8 @@ from ._registry import BACKENDS, check_profile, option_names, resolve
 
 __all__ = ["PatchIndex", "nearest"]
 
-_DEFAULT_MEMORY_BUDGET = 256 * 2**20
+#: Bytes one block of brute-force distances may take unless a caller passes ``memory_budget``.
+DEFAULT_MEMORY_BUDGET = 256 * 2**20
 
 
 def _check_options(options):
@@ -112,7 +113,7 @@ class PatchIndex:
     """
 
     def __init__(self, vectors, *, weights=None, method="auto", profile="default", queries=None,
-                 memory_budget=_DEFAULT_MEMORY_BUDGET, rng=None, **options):
+                 memory_budget=DEFAULT_MEMORY_BUDGET, rng=None, **options):
         vectors = as_vectors(vectors, "vectors")
         self.n, self.dim = vectors.shape
         rule = check_profile(profile)

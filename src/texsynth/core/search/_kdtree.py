@@ -27,7 +27,7 @@ _KD_CANDIDATES = 16
 _KD_EPS = 1.0
 # PCA basis from at most this many vectors (SVD cost ~ sample * D^2).
 _PCA_SAMPLE = 20_000
-# PCA from the D x D scatter matrix up to this dimension, randomized above (see _pca)
+# PCA from the D x D scatter matrix up to this dimension, randomized above (see pca)
 _PCA_COVARIANCE_MAX_DIM = 256
 _PCA_OVERSAMPLES = 10
 _PCA_POWER_ITERATIONS = 1
@@ -71,7 +71,7 @@ class _KDTree:
         if n > rows:
             sample = vectors[np.sort(rng.choice(n, rows, replace=False))]
         self.mean = sample.mean(axis=0)
-        s, vt, total = _pca(sample - self.mean, n_components or _PCA_MAX, rng)
+        s, vt, total = pca(sample - self.mean, n_components or _PCA_MAX, rng)
         if n_components is None:
             n_components = _default_components(s, dim, total)
         self.n_components = int(min(n_components, vt.shape[0]))
@@ -99,7 +99,7 @@ class _KDTree:
 # 0.010 s against 0.021-0.076 s on 20 000 147-D rows (all capture the exact variance), and on 3072-D
 # rows 0.020 s capturing 0.998 of the exact 24-component variance, where randomized_svd takes as
 # long for 0.993 (n_iter=1) or 3.4x as long for 1.000.
-def _pca(centred, n_components, rng):
+def pca(centred, n_components, rng):
     """Leading singular values and right singular vectors of ``centred``, and its total variance.
 
     Up to ``_PCA_COVARIANCE_MAX_DIM`` dimensions: eigen-decomposition of the

@@ -43,7 +43,7 @@ import numpy as np
 
 from .._validate import as_rng, check_memory, check_positive_float, check_positive_int
 from ._common import as_vectors, as_weights
-from ._kdtree import _pca
+from ._kdtree import pca
 
 __all__ = ["MASKED_METHODS", "MaskedIndex", "masked_sq_distances"]
 
@@ -173,7 +173,7 @@ class MaskedIndex:
         if self.method == "pca":
             mean = y.mean(axis=0)
             y -= mean
-            s, vt, total = _pca(y, min(dims.size, n_components or _PCA_RANDOMIZED_COMPONENTS), rng)
+            s, vt, total = pca(y, min(dims.size, n_components or _PCA_RANDOMIZED_COMPONENTS), rng)
             if n_components is None:  # the fewest components that keep _PCA_VARIANCE of the variance
                 kept = np.cumsum(s.astype(np.float64) ** 2) / total if total > 0 else np.ones(len(s))
                 d = int(min(len(s), np.searchsorted(kept, _PCA_VARIANCE) + 1))

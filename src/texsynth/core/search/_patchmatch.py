@@ -31,10 +31,10 @@ from .._validate import (
 )
 from ..convolve import correlate_bank
 from ..neighborhood import MODES, grid_axes, grid_cells, patch_shape, patches_within
-from ._kdtree import _pca
-from ._registry import _forced
+from ._kdtree import pca
+from ._registry import forced_method
 
-__all__ = ["patchmatch", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field"]
+__all__ = ["patchmatch", "patchmatch_features", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field"]
 
 #: Ratio between the radii of successive random-search windows (Barnes et al. 2009, Sec. 3.2: alpha = 1/2).
 ALPHA = 0.5
@@ -152,7 +152,7 @@ class _Problem:
             self.wsqrt = np.repeat(np.sqrt(w).ravel(), channels).astype(dtype)
         self.block = max(16, _BLOCK_BYTES // (self.dim * np.dtype(dtype).itemsize))
         self.neighbors = _Neighbors(self.centers, self.shape, mode)
-        self.sets = None  # k-coherence sets (_patchmatch_checked's sets)
+        self.sets = None  # k-coherence sets (patchmatch_features's sets)
         bound_bytes = self.eny * self.enx * _BOUND_COMPONENTS * 8
         worth = self.dim >= _BOUND_MIN_DIM and n * self.dim >= _BOUND_MIN_WORK * self.eny * self.enx
         self.bound = _Bound(self) if worth and bound_bytes <= _BOUND_MAX_BYTES else None
@@ -502,7 +502,7 @@ def _projections(exemplar, eview, enx, ids, wsqrt, m, samples):
     er, ec = np.divmod(sample, enx)
     x = eview[er, ec].reshape(sample.shape[0], -1).astype(np.float64) * wsqrt
     mean = x.mean(axis=0)
-    _, vt, _ = _pca(x - mean, min(m, *x.shape), rng)
+    _, vt, _ = pca(x - mean, min(m, *x.shape), rng)
     basis = np.linalg.qr(vt[:m].T)[0].T  # re-orthonormalised, so a projection can only shorten a difference
     kernels = np.ascontiguousarray((basis * wsqrt).T)  # (dim, m): patch @ kernels = B (w^1/2 patch)
     offset = basis @ mean
@@ -990,25 +990,52 @@ def _run(problem, init, iterations, rng, distances=False):
     return problem.result(field, distances)
 
 
-def _patchmatch_checked(image, exemplar, patch_size, *, centers, init, iterations, exemplar_mask, pixel_weights,
-                        mode, penalty, rng, sets=None, k=1, workspace=None, distances=False):
-    """:func:`patchmatch` of float ``(H, W, C)`` arrays the caller has checked, with any number of channels
-    and values beyond [0, 1] (texture optimization's guide channels, weighted).
+def patchmatch_features(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, init=None,
+                        exemplar_mask=None, pixel_weights=None, mode="valid", penalty=None, rng=None, sets=None,
+                        workspace=None, distances=False):
+    """:func:`patchmatch` of feature arrays: float ``(H, W, C)`` arrays the caller has checked.
 
-    ``sets``: k-coherence sets ``(eny * enx, k)`` of the exemplar's patch positions (row-major top-left
-    corners, :func:`~texsynth.core.search.coherence_sets`): every propagated
-    candidate is offered with its set, and the random search is left out, so an iteration is Tong et
-    al.'s k-coherent search in PatchMatch's scan order.
+    The search of :func:`patchmatch`, for the M-step of an EM loop that asks
+    it many times: ``image`` and ``exemplar`` are taken as they are, with any
+    number of channels and values beyond [0, 1] (texture optimization's
+    guide channels, weighted), and are not converted or checked as images.
+    The other arguments are checked as :func:`patchmatch` checks them.
 
-    ``workspace``: a dict the caller keeps across searches of the same size (one EM stage) and never
-    shares between searches running at once; the query patches are copied into the memory it holds.
-    ``distances=True`` also returns the held patches' distances without the ``penalty`` (``k = 1``), so a
-    caller that ranks by distance plus penalty needs no second pass for the distances.
+    Parameters
+    ----------
+    image, exemplar : numpy.ndarray
+        Float ``(H, W, C)`` and ``(h, w, C)``, the same ``C``, finite.
+    patch_size, centers, k, iterations, init, exemplar_mask, pixel_weights, mode, penalty, rng
+        As in :func:`patchmatch`.
+    sets : numpy.ndarray of int, shape (eny * enx, k), optional
+        k-coherence sets of the exemplar's patch positions (row-major
+        top-left corners, :func:`~texsynth.core.search.coherence_sets`):
+        every propagated candidate is offered with its set, and the random
+        search is left out, so an iteration is Tong et al.'s k-coherent
+        search in PatchMatch's scan order.
+    workspace : dict, optional
+        Kept by the caller across searches of the same size (one EM stage)
+        and never shared between searches running at once; the query patches
+        are copied into the memory it holds.
+    distances : bool
+        Also return the held patches' distances without the ``penalty``
+        (``k = 1``), so a caller that ranks by distance plus penalty needs no
+        second pass for the distances.
+
+    Returns
+    -------
+    field : numpy.ndarray of int64, shape (N, k, 2)
+        As :func:`patchmatch` returns it.
+    sq_distances : numpy.ndarray, shape (N, k)
+        As :func:`patchmatch` returns it (with a ``penalty``: plus the penalty).
+    plain_distances : numpy.ndarray, shape (N, k)
+        Only with ``distances=True``: the distances without the penalty
+        (None if a penalty ranked ``k > 1`` patches).
     """
     problem = _Problem(image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty,
                        checked=True, workspace=workspace)
     problem.sets = sets
-    return _run(problem, init, iterations, rng, distances)
+    return _run(problem, init, check_positive_int(iterations, "iterations", 0), as_rng(rng), distances)
 
 
 #: :func:`resolve_field`: problems up to this much work (exemplar patches times queries times the
@@ -1055,7 +1082,7 @@ def resolve_field(method, *, applies=True, values=None):
     """
     check_field_method(method)
     large = values is None or values > FIELD_MIN_VALUES
-    if method == "auto" and applies and large and _forced.get() is None:
+    if method == "auto" and applies and large and forced_method.get() is None:
         return "patchmatch"
     return method
 

@@ -134,7 +134,9 @@ PROFILES = {p.name: p for p in (
             auto=_by_size),
 )}
 
-_forced = contextvars.ContextVar("texsynth_search_method", default=None)
+#: The backend :func:`use` makes ``"auto"`` mean in this context (None: the profiles decide); read by
+#: every resolver of ``"auto"`` (also ``resolve_field``).
+forced_method = contextvars.ContextVar("texsynth_search_method", default=None)
 
 
 @contextlib.contextmanager
@@ -154,11 +156,11 @@ def use(method):
     'exact'
     """
     check_method(method)
-    token = _forced.set(None if method == "auto" else method)
+    token = forced_method.set(None if method == "auto" else method)
     try:
         yield
     finally:
-        _forced.reset(token)
+        forced_method.reset(token)
 
 
 def check_method(method, name="method"):
@@ -199,5 +201,5 @@ def resolve(method, n, dim, *, profile="default", queries=None):
     rule = check_profile(profile)
     if method != "auto":
         return method
-    return _forced.get() or rule.auto(n, dim, queries)
+    return forced_method.get() or rule.auto(n, dim, queries)
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._common import best_k_of_pairs, pair_sq_distances
-from ._exact import _Exact
+from ._exact import Exact
 from ._registry import register
 
 # TSVQ defaults of Kwatra et al. 2005, Sec. 3: k-means with k = 4 per node,
@@ -165,7 +165,7 @@ class _TSVQ:
         out_i[full], out_d[full] = best_k_of_pairs(len(full), remap[rows], cols, d2, k)
         if np.any(short):
             if self._exact is None:
-                self._exact = _Exact(self.vectors, self.memory_budget)
+                self._exact = Exact(self.vectors, self.memory_budget)
             out_i[short], out_d[short] = self._exact.query(queries[short], k)
         return out_i, out_d
 
