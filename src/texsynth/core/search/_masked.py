@@ -43,6 +43,7 @@ import numpy as np
 
 from .._validate import as_rng, check_memory, check_positive_float, check_positive_int
 from ._common import as_vectors, as_weights
+from ._index import DEFAULT_MEMORY_BUDGET
 from ._kdtree import pca
 
 __all__ = ["MASKED_METHODS", "MaskedIndex", "masked_sq_distances"]
@@ -50,7 +51,6 @@ __all__ = ["MASKED_METHODS", "MaskedIndex", "masked_sq_distances"]
 #: Valid values of ``method`` for masked queries (``"auto"`` is ``"exact"``).
 MASKED_METHODS = ("auto", "exact", "pca")
 
-_DEFAULT_MEMORY_BUDGET = 256 * 2**20
 # default PCA dimension of a block: the fewest components that keep this fraction of its variance
 _PCA_VARIANCE = 0.99
 # above _PCA_COVARIANCE_MAX_DIM dimensions the PCA is randomized; ask it for at most this many
@@ -132,7 +132,7 @@ class MaskedIndex:
     """
 
     def __init__(self, vectors, *, weights=None, method="exact", blocks=None, n_components=None,
-                 memory_budget=_DEFAULT_MEMORY_BUDGET, rng=None):
+                 memory_budget=DEFAULT_MEMORY_BUDGET, rng=None):
         v = as_vectors(vectors, "vectors")
         self.n, self.dim = v.shape
         if not isinstance(method, str) or method not in MASKED_METHODS:
