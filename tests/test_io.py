@@ -229,12 +229,20 @@ def test_video_without_the_extra_says_how_to_get_it(tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_mp4_round_trip(tmp_path):
+@pytest.mark.parametrize("suffix", [".mp4", ".mov", ".avi", ".mkv", ".mpeg", ".wmv"])
+def test_every_video_suffix_round_trips(tmp_path, suffix):
     pytest.importorskip("imageio_ffmpeg")  # in the test extra, so CI runs this
     frames = np.stack([np.roll(data.load("bumpy")[:32, :32], 2 * t, axis=1) for t in range(6)])
-    back = load_frames(save_frames(tmp_path / "v.mp4", frames, fps=6))
+    back = load_frames(save_frames(tmp_path / f"v{suffix}", frames, fps=6))
     assert back.shape == (6, 32, 32, 3)
     assert np.abs(back - frames).mean() < 0.1  # lossy codec: colours close, not exact
+
+
+@pytest.mark.parametrize("suffix", [".m4v", ".mpg", ".flv", ".webm"])
+def test_video_suffixes_the_writer_cannot_fill_are_refused_up_front(tmp_path, suffix):
+    with pytest.raises(ValueError, match=r"\.mp4"):  # the message lists the suffixes that work
+        save_frames(tmp_path / f"v{suffix}", np.zeros((3, 8, 8)))
+    assert list(tmp_path.iterdir()) == []
 
 
 # --------------------------------------------------------------------------- #

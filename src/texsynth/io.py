@@ -50,7 +50,9 @@ _SIXTEEN_BIT = {".tif", ".tiff"}
 # formats that store no alpha channel: an alpha channel is dropped (documented in save_image)
 _NO_ALPHA = {".jpg", ".jpeg", ".bmp", ".ppm", ".pgm", ".gif"}
 # frame-sequence containers written through imageio-ffmpeg (the ``video`` extra)
-_VIDEO = {".mp4", ".m4v", ".mov", ".avi", ".mkv", ".webm", ".mpg", ".mpeg", ".wmv", ".flv"}
+# the containers imageio's ffmpeg writer fills with its default codec (H.264 or MPEG-4); .m4v, .mpg and .flv
+# go to other imageio plugins, and WebM does not take H.264
+_VIDEO = {".mp4", ".mov", ".avi", ".mkv", ".mpeg", ".wmv"}
 # a GIF frame delay is a 16-bit count of centiseconds
 _GIF_MAX_DELAY_MS = 655_350
 # file signatures of formats whose samples are unsigned and at most 16 bits (PNG, Netpbm P1-P7):
