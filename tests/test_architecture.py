@@ -263,3 +263,12 @@ def test_modules_import_only_public_names():
     offenders = [line for path in SOURCES for line in _private_imports(path)]
     assert not offenders, (f"{len(offenders)} imports of another module's private names; give each a public "
                            "name where it lives (or in the core):\n" + "\n".join(offenders))
+
+
+def test_geometric_neighbours_are_chosen_in_the_search_layer():
+    # mesh vertices, field samples, patch centres: every k-d tree is core.search.point_tree's
+    outside = [str(p.relative_to(SRC)) for p in SOURCES if "core/search" not in p.as_posix()
+               and any(isinstance(n, ast.ImportFrom) and n.module == "scipy.spatial"
+                       and any(a.name in ("cKDTree", "KDTree") for a in n.names)
+                       for n in ast.walk(ast.parse(p.read_text())))]
+    assert not outside, f"build k-d trees with texsynth.core.search.point_tree: {outside}"

@@ -44,7 +44,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import ndimage
-from scipy.spatial import cKDTree
 
 from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
@@ -52,7 +51,7 @@ from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_siz
                               check_memory, check_positive_float, check_positive_int, restore_channels,
                               with_channels)
 from ..core import search
-from ..core.search import PatchIndex, check_candidates, coherence_sets, patchmatch_features
+from ..core.search import PatchIndex, check_candidates, coherence_sets, patchmatch_features, point_tree
 from ..core.neighborhood import accumulate, all_patches, extract, gaussian_falloff, grid_centers
 from ..core.em import expectation_maximization
 from ..statistical import interpolate_statistics, ps_statistics, ps_step
@@ -694,7 +693,7 @@ def _grid_neighbours(original, shape, count=8):
     if count < 1:
         return np.zeros((n, 0), int)
     pts = original.astype(np.float64)
-    _, nb = cKDTree(pts, boxsize=np.array(shape, np.float64)).query(pts, k=count + 1)
+    _, nb = point_tree(pts, period=shape).query(pts, k=count + 1)
     others = nb != np.arange(n)[:, None]
     others[others.sum(1) > count, -1] = False  # a duplicate position returned before the centre itself
     return nb[others].reshape(n, count)

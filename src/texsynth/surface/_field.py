@@ -47,9 +47,9 @@ References
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..core._validate import as_rng
+from ..core.search import point_tree
 from ._meshio import as_mesh
 
 __all__ = ["tangent_field", "FIELDS"]
@@ -84,7 +84,7 @@ def _relax(points, normals, angles, free, symmetry, iterations):
         return angles
     e1, e2 = tangent_frames(normals)
     k = min(_NEIGHBORS + 1, len(points))
-    _, nbr = cKDTree(points).query(points, k=k)
+    _, nbr = point_tree(points).query(points, k=k)
     nbr = nbr[:, 1:]
     rows = np.flatnonzero(free)
     nbr = nbr[rows]
@@ -136,7 +136,7 @@ def relaxed_angles(points, normals, angles, free, *, symmetry=1, rng=None):
             new = idx[prev:]
             new = new[free[new]]
             if len(new):
-                _, near = cKDTree(points[coarse]).query(points[new])
+                _, near = point_tree(points[coarse]).query(points[new])
                 src = coarse[near]
                 e1, e2 = tangent_frames(normals)
                 t = np.cos(angles[src])[:, None] * e1[src] + np.sin(angles[src])[:, None] * e2[src]
@@ -169,7 +169,7 @@ def field_vectors(points, normals, field, *, symmetry=1, rng=None, vertices=None
     else:
         vectors = field
         if vertices is not None and not (vertices.shape == points.shape and np.array_equal(vertices, points)):
-            _, near = cKDTree(vertices).query(points)
+            _, near = point_tree(vertices).query(points)
             vectors = vectors[near]
     tangential = vectors - np.einsum("ij,ij->i", vectors, normals)[:, None] * normals
     length = np.linalg.norm(tangential, axis=1)

@@ -61,9 +61,9 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..core._validate import as_rng, check_memory, check_positive_float, check_positive_int
+from ..core.search import point_tree
 from ._mesh import Mesh
 from ._meshio import as_mesh
 
@@ -122,7 +122,7 @@ def closest_points(mesh, queries, *, tree=None, chunk=20000):
     faces : numpy.ndarray of int64, shape (P,)
     """
     tri = mesh.vertices[mesh.faces]
-    tree = cKDTree(tri.mean(axis=1)) if tree is None else tree
+    tree = point_tree(tri.mean(axis=1)) if tree is None else tree
     k = min(_CANDIDATE_FACES, len(mesh.faces))
     points = np.empty_like(queries)
     faces = np.empty(len(queries), dtype=np.int64)
@@ -159,9 +159,9 @@ def _repel(mesh, n, rng, rounds=_REPULSION_ROUNDS, fixed=None):
     points, face = _random_surface_points(mesh, n, rng)
     if fixed is not None:
         points, face = np.concatenate([fixed[0], points]), np.concatenate([fixed[1], face])
-    tree = cKDTree(mesh.vertices[mesh.faces].mean(axis=1))
+    tree = point_tree(mesh.vertices[mesh.faces].mean(axis=1))
     for step in np.geomspace(0.4, 0.05, rounds) * spacing:
-        i, j = cKDTree(points).query_pairs(radius, output_type="ndarray").T
+        i, j = point_tree(points).query_pairs(radius, output_type="ndarray").T
         diff = points[i] - points[j]
         dist = np.linalg.norm(diff, axis=1)
         push = (1.0 - dist / radius)[:, None] * diff / np.maximum(dist, 1e-12 * spacing)[:, None]
@@ -199,7 +199,7 @@ def _triangulate(mesh, points):
     """Dual of the points' Voronoi regions on the surface (step 2); returns a compacted Mesh."""
     spacing = lattice_spacing(mesh.face_areas.sum(), len(points))
     fine_vertices, fine_faces = _subdivide(mesh, _SUBDIVIDE_RATIO * spacing)
-    _, label = cKDTree(points).query(fine_vertices)
+    _, label = point_tree(points).query(fine_vertices)
     tri = label[fine_faces]
     distinct = (tri[:, 0] != tri[:, 1]) & (tri[:, 1] != tri[:, 2]) & (tri[:, 0] != tri[:, 2])
     tri, source = tri[distinct], fine_faces[distinct]

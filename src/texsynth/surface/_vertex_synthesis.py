@@ -105,13 +105,12 @@ import numpy as np
 import scipy.sparse
 import scipy.sparse.csgraph
 import scipy.sparse.linalg
-from scipy.spatial import cKDTree
 
 from ..core._progress import Progress
 from ..core._validate import as_image, as_rng, check_memory, check_positive_int, with_channels
 from ..core.neighborhood import extract, gaussian_falloff, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import KCoherence, MaskedIndex, PatchIndex, check_method, nearest_candidates
+from ..core.search import KCoherence, MaskedIndex, PatchIndex, check_method, nearest_candidates, point_tree
 from ._field import check_field, field_vectors
 from ._meshio import as_mesh
 from ._retile import lattice_spacing, mesh_hierarchy, resolve_count
@@ -197,7 +196,7 @@ class _Frame:
         self.t = tangents
         self.b = np.cross(self.normals, tangents)
         self.spacing = spacing
-        self.tree = cKDTree(self.points)
+        self.tree = point_tree(self.points)
 
     def flatten(self, centers, others):
         """(row, col) of points ``others`` (M, J, 3) in the frames of ``centers`` (M,), in spacings."""
@@ -509,7 +508,7 @@ def _seed(frame, ex, rng):
     n = len(frame.points)
     apart = max(2.0, 0.5 * min(ex.shape))
     seeds = rng.choice(n, size=int(np.clip(round(n / apart ** 2), 1, n)), replace=False)
-    _, near = cKDTree(frame.points[seeds]).query(frame.points)
+    _, near = point_tree(frame.points[seeds]).query(frame.points)
     d = frame.flatten(seeds[near], frame.points[:, None, :])[:, 0]
     start = ex.centers[rng.integers(0, len(ex.centers), len(seeds))]
     wrapped = (np.rint(start[near] + d).astype(np.int64) - ex.centers[0]) % ex.shape + ex.centers[0]

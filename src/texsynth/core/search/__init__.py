@@ -67,6 +67,7 @@ from . import _exact, _kdtree, _tsvq  # noqa: F401  (each registers its backend)
 from ._common import sq_distances
 from ._exact import SequentialExact, candidate_sq_distances, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
+from ._kdtree import point_tree
 from ._masked import MASKED_METHODS, MaskedIndex, masked_sq_distances
 from ._template import TemplateSearch, WindowSearch, within_radius, within_tolerance
 from ._coherent import CANDIDATES, COHERENT_MODES, KCoherence, check_candidates, coherence_sets, neighbor_sources
@@ -87,7 +88,7 @@ from ._registry import methods as _methods
 METHODS = _methods()
 
 __all__ = [
-    "PatchIndex", "nearest", "SequentialExact", "nearest_candidates", "candidate_sq_distances", "sq_distances",
+    "PatchIndex", "nearest", "point_tree", "SequentialExact", "nearest_candidates", "candidate_sq_distances", "sq_distances",
     "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "TemplateSearch", "within_tolerance", "within_radius",
     "KCoherence", "neighbor_sources", "coherence_sets", "check_candidates", "COHERENT_MODES", "CANDIDATES", "patchmatch", "patchmatch_features", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
     "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",

@@ -164,3 +164,37 @@ def _default_components(singular_values, dim, total=None):
 
 register("kdtree", _KDTree.build, options=("n_components", "leaf_size", "candidates", "eps"),
          summary="PCA-reduced kd-tree candidates, re-ranked by exact distance")
+
+
+def point_tree(points, *, period=None):
+    """A k-d tree over low-dimensional points: the search layer's one entry for geometric neighbours.
+
+    Mesh vertices and face centres, tangent-field samples, patch centres on an image: whatever a
+    method asks about points in space (not about patch vectors, which :class:`PatchIndex` serves)
+    goes through here, so that every neighbour is chosen in :mod:`texsynth.core.search`.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, D)
+        The points, D small (2 or 3).
+    period : array_like of D floats, optional
+        The coordinates wrap with this period per axis (a torus, e.g. a tileable image's
+        ``shape``); points must lie in ``[0, period)``. None: plain Euclidean space.
+
+    Returns
+    -------
+    scipy.spatial.cKDTree
+        Query it with ``query(x, k=...)``, ``query_pairs(r)``, ... (scipy's API).
+
+    Examples
+    --------
+    >>> tree = point_tree([[0.0, 0.0], [3.0, 4.0]])
+    >>> d, i = tree.query([[2.5, 4.0]])
+    >>> int(i[0]), float(d[0])
+    (1, 0.5)
+    >>> float(point_tree([[0.5, 0.5]], period=[10, 10]).query([[9.5, 0.5]])[0][0])
+    1.0
+    """
+    from scipy.spatial import cKDTree
+
+    return cKDTree(points, boxsize=None if period is None else np.asarray(period, dtype=np.float64))

@@ -31,7 +31,7 @@ from .._validate import (
 )
 from ..convolve import correlate_bank
 from ..neighborhood import MODES, grid_axes, grid_cells, patch_shape, patches_within
-from ._kdtree import pca
+from ._kdtree import pca, point_tree
 from ._registry import forced_method
 
 __all__ = ["patchmatch", "patchmatch_features", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field"]
@@ -612,8 +612,6 @@ class _Neighbors:
         return out
 
     def _irregular(self):
-        from scipy.spatial import cKDTree
-
         n = self.centers.shape[0]
         m = min(_IRREGULAR_NEIGHBORS, n - 1)
         self.near = np.full((n, max(m, 0)), -1, dtype=np.int64)
@@ -624,7 +622,7 @@ class _Neighbors:
         if self.wrap:
             box = np.asarray(self.shape, dtype=np.float64)
             pts = np.mod(pts, box)
-        tree = cKDTree(pts, boxsize=box)
+        tree = point_tree(pts, period=box)
         _, idx = tree.query(pts, k=m + 1)
         # drop the query itself (with repeated centres the tree may list another copy first)
         self_hit = idx == np.arange(n)[:, None]
