@@ -44,6 +44,7 @@ __all__ = [
     "available_memory",
     "memory_limit",
     "max_threads",
+    "one_blas_thread",
 ]
 
 _FLOAT_TOLERANCE = 1e-6
@@ -436,22 +437,44 @@ def check_memory(nbytes, value, name="size", what="the output", also=None):
 _THREADPOOLS = []  # one threadpoolctl controller, made on first use
 
 
+def _threadpools():
+    """The process's threadpoolctl controller, found once: finding the BLAS and OpenMP libraries reads
+    the process's loaded libraries (about 1 ms), which hundreds of calls would pay each time."""
+    if not _THREADPOOLS:
+        from threadpoolctl import ThreadpoolController
+
+        _THREADPOOLS.append(ThreadpoolController())
+    return _THREADPOOLS[0]
+
+
+def one_blas_thread():
+    """A context in which BLAS runs on one thread: the library's one way to limit it.
+
+    For many small products (per pixel, per pyramid band, per TPS solve) threads gain nothing, and a
+    multi-threaded OpenBLAS spin-waits for its other thread on a busy machine (measured 10-100x
+    slower on the 2-core VM under load). texsynth's own threads are capped by :func:`max_threads`.
+
+    The BLAS libraries are looked up at each call (about 1 ms), so a BLAS that a package loaded
+    since the last call (scipy's own OpenBLAS, say) is limited too.
+
+    >>> with one_blas_thread():
+    ...     _ = np.ones((3, 3)) @ np.ones((3, 3))
+    """
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
+
+
 def max_threads():
     """Threads a method may start: the cores, capped by the limits set on BLAS and OpenMP.
 
     ``OMP_NUM_THREADS=1`` or ``threadpoolctl.threadpool_limits(1)`` make it 1,
     so a user who limits the library's threads limits texsynth's own too.
     The BLAS and OpenMP libraries are found once (the first call) and their
-    current limits read at every call: finding them reads the process's
-    loaded libraries (about 1 ms), which texture optimization's hundreds of
-    calls would pay each time.
+    current limits read at every call.
     """
-    if not _THREADPOOLS:
-        from threadpoolctl import ThreadpoolController
-
-        _THREADPOOLS.append(ThreadpoolController())
     cores = os.cpu_count() or 1
-    limits = [pool["num_threads"] for pool in _THREADPOOLS[0].info() if pool.get("user_api") in ("blas", "openmp")]
+    limits = [pool["num_threads"] for pool in _threadpools().info() if pool.get("user_api") in ("blas", "openmp")]
     env = os.environ.get("OMP_NUM_THREADS", "")
     if env.isdigit() and int(env) > 0:
         limits.append(int(env))

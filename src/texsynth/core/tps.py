@@ -47,9 +47,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
-from ._validate import check_in_range, check_positive_float, check_positive_int
+from ._validate import check_in_range, check_positive_float, check_positive_int, one_blas_thread
 
 __all__ = ["ThinPlateSpline", "fit_tps", "tps_kernel", "TPSRPMResult", "tps_rpm"]
 
@@ -437,7 +436,7 @@ def tps_rpm(X, Y, *, x_weights=None, y_weights=None, initial_temperature=None, f
     """
     # Many small solves: threaded BLAS only adds contention (10x slower
     # measured on the 2-core machine), so run single-threaded.
-    with threadpool_limits(limits=1, user_api="blas"):
+    with one_blas_thread():
         return _tps_rpm(X, Y, x_weights, y_weights, initial_temperature, final_temperature, anneal_rate,
                         lambda_init, affine_lambda_init, iterations_per_temperature, sinkhorn_iterations,
                         outlier_weight, outliers_to_own_position)

@@ -61,6 +61,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..core._progress import Progress
+from ..core._validate import one_blas_thread
 from ..core._validate import (
     as_binary_map,
     as_image,
@@ -74,7 +75,6 @@ from ..core._validate import (
 )
 from ..core.neighborhood import all_patches, gaussian_falloff, patches_within
 from ..core.search import MASKED_METHODS, MaskedIndex
-from ._wei_levoy import one_blas_thread
 
 __all__ = ["EfrosLeungInfo", "efros_leung"]
 

@@ -52,7 +52,7 @@ import numpy as np
 
 from ..core import search
 from ..core._progress import Progress
-from ..core._validate import MAX_ITERATIONS
+from ..core._validate import MAX_ITERATIONS, one_blas_thread
 from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memory, check_positive_int, max_threads,
                               restore_channels, with_channels)
 from ..core.neighborhood import causal_mask, extract, multilevel_vectors, patch_shape
@@ -74,16 +74,6 @@ __all__ = [
 ORDERS = ("scanline", "independent")
 #: Neighbourhood footprints inside the ``(h, w)`` box: the whole box, or the inscribed disc (ellipse).
 SHAPES = ("square", "disc")
-
-try:  # installed with scikit-learn; tiny per-pixel BLAS calls run faster on one thread
-    from threadpoolctl import threadpool_limits as _threadpool_limits
-except ImportError:  # pragma: no cover
-    _threadpool_limits = None
-
-
-def one_blas_thread():
-    return _threadpool_limits(1, user_api="blas") if _threadpool_limits else contextlib.nullcontext()
-
 
 # Relative tolerance of "E stops falling" (eq. 1 alternation).
 _STOP_TOLERANCE = 1e-9

@@ -102,10 +102,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft as sfft
 from numpy.polynomial import polynomial as npoly
-from threadpoolctl import threadpool_limits
 
 from ..core._progress import Progress
-from ..core._validate import MAX_ITERATIONS
+from ..core._validate import MAX_ITERATIONS, one_blas_thread
 from ..core._validate import (as_image, as_rng, as_size, check_in_range, check_memory, check_positive_int,
                               restore_channels, with_channels)
 from ..core.pyramid import SteerableCoefficients, SteerablePyramid, max_scales, periodic_smooth_decomposition
@@ -262,7 +261,7 @@ def _single_threaded_blas(function):
 
     @functools.wraps(function)
     def wrapper(*args, **kwargs):
-        with threadpool_limits(limits=1, user_api="blas"):
+        with one_blas_thread():
             return function(*args, **kwargs)
 
     return wrapper
