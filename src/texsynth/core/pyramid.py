@@ -87,13 +87,14 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.ndimage import correlate1d
 
-from ._validate import as_float_array, check_choice, check_memory
+from ._validate import as_float_array, check_choice, check_memory, check_positive_int
 
 __all__ = [
     "BINOMIAL_KERNEL",
     "downsample",
     "upsample",
     "max_levels",
+    "level_shapes",
     "gaussian_pyramid",
     "laplacian_pyramid",
     "reconstruct_laplacian",
@@ -159,6 +160,21 @@ def _blur(image, spatial_dims, ndmode, kernel=BINOMIAL_KERNEL):
     for axis in range(spatial_dims):
         out = correlate1d(out, kernel.astype(image.dtype), axis=axis, mode=ndmode)
     return out
+
+
+def level_shapes(shape, levels):
+    """The shapes of a pyramid's ``levels`` levels, the finest ``shape`` first: each axis ``n`` becomes
+    ``ceil(n / 2)`` at the next level, as :func:`downsample` keeps every other sample, the first kept.
+
+    Examples
+    --------
+    >>> level_shapes((5, 8), 3)
+    [(5, 8), (3, 4), (2, 2)]
+    """
+    shapes = [tuple(_as_shape(shape))]
+    for _ in range(check_positive_int(levels, "levels") - 1):
+        shapes.append(tuple((n + 1) // 2 for n in shapes[-1]))
+    return shapes
 
 
 def max_levels(shape):
@@ -544,10 +560,7 @@ class SteerablePyramid:
         self._build_masks()
 
     def _build_masks(self):
-        # Sizes of every scale: each axis n -> ceil(n / 2).
-        self._sizes = [self.shape]
-        for _ in range(self.scales):
-            self._sizes.append(tuple((n + 1) // 2 for n in self._sizes[-1]))
+        self._sizes = level_shapes(self.shape, self.scales + 1)  # every scale: each axis n -> ceil(n / 2)
         self._phase = (-1j) ** (self.orientations - 1)  # the bands' spectra are (-i)^(K-1) H A_k L
         # Real bands live on the half (rfft2) grid; analytic bands need the full grid.
         self._half = self._masks_on_grid(half=True, analytic=False)

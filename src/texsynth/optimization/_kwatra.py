@@ -102,7 +102,7 @@ from ..core.search import (PatchIndex, check_candidates, coherence_sets, nearest
                            sq_distances)
 from ..core.neighborhood import (PatchSum, all_patches, extract, gaussian_falloff, grid_axes, grid_cells, grid_centers,
                                  patches_within)
-from ..core.pyramid import gaussian_pyramid, max_levels, upsample
+from ..core.pyramid import gaussian_pyramid, level_shapes, max_levels, upsample
 from ..core.scale import feature_scale
 
 __all__ = ["optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo"]
@@ -1907,9 +1907,7 @@ def _pyramids(ex, valid, shape, levels, constraint, x_init, wrap):
     ex_pyr = gaussian_pyramid(ex, levels)
     # a coarse exemplar pixel is valid only if no masked pixel contributed to it
     valid_pyr = [v > 1 - 1e-6 for v in gaussian_pyramid(valid, levels)]
-    out_shapes = [tuple(shape)]
-    for _ in range(levels - 1):
-        out_shapes.append(tuple((s + 1) // 2 for s in out_shapes[-1]))
+    out_shapes = level_shapes(shape, levels)
     cons_pyr = [constraint] + [None] * (levels - 1)
     if constraint is not None:
         m, t, lam = constraint

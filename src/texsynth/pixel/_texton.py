@@ -72,7 +72,7 @@ from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_siz
 from ..core.fields import as_field as _field, bilinear as _bilinear, frames as _frames, level_field as _level_field
 from ..core.fields import taps as _taps
 from ..core.neighborhood import patch_shape
-from ..core.pyramid import gaussian_pyramid
+from ..core.pyramid import gaussian_pyramid, level_shapes
 from ..core.search import KCoherence, nearest_candidates
 from ._wei_levoy import (SHAPES, Source, candidate_pixels, check_choice, check_fits, check_levels, check_output_levels,
                          default_parent_size, exemplar_vectors, footprint, neighborhood_masks, offsets, wavefronts)
@@ -664,9 +664,7 @@ def synthesize_controlled(
         sources.append(Source(pyramid, size_n, psize, None, name, shape=shape))
     cw = sources[0].pyramid[0].shape[-1]
     written = channels + (masks[0] is not None)
-    out_shapes = [tuple(size)]
-    for _ in range(levels - 1):  # the Gaussian pyramid's levels: every other pixel, the first kept
-        out_shapes.append(tuple((n + 1) // 2 for n in out_shapes[-1]))
+    out_shapes = level_shapes(size, levels)
     out_pyr = [np.zeros(s + (cw,), _WORK_DTYPE) for s in out_shapes]
     check_output_levels(sources, size, out_pyr, levels)
     seed = int(rng.integers(2**62))

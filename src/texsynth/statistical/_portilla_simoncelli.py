@@ -107,7 +107,7 @@ from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS, one_blas_thread
 from ..core._validate import (as_image, as_rng, as_size, check_in_range, check_memory, check_positive_int,
                               restore_channels, with_channels)
-from ..core.pyramid import SteerableCoefficients, SteerablePyramid, max_scales, periodic_smooth_decomposition
+from ..core.pyramid import SteerableCoefficients, SteerablePyramid, level_shapes, max_scales, periodic_smooth_decomposition
 
 __all__ = [
     "PSStatistics",
@@ -279,10 +279,7 @@ class _Plan:
     def __init__(self, shape, scales, orientations):
         self.shape, self.scales, self.orientations = shape, scales, orientations
         self.pyramid = SteerablePyramid(shape, scales, orientations, is_complex=True)
-        sizes = [tuple(shape)]
-        for _ in range(scales):
-            sizes.append(tuple((n + 1) // 2 for n in sizes[-1]))
-        self.sizes = sizes
+        self.sizes = sizes = level_shapes(shape, scales + 1)
         # Image units: a band of scale s carries sqrt(N_0 / N_s) times the image's amplitude.
         self.gain = [math.sqrt(h * w / (shape[0] * shape[1])) for h, w in sizes]
         self.band_pyramids = [SteerablePyramid(sizes[s], 1, orientations) for s in range(scales)]
