@@ -32,10 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-from texsynth.core.search import MaskedIndex
+from texsynth.core.search import MaskedIndex, Search
 from texsynth.io import load_image, save_image
 from texsynth.metrics import texture_report
-from texsynth.pixel import _efros_leung, synthesize_pixels
+from texsynth.pixel import Neighborhood, _efros_leung, synthesize_pixels
 from texsynth.pixel import efros_leung
 from texsynth.testing import relative_scores
 
@@ -107,13 +107,14 @@ def main():
     print(f"load average at start: {os.getloadavg()}")
     runs = [
         ("efros_leung exact, float64", lambda: efros_leung(ex, 128, rng=0, return_info=True)),
-        ("efros_leung pca, float64", lambda: efros_leung(ex, 128, method="pca", rng=0, return_info=True)),
+        ("efros_leung pca, float64",
+         lambda: efros_leung(ex, 128, search=Search(method="pca"), rng=0, return_info=True)),
         ("efros_leung exact, float32", lambda: efros_leung(ex.astype(np.float32), 128, rng=0, return_info=True)),
         ("efros_leung pca, float32",
-         lambda: efros_leung(ex.astype(np.float32), 128, method="pca", rng=0, return_info=True)),
+         lambda: efros_leung(ex.astype(np.float32), 128, search=Search(method="pca"), rng=0, return_info=True)),
         ("synthesize_pixels defaults", lambda: (synthesize_pixels(ex, 128, rng=0), None)),
         ("synthesize_pixels 1 level, 11x11",
-         lambda: (synthesize_pixels(ex, 128, neighborhood_size=11, levels=1, rng=0), None)),
+         lambda: (synthesize_pixels(ex, 128, neighborhood=Neighborhood(neighborhood_size=11, levels=1), rng=0), None)),
     ]
     print(f"{'run':<34}{'wall s':>8}{'CPU s':>8}{'energy':>8}{'compl.':>8}{'spectrum':>9}{'copy':>7}")
     for name, fn in runs:

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth import optimize_texture, synthesize_controlled
+from texsynth.optimization import Fields
 from texsynth.io import load_image, save_image
 
 PHOTOS = Path(__file__).resolve().parent / "photos"
@@ -66,7 +67,7 @@ def figure():
         ex = exemplar(PHOTOS / f"{name}.png")
         column = np.ones((N, 128, 3), np.float32)
         column[:128] = ex
-        panels = [column] + [optimize_texture(ex, N, rng=0, **kw) for kw in (
+        panels = [column] + [optimize_texture(ex, N, rng=0, fields=Fields(**kw)) for kw in (
             {}, {"orientation": vortex}, {"scale": grow}, {"orientation": vortex, "scale": grow})]
         row = panels[0]
         for panel in panels[1:]:
@@ -85,7 +86,7 @@ def main():
     ex = exemplar(args.texture)
     OUT.mkdir(parents=True, exist_ok=True)
     methods = {
-        "optimize_texture": lambda **kw: optimize_texture(ex, N, rng=0, **kw),
+        "optimize_texture": lambda **kw: optimize_texture(ex, N, rng=0, fields=Fields(**kw)),
         "synthesize_controlled": lambda **kw: synthesize_controlled(ex, N, rng=0, **kw),
     }
     print(f"{'method':24s} {'plain s':>8s} {'fields s':>9s} {'ratio':>6s}")

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth import optimize_texture
+from texsynth.optimization import Guides
 from texsynth.io import load_image
 
 HERE = Path(__file__).resolve().parent
@@ -43,9 +44,9 @@ def main():
     print("|---|---|---|---|---|")
     for seed in args.seeds:
         times = {}
-        for name, guides in (("unguided", {}), ("guided", dict(exemplar_guide=labels, output_guide=disc))):
+        for name, guides in (("unguided", Guides()), ("guided", Guides(exemplar_guide=labels, output_guide=disc))):
             t = time.perf_counter()
-            out = optimize_texture(ex, SIZE, rng=seed, **guides)
+            out = optimize_texture(ex, SIZE, rng=seed, guides=guides)
             times[name] = time.perf_counter() - t
             scores = [np.linalg.norm(out[m].mean(0) - mg) - np.linalg.norm(out[m].mean(0) - mp)
                       for m in (disc > 0, disc == 0)]

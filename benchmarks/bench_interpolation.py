@@ -9,10 +9,11 @@ the plain linear blend (Figure 1a) and, as the reference for the paper's own fig
 paper's 3.5 hours for a 1024x256 sequence on a 4-core Q6600.
 
 With ``--caps``: what the cost caps cost in quality. The alpha = 0.5 256x256 run with the
-defaults (``max_feature_points=24, max_neighborhoods=1024``) and with both doubled (48, 2048),
+defaults (``Correspondences(max_feature_points=24)``, ``NeighborhoodSet(max_neighborhoods=1024)``)
+and with both doubled (48, 2048),
 two seeds each: time, stage times, and texture energy against I1 and I2.
 
-With ``--candidates``: the alpha = 0.5 run with the paper's correspondences (``candidates="all"``,
+With ``--candidates``: the alpha = 0.5 run with the paper's correspondences (``Search(candidates="all")``,
 every neighbourhood of the other texture) and with k-coherent ones, side by side: time, stage
 times, texture energy against I1 and I2, and the mean weighted distance of each stage's
 correspondences over exact search's. ``--candidates --photos A B --side N``: only the
@@ -27,11 +28,14 @@ import argparse
 import os
 import time
 
-import numpy as np
+from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 
-from texsynth.optimization import interpolate_textures, linear_blend, transition_alpha_map
+from texsynth.core.search import Search
+from texsynth.optimization import (Correspondences, InterpolationSchedule, NeighborhoodSet, interpolate_textures,
+                                   linear_blend, transition_alpha_map)
 from texsynth.io import load_image, save_image
 from texsynth.metrics import texture_energy
 
@@ -67,7 +71,7 @@ def main():
     if args.candidates:
         return candidates(args.quick, args.photos, args.side)
     n = 64 if args.quick else 128
-    opts = dict(stages=((2, 17), (1, 17)), max_iterations=3) if args.quick else {}
+    opts = _quick(args.quick)
     a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
     b = load_image(TEXTURES / "rohitrango" / "t7.png")[:n, :n, :3]
     print(f"exemplars {n}x{n} brick <-> slate (rohitrango t1, t7); paper defaults unless noted; "
@@ -93,10 +97,15 @@ def main():
     print("paper: 1024x256 sequence, 3.5 h on a 4-core Q6600 (20 min patch interpolation, C++)")
 
 
+def _quick(quick):
+    """The options of --quick: stages (2, 17), (1, 17), 3 iterations (the paper's schedule without it)."""
+    return dict(schedule=InterpolationSchedule(stages=((2, 17), (1, 17)), max_iterations=3)) if quick else {}
+
+
 def caps(quick):
     """Default vs doubled caps (max_feature_points, max_neighborhoods), two seeds each."""
     n = 64 if quick else 128
-    opts = dict(stages=((2, 17), (1, 17)), max_iterations=3) if quick else {}
+    opts = _quick(quick)
     a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
     b = load_image(TEXTURES / "rohitrango" / "t7.png")[:n, :n, :3]
     print(f"caps: exemplars {n}x{n} brick <-> slate, alpha = 0.5 -> {2 * n}x{2 * n}; load average {load():.2f}")
@@ -104,7 +113,8 @@ def caps(quick):
         for seed in (0, 1):
             t0 = time.perf_counter()
             mid, info = interpolate_textures(a, b, 0.5, size=2 * n, rng=seed, return_info=True,
-                                             max_feature_points=points, max_neighborhoods=hoods, **opts)
+                                             correspondences=Correspondences(max_feature_points=points),
+                                             neighborhood_set=NeighborhoodSet(max_neighborhoods=hoods), **opts)
             seconds = time.perf_counter() - t0
             row(f"points={points} neighborhoods={hoods} seed={seed}", seconds, info,
                 (texture_energy(mid, a), texture_energy(mid, b)))
@@ -117,10 +127,10 @@ def candidates(quick, photos=None, side=256):
     import warnings
 
     from texsynth.core.neighborhood import all_patches
-    from texsynth.optimization._ruiters import _check_inputs, _correspondences, _stage_textures
+    from texsynth.optimization._ruiters_neighborhoods import _correspondences, check_inputs, stage_textures
 
     n = 64 if quick else 128
-    opts = dict(stages=((2, 17), (1, 17)), max_iterations=3) if quick else {}
+    opts = _quick(quick)
     a = load_image(TEXTURES / "rohitrango" / "t1.png")[:n, :n, :3]
     b = load_image(TEXTURES / "rohitrango" / "t7.png")[:n, :n, :3]
     if photos:
@@ -132,20 +142,20 @@ def candidates(quick, photos=None, side=256):
               f"{load():.2f}")
     for label in ("all", "k-coherent") if not photos else ():
         t0 = time.perf_counter()
-        mid, info = interpolate_textures(a, b, 0.5, size=2 * n, rng=0, return_info=True, candidates=label, **opts)
+        mid, info = interpolate_textures(a, b, 0.5, size=2 * n, rng=0, return_info=True,
+                                         search=Search(candidates=label), **opts)
         row(f"candidates={label}", time.perf_counter() - t0, info, (texture_energy(mid, a), texture_energy(mid, b)))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # no feature maps given: colour-only pairs
-        p = _check_inputs(a, b, features=None, distance_weight=1.0, k=1, keep_fraction=0.5, feature_weight=0.5,
-                          max_feature_points=24, max_neighborhoods=1024, max_set_size=16384, rpm_options=None,
-                          method="auto")
-    for r, s in opts.get("stages", ((2, 33), (2, 17), (1, 17))):
-        t1, t2 = _stage_textures(p, r, s)
+        p = check_inputs(a, b, None, Correspondences(), NeighborhoodSet(), Search())
+    for r, s in opts.get("schedule", InterpolationSchedule()).stages:
+        t1, t2 = stage_textures(p, r, s)
         v1, v2 = all_patches(t1.image, s), all_patches(t2.image, s)
         found = {}
         for label in ("all", "k-coherent"):
             t0 = time.perf_counter()
-            c1, c2 = _correspondences(t1, t2, s, p.channel_weights, 1, np.random.default_rng(0), "exact", label)
+            c1, c2 = _correspondences(t1, t2, s, replace(p, method="exact", candidates=label),
+                                      np.random.default_rng(0))
             seconds = time.perf_counter() - t0
             d = (((v1[c1[:, 0], c1[:, 1]] - v2[c2[:, 0], c2[:, 1]]) ** 2) * p.channel_weights).sum((1, 2, 3))
             found[label] = (seconds, float(d.mean()))

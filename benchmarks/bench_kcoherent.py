@@ -34,12 +34,13 @@ from pathlib import Path
 import numpy as np
 
 from texsynth import metrics, mix_textures, synthesize_pixels
+from texsynth.core.search import Search
 from texsynth.io import load_image, save_image
 
 HERE = Path(__file__).resolve().parent
 PHOTOS = ("bricks_1", "tiles_1", "roof_1")
-RUNS = (("all", {}), ("k-coherent k=1", dict(candidates="k-coherent")),
-        ("k-coherent k=2", dict(candidates="k-coherent", k=2)))
+RUNS = (("all", {}), ("k-coherent k=1", dict(search=Search(candidates="k-coherent"))),
+        ("k-coherent k=2", dict(search=Search(candidates="k-coherent", k=2))))
 
 
 def main():
@@ -93,8 +94,8 @@ def optimization(photos, figure=False):
     for photo in photos:
         exemplar = load(photo, 256)
         panels = [exemplar]
-        for label, options in (("all", {}), ("k-coherent k=1", dict(candidates="k-coherent", k=1)),
-                               ("k-coherent k=4", dict(candidates="k-coherent", k=4))):
+        for label, options in (("all", {}), ("k-coherent k=1", dict(search=Search(candidates="k-coherent", k=1))),
+                               ("k-coherent k=4", dict(search=Search(candidates="k-coherent", k=4)))):
             start = time.perf_counter()
             out = texsynth.optimize_texture(exemplar, 1024, rng=0, **options)
             seconds = time.perf_counter() - start
@@ -117,7 +118,7 @@ def mixture(size):
     a, b = (np.ascontiguousarray(load_image(HERE / "photos" / f"{p}.png")[:128, :128, :3])
             for p in ("bricks_1", "cobblestones_2"))
     ramp = np.broadcast_to(np.linspace(0.0, 1.0, size), (size, size))
-    for label, options in (("all", {}), ("k-coherent", dict(candidates="k-coherent"))):
+    for label, options in (("all", {}), ("k-coherent", dict(search=Search(candidates="k-coherent")))):
         start = time.perf_counter()
         out = mix_textures([a, b], size, weights=[1 - ramp, ramp], rng=0, **options)
         print(f"mixture bricks_1 + cobblestones_2 -> {size}², {label}: {time.perf_counter() - start:.1f} s", flush=True)

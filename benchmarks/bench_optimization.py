@@ -14,7 +14,8 @@ one-iteration run), the final texture energy (texsynth.metrics.texture_energy,
 exact), its cost and the speed-up against the exact backend. ``before`` is
 ``auto`` with the M-step of the previous release, kept here for the side-by-side
 comparison: every neighbourhood searched again in every M-step, 16 kd-tree
-candidates with eps = 1 (``_RESEARCH_TOLERANCE = 0``, ``_INDEX = {}``).
+candidates with eps = 1 (``_RESEARCH_TOLERANCE = 0``, and the index's
+``"default"`` search profile in place of the M-step's ``"stage"``).
 With ``--repeats N`` the methods are run N times, interleaved, and the
 median is printed. Then the options that meet the issue's completeness and
 copy bounds (``completeness_weight=1, copy_limit=0.2``): time and texture
@@ -42,10 +43,11 @@ from pathlib import Path
 import numpy as np
 
 from texsynth.core import flows
+from texsynth.core.em import _estep, _patches  # where the M-step's index and the gradient solve are looked up
 from texsynth.optimization import _kwatra as opt
 from texsynth.io import load_image
 from texsynth.metrics import completeness, texture_energy, verbatim_copy
-from texsynth.optimization import animate_texture, optimize_texture
+from texsynth.optimization import Schedule, Search, Terms, animate_texture, optimize_texture
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 
@@ -56,22 +58,28 @@ def load():
 
 @contextlib.contextmanager
 def previous_m_step():
-    """The M-step of the previous release: full re-search, PatchIndex's default kd-tree options."""
-    saved = opt._RESEARCH_TOLERANCE, opt._INDEX
-    opt._RESEARCH_TOLERANCE, opt._INDEX = 0.0, {}
+    """The M-step of the previous release: full re-search, PatchIndex's default kd-tree options (the
+    search profile "default" where the M-step asks for "stage")."""
+    index = _patches.PatchIndex
+
+    def default_index(*args, profile="default", **kwargs):
+        return index(*args, profile="default" if profile == "stage" else profile, **kwargs)
+
+    saved = opt._RESEARCH_TOLERANCE
+    opt._RESEARCH_TOLERANCE, _patches.PatchIndex = 0.0, default_index
     try:
         yield
     finally:
-        opt._RESEARCH_TOLERANCE, opt._INDEX = saved
+        opt._RESEARCH_TOLERANCE, _patches.PatchIndex = saved, index
 
 
-def run(ex, label, seed, **kwargs):
+def run(ex, label, seed, terms=Terms()):
     method = "auto" if label == "before" else label
     ctx = previous_m_step() if label == "before" else contextlib.nullcontext()
     with ctx:
         l0 = os.getloadavg()[0]
         t0, c0 = time.perf_counter(), time.process_time()
-        out, info = optimize_texture(ex, 256, method=method, rng=seed, return_info=True, **kwargs)
+        out, info = optimize_texture(ex, 256, search=Search(method=method), terms=terms, rng=seed, return_info=True)
         seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
     return dict(out=out, info=info, seconds=seconds, cpu=cpu, load=l0)
 
@@ -103,7 +111,8 @@ def main():
         ctx = previous_m_step() if m == "before" else contextlib.nullcontext()
         with ctx:
             tracemalloc.start()
-            optimize_texture(ex, 256, method="auto" if m == "before" else m, rng=args.seed, max_iterations=1)
+            optimize_texture(ex, 256, search=Search(method="auto" if m == "before" else m), rng=args.seed,
+                             schedule=Schedule(max_iterations=1))
             peak = tracemalloc.get_traced_memory()[1] / 2**20
             tracemalloc.stop()
         rows.append((m, best, peak, texture_energy(best["out"], ex)))
@@ -121,7 +130,7 @@ def main():
         print("all runs (wall s):", {m: [round(r["seconds"], 1) for r in runs[m]] for m in methods})
     if not args.no_bidirectional:
         # the options that meet the issue's completeness and copy bounds, against the defaults
-        b = run(ex, "auto", args.seed, completeness_weight=1.0, copy_limit=0.2)
+        b = run(ex, "auto", args.seed, terms=Terms(completeness_weight=1.0, copy_limit=0.2))
         base = next((r for r in rows if r[0] == "auto"), rows[0])
         lv = b["info"].level_seconds
         e = texture_energy(b["out"], ex)
@@ -134,19 +143,19 @@ def main():
     if not args.no_gradient:
         # μ = 10 (the paper's value), non-tileable: CG on the Poisson-like E-step
         stats = []
-        solve = opt._solve_gradient_system
+        solve = _estep.solve_gradient_system
 
-        def spy(*a):
+        def spy(*a, **kw):
             st = {}
-            x = solve(*a, stats=st)
+            x = solve(*a, stats=st, **kw)
             stats.append(st)
             return x
 
-        opt._solve_gradient_system = spy
+        _estep.solve_gradient_system = spy
         try:
-            g = run(ex, "auto", args.seed, gradient_weight=10.0)
+            g = run(ex, "auto", args.seed, terms=Terms(gradient_weight=10.0))
         finally:
-            opt._solve_gradient_system = solve
+            _estep.solve_gradient_system = solve
         lv = g["info"].level_seconds
         its = [s["iterations"] for s in stats]
         print(f"{'auto mu=10':10s} wall {g['seconds']:.1f} s, cpu {g['cpu']:.1f} s, levels "
@@ -156,13 +165,14 @@ def main():
     if not args.no_frames:
         # flow-guided 256x256 frames (frame 1 given: only the constrained re-synthesis is timed);
         # the first timed frame includes the one-off index builds of the sequence
-        first = optimize_texture(ex, 256, neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)
+        first = optimize_texture(ex, 256, schedule=Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=1), rng=0)
         rot = flows.rotation((256, 256), 0.05)
         print(f"{'flow frames 256x256':24s} {'first s':>8s} {'next s':>7s} {'energy':>8s} {'flicker':>8s}  (load {load()})")
         for m in methods:
             if m == "before":
                 continue
-            video, ainfo = animate_texture(ex, rot, n_frames=5, first_frame=first, method=m, rng=0, return_info=True)
+            video, ainfo = animate_texture(ex, rot, n_frames=5, first_frame=first, search=Search(method=m), rng=0,
+                                           return_info=True)
             flicker = np.mean([np.mean(np.abs(video[i + 1] - flows.warp(video[i], rot, mode="nearest", spline_order=3)))
                                for i in range(len(video) - 1)])
             print(f"{m:24s} {ainfo.frame_seconds[0]:8.2f} {ainfo.frame_seconds[1:].mean():7.2f} "

@@ -8,6 +8,11 @@ answer is compared with an exact reference:
   scikit-learn's ``KMeans`` and ``MiniBatchKMeans``: tree build time, query
   time, recall@1 and distance ratio of the whole TSVQ search against exact
   search;
+- the colour PCA of the statistical methods (``core.color.color_pca``: the
+  3 x 3 covariance and ``numpy.linalg.eigh``) against ``sklearn.decomposition.PCA``
+  (``svd_solver="covariance_eigh"`` and ``"full"``) on the pixels of 256 and 400 px
+  photographs (the exemplar sizes of Heeger-Bergen, Portilla-Simoncelli and tiling
+  and blending): time, and the angle between the two first axes;
 - the kd-tree's PCA (``core.search._kdtree.pca``: scatter matrix up to 256-D,
   randomized subspace iteration above) against ``sklearn.utils.extmath.
   randomized_svd`` and ``sklearn.decomposition.PCA``: time and the variance
@@ -27,7 +32,7 @@ answer is compared with an exact reference:
 
 Usage::
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/bench_packages.py [--quick]
+    OPENBLAS_NUM_THREADS=1 python benchmarks/bench_packages.py [--quick] [--parts tsvq,pca,color,exact,skimage]
 """
 
 from __future__ import annotations
@@ -41,6 +46,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from texsynth.core import pyramid
+from texsynth.core.color import color_pca
 from texsynth.core.search import PatchIndex, _kdtree, _tsvq
 from texsynth.io import load_image
 from texsynth.optimization import _ruiters
@@ -157,6 +163,27 @@ def bench_pca(samples):
         row(label, "sklearn PCA(svd_solver='full')", f"{t:.3f}", f"{captured(pca.components_):.4f}")
 
 
+# --------------------------------------------------------------------------- colour PCA
+def bench_color_pca(images):
+    from sklearn.decomposition import PCA
+
+    print("\n### Colour PCA of an exemplar (3 x 3 covariance)\n")
+    row("pixels", "routine", "s", "first axis vs texsynth's (|cos|)")
+    row(*["---"] * 4)
+    for label, image in images.items():
+        pixels = np.ascontiguousarray(image.reshape(-1, image.shape[-1]), dtype=np.float64)
+        t, (_, basis) = best_of(lambda: color_pca(pixels), 5)
+        row(label, "texsynth color_pca (covariance, numpy eigh)", f"{t:.4f}", "1")
+        for solver in ("covariance_eigh", "full"):
+            try:
+                t, pca = best_of(lambda: PCA(3, svd_solver=solver).fit(pixels), 5)
+            except ValueError as exc:  # covariance_eigh needs scikit-learn >= 1.5
+                row(label, f"sklearn PCA(svd_solver={solver!r})", "-", str(exc).splitlines()[0])
+                continue
+            row(label, f"sklearn PCA(svd_solver={solver!r})", f"{t:.4f}",
+                f"{abs(float(pca.components_[0] @ basis[:, 0])):.6f}")
+
+
 # --------------------------------------------------------------------------- exact search
 def bench_exact(vectors, queries):
     from sklearn.metrics import pairwise_distances_argmin_min
@@ -249,21 +276,29 @@ def bench_skimage(image):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="smaller sets")
+    parser.add_argument("--parts", default="tsvq,pca,color,exact,skimage", help="comma-separated parts to run")
     args = parser.parse_args()
+    parts = set(args.parts.split(","))
     s = 100 if args.quick else 230
     print(f"{platform.node()} {platform.processor() or platform.machine()}, Python {platform.python_version()}, "
           f"numpy {np.__version__}")
     vectors = patches("embark/multiexample/1.jpg", 7, ((0, s), (0, s))).astype(np.float32)
     queries = patches("embark/multiexample/2.jpg", 7, ((100, 100 + s // 3), (100, 100 + s // 3))).astype(np.float32)
     print(f"colour 7x7 neighbourhoods (147-D): {len(vectors)} indexed, {len(queries)} queries")
-    _, truth_d2 = exact_reference(vectors, queries)
-    bench_tsvq(vectors, queries, truth_d2)
-    large = patches("embark/1.jpg", 32, ((0, 64 if args.quick else 96), (0, 96))).astype(np.float32)
-    bench_pca({"147-D colour 7x7 (20000 rows)": vectors[:20000], "3072-D colour 32x32 (1365 rows)": large[:1365]})
-    bench_exact(vectors, queries)
+    if "tsvq" in parts:
+        _, truth_d2 = exact_reference(vectors, queries)
+        bench_tsvq(vectors, queries, truth_d2)
+    if "pca" in parts:
+        large = patches("embark/1.jpg", 32, ((0, 64 if args.quick else 96), (0, 96))).astype(np.float32)
+        bench_pca({"147-D colour 7x7 (20000 rows)": vectors[:20000], "3072-D colour 32x32 (1365 rows)": large[:1365]})
     image = load_image(TEXTURES / "embark/multiexample/1.jpg")[..., :3]
+    if "color" in parts:
+        bench_color_pca({f"{n}x{n} photograph": image[:n, :n] for n in (256, min(image.shape[:2]))})
+    if "exact" in parts:
+        bench_exact(vectors, queries)
     image = image if not args.quick else image[:256, :256]
-    bench_skimage(np.ascontiguousarray(image))
+    if "skimage" in parts:
+        bench_skimage(np.ascontiguousarray(image))
 
 
 if __name__ == "__main__":

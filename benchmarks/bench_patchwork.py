@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth.patch import _patchwork as pw
+from texsynth.patch import patchwork_transfer, patchwork_video
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -67,7 +68,7 @@ def all_cells(exemplar, info, shape, f=6.0):
 
 def omitted_share(size, spacing, f, m, seed=0, taper=True):
     """Share of sum_i w_i^2 that the m x m bound leaves out (tapered or plainly cut): (mean, max) over pixels."""
-    geom = pw._Geometry((size, size), (size, size), spacing, f, m, False, np.random.default_rng(seed),
+    geom = pw.Geometry((size, size), (size, size), spacing, f, m, False, np.random.default_rng(seed),
                         choose_q=False)
     H = W = size
     included = np.zeros((H, W))
@@ -118,7 +119,7 @@ def main():
     print("\nVideo: 32-frame 160x160 colour input (a window sliding over embark/1.jpg), grid 64, f = 6")
     water = load_image(TEXTURES / "embark" / "1.jpg").astype(np.float32)
     clip = np.stack([water[t : t + 160, 2 * t : 2 * t + 160] for t in range(32)])
-    t = best_of(lambda: pw.patchwork_video(clip, 128, 64, rng=0), args.repeat)
+    t = best_of(lambda: patchwork_video(clip, 128, 64, rng=0), args.repeat)
     t_copy = best_of(lambda: np.repeat(clip[:1], 64, 0)[:, :128, :128] * np.float32(1.0), args.repeat)
     print(f"  128x128x64 output: {t:.3f} s   (copy of the same amount of frames: {t_copy:.3f} s)")
 
@@ -127,7 +128,7 @@ def main():
     from skimage.transform import resize
 
     pattern = np.repeat(resize(skdata.camera(), (512, 512)).astype(np.float32)[..., None], 3, -1)
-    t = best_of(lambda: pw.patchwork_transfer(ink, pattern, rng=0), args.repeat)
+    t = best_of(lambda: patchwork_transfer(ink, pattern, rng=0), args.repeat)
     t_syn = best_of(lambda: pw.patchwork(ink, 512, grid_spacing=16, sharpness=2, rng=0), args.repeat)
     print(f"  512x512 pattern: {t:.3f} s   (the same synthesis without matching: {t_syn:.3f} s)")
 

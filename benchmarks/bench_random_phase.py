@@ -57,9 +57,9 @@ def main():
     rows = []
     for label, ex in (("bread 99x108 colour", bread), ("bread, float32 input", bread.astype(np.float32)),
                       ("metal 256x256 grey", metal)):
-        for method in ("rpn", "adsn"):
-            rows.append((f"random_phase_noise {method}", label, ex,
-                         lambda seed, ex=ex, method=method: random_phase_noise(ex, SIZE, method=method, rng=seed),
+        for process in ("rpn", "adsn"):
+            rows.append((f"random_phase_noise {process}", label, ex,
+                         lambda seed, ex=ex, process=process: random_phase_noise(ex, SIZE, process=process, rng=seed),
                          args.repeat))
         if "float32" not in label:
             rows.append(("numpy RPN (complex128, 1 thread)", label, ex,

@@ -45,7 +45,8 @@ def main():
     ex = exemplar()
 
     start = time.perf_counter()
-    out, info = texsynth.synthesize_surface(sphere(10242), ex, n_vertices=args.vertices, levels=3, rng=0,
+    out, info = texsynth.synthesize_surface(sphere(10242), ex, n_vertices=args.vertices,
+                                            schedule=texsynth.SurfaceSchedule(levels=3), rng=0,
                                             preset=args.preset, return_info=True)
     total = time.perf_counter() - start
     stages = ", ".join(f"{k} {v:.1f}" for k, v in info.stage_seconds.items())

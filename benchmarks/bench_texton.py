@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth import synthesize_controlled, synthesize_pixels
+from texsynth.core.search import Search
 from texsynth.io import load_image
 
 HERE = Path(__file__).resolve().parent
@@ -51,7 +52,7 @@ def main():
         other = exemplars[PHOTOS[1] if photo == PHOTOS[0] else PHOTOS[0]]
         runs = [
             ("synthesize_pixels(candidates='k-coherent') [reference]",
-             lambda: synthesize_pixels(exemplar, SIZE, candidates="k-coherent", rng=0)),
+             lambda: synthesize_pixels(exemplar, SIZE, search=Search(candidates="k-coherent"), rng=0)),
             ("controlled, no mask, no fields", lambda: synthesize_controlled(exemplar, SIZE, texton_mask=None, rng=0)),
             ("controlled, texton mask", lambda: synthesize_controlled(exemplar, SIZE, rng=0)),
             ("controlled, texton mask + vortex orientation + scale gradient",

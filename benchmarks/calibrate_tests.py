@@ -19,9 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
+from texsynth import InterpolationSchedule, NeighborhoodSet
 from texsynth import (find_textons, interpolate_textures, linear_blend, metrics, optimize_texture,
                       ridge_feature_map, synthesize_controlled)
 from texsynth.io import load_image
+from texsynth.optimization import Terms
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
@@ -60,16 +62,16 @@ def optimization_paper(name, seed):
 
 
 def optimization_bidirectional(name, seed):
-    return _quality(name, seed, preset="paper", completeness_weight=1.0, copy_limit=0.2)
+    return _quality(name, seed, preset="paper", terms=Terms(completeness_weight=1.0, copy_limit=0.2))
 
 
 def optimization_pairs(name, seed):
     """The paired tests of tests/test_optimization.py: one option against the paper's preset, same seed."""
     ex = texture(name, 64)
     paper = optimize_texture(ex, 96, rng=seed, preset="paper")
-    complete = optimize_texture(ex, 96, rng=seed, preset="paper", completeness_weight=1.0)
-    limited = optimize_texture(ex, 96, rng=seed, preset="paper", copy_limit=0.1)
-    spread = optimize_texture(ex, 96, rng=seed, preset="paper", occurrence_weight=1.0)
+    complete = optimize_texture(ex, 96, rng=seed, preset="paper", terms=Terms(completeness_weight=1.0))
+    limited = optimize_texture(ex, 96, rng=seed, preset="paper", terms=Terms(copy_limit=0.1))
+    spread = optimize_texture(ex, 96, rng=seed, preset="paper", terms=Terms(occurrence_weight=1.0))
     mosaic = metrics.mosaic_baseline(ex, 96, rng=0)
     c, v, e = metrics.completeness, metrics.verbatim_copy, metrics.texture_energy
     return {"completeness: complete/paper": c(complete, ex) / c(paper, ex),
@@ -84,7 +86,7 @@ def optimization_4x(name, seed):
     """tests/test_optimization.py::test_defaults_at_4x_keep_the_completeness_term_on_the_coarse_levels."""
     ex = texture(name, 64)
     out = optimize_texture(ex, 128, rng=seed)
-    off = optimize_texture(ex, 128, completeness_weight=0, rng=seed)
+    off = optimize_texture(ex, 128, terms=Terms(completeness_weight=0), rng=seed)
     return {"completeness on/off": metrics.completeness(out, ex) / metrics.completeness(off, ex),
             "verbatim": metrics.verbatim_copy(out, ex)}
 
@@ -107,7 +109,8 @@ def interpolation_halfway(name, seed):
     a = resize(texture(name, None), (96, 96), anti_aliasing=True)
     b = resize(texture("rohitrango/t13.png", None), (96, 96), anti_aliasing=True)
     out = interpolate_textures(a, b, 0.5, features=(ridge_feature_map(a), ridge_feature_map(b)),
-                               stages=((2, 17), (1, 17), (1, 9)), max_iterations=4, max_neighborhoods=400, rng=seed)
+                               schedule=InterpolationSchedule(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4),
+                               neighborhood_set=NeighborhoodSet(max_neighborhoods=400), rng=seed)
     blend = linear_blend(a, b, 0.5)
     e = metrics.texture_energy
     return {"sharpness/blend": _sharpness(out) / _sharpness(blend), "energy a/blend": e(out, a) / e(blend, a),

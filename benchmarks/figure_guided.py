@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth import optimize_texture
+from texsynth.optimization import Guides
 from texsynth.io import load_image, save_image
 
 HERE = Path(__file__).resolve().parent
@@ -33,7 +34,7 @@ def main():
     yy, xx = np.mgrid[:96, :96]
     disc = ((yy - 47.5) ** 2 + (xx - 47.5) ** 2 <= 28**2).astype(float)
     t = time.perf_counter()
-    guided = optimize_texture(ex, 96, exemplar_guide=labels, output_guide=disc, rng=0)
+    guided = optimize_texture(ex, 96, guides=Guides(exemplar_guide=labels, output_guide=disc), rng=0)
     t_guided = time.perf_counter() - t
     t = time.perf_counter()
     plain = optimize_texture(ex, 96, rng=0)

@@ -11,6 +11,9 @@ Usage::
 
     python benchmarks/interpolation_ends.py                       # 3 pairs x 2 ends x seeds 0-2
     python benchmarks/interpolation_ends.py '{"max_iterations": 8}'   # extra interpolate_textures options
+
+The extra options are named by their fields (``max_iterations``, ``keep_fraction``, ...) and go into
+the option group that has the field.
 """
 
 import json
@@ -20,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth.optimization import interpolate_textures
+from texsynth.registry import group_options
 from texsynth.io import load_image
 from texsynth.metrics import mosaic_baseline, noise_baseline, texture_energy, tiled_baseline
 from texsynth.optimization import optimize_texture
@@ -43,7 +47,8 @@ def main():
         for name_a, name_b in PAIRS:
             a, b = crop(name_a), crop(name_b)
             for alpha, ref, name in ((0.0, a, name_a), (1.0, b, name_b)):
-                ours = interpolate_textures(a, b, alpha, **{**OPTIONS, "rng": seed, **extra})
+                ours = interpolate_textures(a, b, alpha, **group_options(interpolate_textures,
+                                                                         {**OPTIONS, "rng": seed, **extra}))
                 kwatra = optimize_texture(ref, SIZE, tileable=True, rng=seed)
                 energy = {key: texture_energy(image, ref) for key, image in (
                     ("ours", ours), ("kwatra", kwatra), ("mosaic", mosaic_baseline(ref, SIZE, rng=seed)),

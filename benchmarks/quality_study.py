@@ -47,6 +47,7 @@ import numpy as np
 import texsynth
 from texsynth import metrics
 from texsynth.io import save_image
+from texsynth.registry import group_options
 
 from bench_production import OUTPUT, load, resynthesize
 
@@ -94,7 +95,9 @@ def study(photos, scales, seed=0, options=None, peer=True):
                 if method == "resynthesizer":
                     out = resynthesize(exemplar, SIZE)
                 else:
-                    out = texsynth.optimize_texture(exemplar, SIZE, rng=seed, **(options or {}))
+                    # flat options (a field of an option group, e.g. completeness_weight) into their groups
+                    out = texsynth.optimize_texture(exemplar, SIZE, rng=seed,
+                                                    **group_options(texsynth.optimize_texture, options or {}))
                 seconds = time.perf_counter() - start
                 OUTPUT.mkdir(exist_ok=True)
                 save_image(OUTPUT / f"quality_{photo}_{scale}x_{method}{suffix}.png", np.clip(out, 0, 1),

@@ -53,7 +53,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     parser.add_argument("--preset", default="default")
-    parser.add_argument("--order", default=None, help="the visiting order (default: the preset's)")
+    parser.add_argument("--order", default="auto", help="the visiting order (default: the preset's)")
     parser.add_argument("--passes", type=int, default=None, help="passes per level (default: the preset's)")
     parser.add_argument("--preview", default=None)
     args = parser.parse_args()
@@ -62,8 +62,9 @@ def main():
         for name, path in PHOTOS.items():
             ex = np.ascontiguousarray(load_image(path)[:128, :128, :3])
             start = time.perf_counter()
-            out, info = texsynth.synthesize_surface(mesh, ex, n_vertices=20000, levels=3, preset=args.preset,
-                                                    order=args.order, passes=args.passes,
+            schedule = texsynth.SurfaceSchedule(levels=3, order=args.order,
+                                                passes="auto" if args.passes is None else args.passes)
+            out, info = texsynth.synthesize_surface(mesh, ex, n_vertices=20000, schedule=schedule, preset=args.preset,
                                                     field=lambda p: np.tile([1.0, 0, 0], (len(p), 1)), rng=seed,
                                                     return_info=True)
             seconds = time.perf_counter() - start

@@ -20,6 +20,7 @@ import numpy as np
 
 import texsynth
 from texsynth import data
+from texsynth.core.search import Search
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "_static" / "gallery_strip.png"
 SIZE = (128, 128)
@@ -29,7 +30,8 @@ PANELS = [
     ("image quilting", "brick", lambda ex: texsynth.quilt(ex, SIZE, rng=0)),
     ("graph cuts", "bread", lambda ex: texsynth.graphcut_texture(ex, SIZE, rng=0)),
     ("texture optimization", "wood", lambda ex: texsynth.optimize_texture(ex, SIZE, rng=0)),
-    ("k-coherent pixels", "bumpy", lambda ex: texsynth.synthesize_pixels(ex, SIZE, candidates="k-coherent", rng=0)),
+    ("k-coherent pixels", "bumpy",
+     lambda ex: texsynth.synthesize_pixels(ex, SIZE, search=Search(candidates="k-coherent"), rng=0)),
     ("patchwork", "water", lambda ex: texsynth.patchwork(ex, SIZE, rng=0)),
     ("Wang tiles", "reptile", lambda ex: texsynth.wang_texture(ex, SIZE, rng=0)),
     ("Heeger-Bergen", "metal", lambda ex: texsynth.heeger_bergen(ex, SIZE, rng=0)),

@@ -32,6 +32,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from texsynth.core.pyramid import downsample
+from texsynth.core.search import Search
 from texsynth.io import load_image, save_image
 from texsynth.metrics import texture_report
 from texsynth.pixel import efros_leung
@@ -112,7 +113,7 @@ ex = load("jcjohnson/bread.png", 64)
 fig, axes = plt.subplots(1, 3, figsize=(12, 4.4))
 show(axes[0], ex, "exemplar 64x64")
 for ax, method in zip(axes[1:], ("exact", "pca")):
-    out, info = efros_leung(ex, 128, method=method, rng=0, return_info=True)
+    out, info = efros_leung(ex, 128, search=Search(method=method), rng=0, return_info=True)
     scores = relative_scores(texture_report(out, ex))
     title = f"{method}: {info.seconds:.1f} s, energy score {scores['energy']:.2f}"
     print(title, "PCA dimensions" if method == "pca" else "", info.n_components)

@@ -39,7 +39,7 @@ import numpy as np  # noqa: E402
 from texsynth import metrics
 from texsynth.core import flows  # noqa: E402
 from texsynth.io import load_image, save_frames  # noqa: E402
-from texsynth.optimization import animate_texture# noqa: E402
+from texsynth.optimization import Animation, animate_texture  # noqa: E402
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"
@@ -72,8 +72,8 @@ video, info = animate_texture(exemplar, rot, n_frames=frames, rng=0, return_info
 save_frames(OUT / "flow_rotation.gif", video, fps=8, overwrite=True)
 print(f"rotation: frame 1 {info.first.seconds:.1f} s")
 report("frame_falloff=0.25 (default)", video, info.frame_seconds.mean())
-plain, pinfo = animate_texture(exemplar, rot, n_frames=frames, first_frame=video[0], frame_falloff=None, rng=0,
-                               return_info=True)
+plain, pinfo = animate_texture(exemplar, rot, n_frames=frames, first_frame=video[0],
+                               animation=Animation(frame_falloff=None), rng=0, return_info=True)
 report("frame_falloff=None (plain E-step)", plain, pinfo.frame_seconds.mean())
 
 fig, axes = plt.subplots(2, 4, figsize=(14, 7.4))

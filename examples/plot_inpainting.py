@@ -37,7 +37,7 @@ import numpy as np  # noqa: E402
 from scipy import ndimage  # noqa: E402
 
 from texsynth.io import load_image, save_image  # noqa: E402
-from texsynth.optimization import optimize_texture# noqa: E402
+from texsynth.optimization import Constraints, Schedule, optimize_texture  # noqa: E402
 from texsynth.core.pyramid import downsample# noqa: E402
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -60,9 +60,11 @@ def sharpness(img, where):
     return (dx.mean() + dy.mean()) / 2
 
 
-common = dict(mask=known, target=image, constraint_weight=100.0, exemplar_mask=known, rng=0, return_info=True)
+common = dict(constraints=Constraints(mask=known, target=image, constraint_weight=100.0, exemplar_mask=known), rng=0,
+              return_info=True)
 filled, info = optimize_texture(image, image.shape[:2], **common)  # defaults: 3 levels, 32/16/8
-smeared, sinfo = optimize_texture(image, image.shape[:2], neighborhood_sizes=(16, 8), levels=2, **common)
+smeared, sinfo = optimize_texture(image, image.shape[:2], schedule=Schedule(neighborhood_sizes=(16, 8), levels=2),
+                                  **common)
 save_image(OUT / "inpainting_bricks_result.png", filled, overwrite=True)
 print(f"hole: {hole.sum()} px")
 for name, img, inf in [("defaults (3 levels, 32/16/8)", filled, info), ("2 levels, 16/8", smeared, sinfo)]:

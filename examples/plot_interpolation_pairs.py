@@ -29,7 +29,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from skimage.transform import resize
 
-from texsynth.optimization import interpolate_textures, linear_blend, ridge_feature_map
+from texsynth.optimization import (InterpolationSchedule, NeighborhoodSet, interpolate_textures, linear_blend,
+                                   ridge_feature_map)
 from texsynth.io import load_image
 from texsynth.metrics import texture_energy
 
@@ -42,7 +43,8 @@ b = resize(load_image(TEXTURES / "rohitrango" / "t13.png")[..., :3], (96, 96), a
 features = (ridge_feature_map(a), ridge_feature_map(b))
 
 alphas = [0.0, 0.25, 0.5, 0.75, 1.0]
-opts = dict(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4, max_neighborhoods=400, rng=0)
+opts = dict(schedule=InterpolationSchedule(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4),
+            neighborhood_set=NeighborhoodSet(max_neighborhoods=400), rng=0)
 ours = []
 for al in alphas:
     t0 = time.perf_counter()

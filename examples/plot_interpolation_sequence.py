@@ -22,7 +22,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from texsynth.optimization import edge_feature_map, interpolate_textures, linear_blend, ridge_feature_map
+from texsynth.optimization import (InterpolationSchedule, NeighborhoodSet, edge_feature_map, interpolate_textures,
+                                   linear_blend, ridge_feature_map)
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -35,7 +36,8 @@ canny = (edge_feature_map(a, sigma=2.0), edge_feature_map(b, sigma=2.0))
 ridge = (ridge_feature_map(a), ridge_feature_map(b))
 
 alphas = [0.0, 0.25, 0.5, 0.75, 1.0]
-opts = dict(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4, max_neighborhoods=400, rng=0)
+opts = dict(schedule=InterpolationSchedule(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4),
+            neighborhood_set=NeighborhoodSet(max_neighborhoods=400), rng=0)
 rows = {
     "ours (Canny)": [interpolate_textures(a, b, al, features=canny, **opts) for al in alphas],
     "ours (ridges)": [interpolate_textures(a, b, al, features=ridge, **opts) for al in alphas],

@@ -17,7 +17,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from texsynth.optimization import interpolate_textures, linear_blend, transition_alpha_map
+from texsynth.optimization import (InterpolationSchedule, NeighborhoodSet, VaryingAlpha, interpolate_textures,
+                                   linear_blend, transition_alpha_map)
 from texsynth.io import load_image
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -26,8 +27,9 @@ OUT.mkdir(exist_ok=True)
 
 a = load_image(TEXTURES / "rohitrango" / "t1.png")[:80, :80, :3]  # brick
 b = load_image(TEXTURES / "rohitrango" / "t7.png")[:80, :80, :3]  # slate wall
-options = dict(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4, alpha_steps=6, statistics_bands=3,
-               max_neighborhoods=300, rng=0)
+options = dict(schedule=InterpolationSchedule(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4),
+               varying=VaryingAlpha(alpha_steps=6, statistics_bands=3),
+               neighborhood_set=NeighborhoodSet(max_neighborhoods=300), rng=0)
 
 strip_map = transition_alpha_map((64, 256))
 strip = interpolate_textures(a, b, strip_map, **options)

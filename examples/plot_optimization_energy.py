@@ -19,14 +19,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from texsynth.io import load_image  # noqa: E402
-from texsynth.optimization import optimize_texture# noqa: E402
+from texsynth.optimization import Schedule, optimize_texture  # noqa: E402
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"
 OUT.mkdir(exist_ok=True)
 
 exemplar = load_image(TEXTURES / "rohitrango" / "t4.png")[..., :3]
-out, info = optimize_texture(exemplar, 192, rng=0, tolerance=0.0, return_info=True)
+out, info = optimize_texture(exemplar, 192, rng=0, schedule=Schedule(tolerance=0.0), return_info=True)
 
 fig, (ax, ax2, ax3) = plt.subplots(1, 3, figsize=(15, 4.5), gridspec_kw={"width_ratios": [2, 2, 1.2]})
 it = np.arange(len(info.energy))

@@ -31,7 +31,7 @@ import numpy as np  # noqa: E402
 
 from texsynth import metrics  # noqa: E402
 from texsynth.io import load_image, save_image  # noqa: E402
-from texsynth.optimization import optimize_texture# noqa: E402
+from texsynth.optimization import Terms, optimize_texture  # noqa: E402
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"
@@ -58,7 +58,7 @@ def load(name, crop):
     return img[crop] if crop is not None else img
 
 
-OPTIONS = dict(completeness_weight=1.0, copy_limit=0.2)
+OPTIONS = dict(terms=Terms(completeness_weight=1.0, copy_limit=0.2))
 rows = []
 fig, axes = plt.subplots(len(CASES), 3, figsize=(9, 3 * len(CASES)))
 for k, (name, kind, crop) in enumerate(CASES):

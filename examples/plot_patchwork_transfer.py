@@ -63,7 +63,7 @@ for row, (tname, texture) in enumerate(textures.items()):
     axes[row, 0].set_title(f"texture: {tname}")
     for col, (pname, pattern) in enumerate(patterns.items(), start=1):
         rgb = np.repeat(pattern[..., None], 3, axis=-1)  # same channels as the texture
-        out, info = patchwork_transfer(texture, rgb, grid_spacing=16, sharpness=2, candidates=64, rng=0,
+        out, info = patchwork_transfer(texture, rgb, grid_spacing=16, sharpness=2, n_candidates=64, rng=0,
                                        return_info=True)
         results[tname, pname] = out, info
         axes[row, col].imshow(out)

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt
 
 from texsynth.io import load_image
 from texsynth.metrics import texture_energy
-from texsynth.pixel import synthesize_pixels
+from texsynth.pixel import Neighborhood, synthesize_pixels
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"
@@ -33,7 +33,7 @@ for row, name in zip(axes, names):
     row[0].imshow(ex, cmap=cmap, vmin=0, vmax=1)
     row[0].set_title(f"exemplar {name.split('/')[-1]}")
     for ax, order in zip(row[1:], ["scanline", "independent"]):
-        out = synthesize_pixels(ex, 200, neighborhood_size=7, order=order, rng=0)
+        out = synthesize_pixels(ex, 200, neighborhood=Neighborhood(neighborhood_size=7), order=order, rng=0)
         ax.imshow(out, cmap=cmap, vmin=0, vmax=1)
         ax.set_title(f"{order}, E={texture_energy(out, ex):.4f}")
 for ax in axes.ravel():

@@ -62,11 +62,11 @@ for row, (name, crop, label) in zip(axes, CASES):
     size = (int(exemplar.shape[0] * 1.7), int(exemplar.shape[1] * 1.7))
     noise = noise_baseline(exemplar, size, rng=0)
     show(row[0], exemplar, f"{name} {exemplar.shape[0]}x{exemplar.shape[1]}\n({label})")
-    for ax, method in zip(row[1:], ("rpn", "adsn")):
+    for ax, process in zip(row[1:], ("rpn", "adsn")):
         start = time.perf_counter()
-        out = random_phase_noise(exemplar, size, method=method, rng=0)
+        out = random_phase_noise(exemplar, size, process=process, rng=0)
         seconds = time.perf_counter() - start
-        show(ax, out, f"{method.upper()} {size[0]}x{size[1]} ({1000 * seconds:.0f} ms)\nspectrum distance "
+        show(ax, out, f"{process.upper()} {size[0]}x{size[1]} ({1000 * seconds:.0f} ms)\nspectrum distance "
              f"{spectrum_distance(out, exemplar):.2f} (noise {spectrum_distance(noise, exemplar):.2f})")
 fig.tight_layout()
 for folder in (OUTPUT, STATIC):

@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from texsynth.io import save_frames
-from texsynth.procedural import GRAY_SCOTT_PRESETS, apply_colormap, gray_scott, reaction_diffusion
+from texsynth.procedural import GRAY_SCOTT_PRESETS, TurkRates, apply_colormap, gray_scott, reaction_diffusion
 from texsynth.procedural import RD_COLORS, meinhardt_stripes
 
 OUT = Path(__file__).resolve().parent / "output"
@@ -82,12 +82,12 @@ save_grid(panels, "procedural_rd_turk.png", rows=2)
 # Spots to stripes: the ratio of the diffusion rates (D_b = 0.01, s = 0.01,
 # Turk's start and beta = 12 +- 0.1, 8000 steps; the linear Turing threshold
 # is D_a / D_b = 4)
-save_grid([(reaction_diffusion((128, 128), steps=8000, s=0.01, Da=0.01 * r, Db=0.01, rng=0), f"Da/Db = {r}")
+save_grid([(reaction_diffusion((128, 128), steps=8000, rates=TurkRates(s=0.01, Da=0.01 * r, Db=0.01), rng=0), f"Da/Db = {r}")
            for r in [4, 6, 8, 10, 15]], "procedural_rd_ratio.png",
           suptitle="Turk's two-chemical system: spots near the Turing threshold, labyrinths far above it")
 
 # %%
 # Gray-Scott presets
-save_grid([(gray_scott((128, 128), preset=name, steps=10000, rng=0), f"{name}\nF={p['F']}, k={p['k']}")
+save_grid([(gray_scott((128, 128), preset=name, steps=10000, rng=0), f"{name}\nF={p.feed}, k={p.kill}")
            for name, p in GRAY_SCOTT_PRESETS.items()], "procedural_rd_gray_scott.png", size=(3.2, 4.0))
 print("wrote procedural_rd_*.png and procedural_rd_forming.gif")

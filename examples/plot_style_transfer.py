@@ -34,6 +34,7 @@ from skimage import data as skdata
 from skimage.transform import resize
 
 from texsynth import data, optimize_texture
+from texsynth.optimization import Guides
 from texsynth.io import load_image, save_image
 
 HERE = Path(__file__).resolve().parent
@@ -60,8 +61,8 @@ def remap(lum, reference):
 
 def style_transfer(texture, photo, *, guide_weight=GUIDE_WEIGHT, rng=0):
     """``photo`` (grey, [0, 1]) painted in ``texture`` by guided texture optimization."""
-    return optimize_texture(texture, photo.shape, exemplar_guide=remap(luminance(texture), photo), output_guide=photo,
-                            guide_weight=guide_weight, rng=rng)
+    guides = Guides(exemplar_guide=remap(luminance(texture), photo), output_guide=photo, guide_weight=guide_weight)
+    return optimize_texture(texture, photo.shape, guides=guides, rng=rng)
 
 
 def main():

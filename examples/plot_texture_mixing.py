@@ -24,7 +24,7 @@ import numpy as np
 
 from texsynth.io import load_image
 from texsynth.metrics import texture_energy
-from texsynth.pixel import mix_textures
+from texsynth.pixel import Neighborhood, mix_textures
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 OUT = Path(__file__).resolve().parent / "output"
@@ -70,7 +70,7 @@ pfig, paxes = plt.subplots(len(pairs), 2, figsize=(12, 3.4 * len(pairs)))
 for row, prow, (na, nb, sub, sizes) in zip(axes, paxes, pairs):
     a, b = load(na, sub), load(nb, sub)
     cmap = None if a.ndim == 3 else "gray"
-    kw = dict(neighborhood_sizes=sizes, rng=0)
+    kw = dict(neighborhood=Neighborhood(neighborhood_size=sizes), rng=0)
     equal = mix_textures([a, b], (h, w), **kw)
     ramped = mix_textures([a, b], (h, w), weights=[1 - ramp, ramp], **kw)
     switched = mix_textures([a, b], (h, w), weights=[1 - step, step], **kw)
@@ -102,7 +102,7 @@ for row, prow, (na, nb, sub, sizes) in zip(axes, paxes, pairs):
     prow[1].set(xlabel="column", ylabel="f = E_A / (E_A + E_B)", ylim=(0, 1), title="0: like A only, 1: like B only")
     prow[1].legend(fontsize=7)
 
-    print(f"\n{label_a} -> {label_b}, neighborhood_sizes={sizes}, {h}x{w} ramp, energy per {STRIP}-column strip "
+    print(f"\n{label_a} -> {label_b}, neighborhood_size={sizes}, {h}x{w} ramp, energy per {STRIP}-column strip "
           f"(Spearman {rho:.2f}, largest step {jump:.2f} of the range; hard switch {rho_s:.2f}, {jump_s:.2f})")
     print("| columns | w_B | E vs A | E vs B | f | hard switch f |")
     print("|---|---|---|---|---|---|")

@@ -133,25 +133,29 @@ def _small_runs():
 
     bread, metal = data.load("bread")[:40, :40], data.load("metal")[:64, :64]
     clip = np.stack([metal[:48, t:t + 48] for t in range(4)])
+    two_levels = texsynth.Neighborhood(levels=2)
     return {
-        "synthesize_pixels": lambda: texsynth.synthesize_pixels(bread[:24, :24], 16, levels=2, return_info=True, rng=0),
+        "synthesize_pixels": lambda: texsynth.synthesize_pixels(bread[:24, :24], 16, neighborhood=two_levels,
+                                                                return_info=True, rng=0),
         "efros_leung": lambda: texsynth.efros_leung(bread[:24, :24], 12, neighborhood_size=5, return_info=True, rng=0),
-        "synthesize_controlled": lambda: texsynth.synthesize_controlled(bread, 24, levels=2, orientation=0.3,
-                                                                        return_info=True, rng=0),
-        "optimize_texture": lambda: texsynth.optimize_texture(bread, 40, neighborhood_sizes=(8,), levels=2,
-                                                              max_iterations=2, return_info=True, rng=0),
+        "synthesize_controlled": lambda: texsynth.synthesize_controlled(bread, 24, neighborhood=two_levels,
+                                                                        orientation=0.3, return_info=True, rng=0),
+        "optimize_texture": lambda: texsynth.optimize_texture(
+            bread, 40, schedule=texsynth.optimization.Schedule(neighborhood_sizes=(8,), levels=2, max_iterations=2),
+            return_info=True, rng=0),
         "inpaint": lambda: texsynth.inpaint(bread, np.eye(40, dtype=bool), neighborhood_sizes=(8,), levels=1,
                                             max_iterations=1, return_info=True, rng=0),
         "uncrop": lambda: texsynth.uncrop(bread[:32, :32], 40, neighborhood_sizes=(8,), levels=1, max_iterations=1,
                                           return_info=True, rng=0),
         "make_tileable": lambda: texsynth.make_tileable(bread[:40, :40], band=8, neighborhood_sizes=(8,), levels=1,
                                                         max_iterations=1, return_info=True, rng=0),
-        "animate_texture": lambda: texsynth.animate_texture(bread, flows.rotation(24, 0.05), n_frames=2,
-                                                            neighborhood_sizes=(8,), levels=1, max_iterations=1,
-                                                            max_frame_iterations=1, return_info=True, rng=0),
-        "interpolate_textures": lambda: texsynth.interpolate_textures(bread, bread[::-1], 0.5, stages=((1, 9),),
-                                                                      max_iterations=1, statistics_step=False,
-                                                                      return_info=True, rng=0),
+        "animate_texture": lambda: texsynth.animate_texture(
+            bread, flows.rotation(24, 0.05), n_frames=2,
+            schedule=texsynth.optimization.Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=1),
+            animation=texsynth.optimization.Animation(max_frame_iterations=1), return_info=True, rng=0),
+        "interpolate_textures": lambda: texsynth.interpolate_textures(
+            bread, bread[::-1], 0.5, schedule=texsynth.InterpolationSchedule(stages=((1, 9),), max_iterations=1),
+            update=texsynth.InterpolationUpdate(statistics_step=False), return_info=True, rng=0),
         "patchwork": lambda: texsynth.patchwork(bread, 48, grid_spacing=12, return_info=True, rng=0),
         "graphcut_texture": lambda: texsynth.graphcut_texture(bread, 48, block=16, return_info=True, rng=0),
         "carve_seams": lambda: texsynth.carve_seams(bread, (30, 44), return_info=True),
@@ -162,7 +166,7 @@ def _small_runs():
         "graphcut_merge": lambda: texsynth.graphcut_merge(bread, bread[::-1], from_a=np.eye(40, dtype=bool),
                                                           from_b=np.eye(40, dtype=bool)[::-1], return_info=True),
         "patchwork_video": lambda: texsynth.patchwork_video(clip, 32, 3, grid_spacing=16, return_info=True, rng=0),
-        "patchwork_transfer": lambda: texsynth.patchwork_transfer(metal, metal[::-1], grid_spacing=8, candidates=4,
+        "patchwork_transfer": lambda: texsynth.patchwork_transfer(metal, metal[::-1], grid_spacing=8, n_candidates=4,
                                                                   return_info=True, rng=0),
         "heeger_bergen": lambda: texsynth.heeger_bergen(metal, 64, scales=2, iterations=1, return_info=True, rng=0),
         "portilla_simoncelli": lambda: texsynth.portilla_simoncelli(metal, 64, scales=2, iterations=1,
@@ -272,3 +276,13 @@ def test_geometric_neighbours_are_chosen_in_the_search_layer():
                        and any(a.name in ("cKDTree", "KDTree") for a in n.names)
                        for n in ast.walk(ast.parse(p.read_text())))]
     assert not outside, f"build k-d trees with texsynth.core.search.point_tree: {outside}"
+
+
+def test_the_add_an_em_method_example_of_docs_architecture_runs():
+    """docs/architecture.md's "Add an EM method": a method composed of core.em's public parts, run as a doctest."""
+    import doctest
+
+    page = Path(__file__).resolve().parents[1] / "docs" / "architecture.md"
+    result = doctest.testfile(str(page), module_relative=False,
+                              optionflags=doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS)
+    assert result.attempted >= 5 and result.failed == 0

@@ -1,5 +1,7 @@
 """The texsynth command: list, demo, errors (methods are tested with their modules' CLI tests here too)."""
 
+import dataclasses
+import re
 import subprocess
 import sys
 
@@ -171,27 +173,302 @@ def test_read_grey_map_means_the_same_in_every_layout(tmp_path):
 
 
 def test_grouped_parameters_are_described_once(capsys):
-    # animate_texture documents nine parameters in one numpydoc entry ("As in optimize_texture,
-    # for frame 1 (and method ... kd-tree ...)"); the help used to repeat that sentence under
-    # each of the nine options. Now the first shown option carries it, the others say "see
-    # --first", and each gets its own description from optimize_texture's docstring.
+    # animate_texture documents several parameters (now option groups) in one numpydoc entry ("As in
+    # optimize_texture, for frame 1 (... a kd-tree re-ranking 4 candidates ...)"); the help used to
+    # repeat that sentence under each of them. Now the first shown carries it, the others point to it.
     with pytest.raises(SystemExit):
         run("animate", "--help")
     text = capsys.readouterr().out
     assert text.count("re-ranking 4 candidates") == 1
-    start = text.index("  --levels LEVELS", text.index("options:"))
-    levels = " ".join(text[start:text.index("\n  --", start + 1)].split())
-    assert "Resolution levels" in levels and "see --neighborhood-sizes" in levels
     assert ":func:" not in text and "``" not in text  # numpydoc markup is stripped
-    # and generally: no method shows the same description under two options
+    # and generally: no method shows the same description under two options, and every pointer
+    # ("See --x.", "(see --x)") names another option of the same command that has a description
     import inspect
 
     for name, method in cli.METHODS.items():
         func = method.function()
         params = inspect.signature(func).parameters
         shown = cli._option_names(method, params)
-        descriptions = [d for n, d in cli._doc_params(func, shown).items() if n in shown and len(d) > 30]
+        described = cli._doc_params(func, shown)
+        descriptions = [d for n, d in described.items() if n in shown and len(d) > 30]
         assert len(descriptions) == len(set(descriptions)), name
+        for option in shown:
+            pointers = re.findall(r"[Ss]ee (--[\w-]+)", described.get(option, ""))
+            assert len(pointers) <= 1, (name, option, described[option])
+            for pointer in pointers:
+                target = pointer[2:].replace("-", "_")
+                assert target in shown and target != option, (name, option, pointer)
+                assert not described[target].startswith("See --"), (name, option, pointer)
+
+
+# toy functions whose docstrings borrow grouped entries through two functions, as make_tileable ->
+# inpaint -> optimize_texture do
+def _toy_base(image, *, size_a=1, size_b=2, iterations=3):
+    """Toy base.
+
+    Parameters
+    ----------
+    image : array_like
+        The input.
+    size_a, size_b : int
+        Sizes described once for both names, in the base's own words.
+    iterations : int
+        Iterations, described by the base on their own.
+    """
+
+
+def _toy_middle(image, *, size_a=1, size_b=2, iterations=3):
+    """Toy middle.
+
+    Parameters
+    ----------
+    image : array_like
+        The input.
+    size_a, size_b, iterations
+        As in :func:`_toy_base`.
+    """
+
+
+def _toy_top(image, *, band=1, size_a=1, size_b=2, iterations=3):
+    """Toy top.
+
+    Parameters
+    ----------
+    image : array_like
+        The input.
+    band : int
+        The band.
+    size_a, size_b, iterations
+        As in :func:`_toy_middle`.
+    """
+
+
+def _toy_frames(image, *, size_a=1, size_b=2, iterations=3):
+    """Toy frames.
+
+    Parameters
+    ----------
+    image : array_like
+        The input.
+    size_a, size_b, iterations
+        As in :func:`_toy_base`, for the first frame only.
+    """
+
+
+def test_borrowed_grouped_entries_point_at_the_flag_that_carries_them():
+    # make-tileable's --levels said "See --neighborhood-sizes. (see --neighborhood-sizes)" and its
+    # --max-iterations "As in optimize_texture(). (see --neighborhood-sizes)": pointers of inpaint's
+    # help carried into another command. Now each name gets its own complete description, once.
+    sizes = "Sizes described once for both names, in the base's own words."
+    iterations = "Iterations, described by the base on their own."
+    shown = ["band", "size_a", "size_b", "iterations"]
+    for func in (_toy_middle, _toy_top):
+        assert cli._doc_params(func, shown)["size_a"] == sizes, func
+        assert cli._doc_params(func, shown)["size_b"] == "See --size-a.", func
+        assert cli._doc_params(func, shown)["iterations"] == iterations, func
+    # with its own words (not only "As in ..."), the entry's text is shown once, on the first option
+    frames = cli._doc_params(_toy_frames, shown)
+    assert frames["size_a"] == f"{sizes} As in :func:`_toy_base`, for the first frame only."
+    assert frames["size_b"] == "See --size-a."
+    assert frames["iterations"] == f"{iterations} (see --size-a)"
+    # the pointer goes to the first option that is shown
+    assert cli._doc_params(_toy_top, ["size_b", "iterations"])["size_b"] == sizes
+
+
+def test_make_tileable_help_points_once_at_a_shown_flag(capsys):
+    with pytest.raises(SystemExit):
+        run("make-tileable", "--help")
+    text = " ".join(capsys.readouterr().out.split())
+    assert "(see --neighborhood-sizes)" not in text and "See --max-iterations" not in text
+    assert text.count("See --neighborhood-sizes.") <= 1 and "As in inpaint()" not in text
+    assert "EM iterations per (level, size) stage" in text  # --max-iterations' own description
+
+
+# --------------------------------------------------------------------------- option groups
+@dataclasses.dataclass(frozen=True)
+class Toy:
+    """A toy option group.
+
+    Parameters
+    ----------
+    strength : float
+        How strong the toy is, > 0.
+    mask : array_like, optional
+        A grey map of where the toy acts.
+    guide : array_like, optional
+        An image the toy follows.
+    first, second : int
+        Two counts with one description, long enough to be a sentence.
+    mode : str
+        A word of a closed vocabulary.
+    loud : bool
+        Whether the toy is loud.
+    blend : float or array_like
+        How much of the toy, a number or a map over the output.
+    orientation : float or array_like, optional
+        The toy's angle field.
+
+    Examples
+    --------
+    >>> Toy(strength=2.0).strength
+    2.0
+    """
+
+    strength: float = 1.0
+    mask: object = None
+    guide: object = None
+    first: int = 1
+    second: int = 2
+    mode: str = "plain"
+    loud: bool = False
+    blend: object = 0.5
+    orientation: object = None
+
+    def __post_init__(self):
+        if not self.strength > 0:
+            raise ValueError(f"strength must be > 0, got {self.strength!r}")
+
+
+@dataclasses.dataclass(frozen=True)
+class OtherToy:
+    """Another toy group.
+
+    Parameters
+    ----------
+    first : int
+        A count.
+    """
+
+    first: int = 0
+
+
+def toy_synthesis(exemplar, size, *, toy=Toy(first=3), level=2, rng=None):
+    """A toy synthesis with one option group.
+
+    Parameters
+    ----------
+    exemplar : array_like
+        The input.
+    size : tuple of int
+        The output's size.
+    toy : Toy
+        The toy's options (:class:`Toy`).
+    level : int
+        A plain option beside the group.
+    rng : None or int
+        The seed.
+    """
+    return np.zeros(tuple(size) + np.shape(exemplar)[2:])
+
+
+@dataclasses.dataclass(frozen=True)
+class _ToyMethod(cli.Method):
+    """A registry entry whose function is given, not imported."""
+
+    func: object = None
+
+    def function(self):
+        return self.func
+
+
+@pytest.fixture
+def toy(monkeypatch):
+    """``texsynth toy``: the only method, toy_synthesis, its calls recorded as they came."""
+    import functools
+
+    calls = []
+
+    @functools.wraps(toy_synthesis)
+    def recorded(*args, **kwargs):
+        calls.append(kwargs)
+        return toy_synthesis(*args, **kwargs)
+
+    method = _ToyMethod(target="toy:toy_synthesis", summary="a toy", maps=("mask", "blend"), files=("guide",),
+                        ramps=("blend",), spatial="blend", fields=("orientation",), func=recorded)
+    monkeypatch.setattr(cli, "METHODS", {"toy": method})
+    return calls
+
+
+def test_option_group_fields_are_flags_with_their_help_and_defaults(toy, capsys):
+    import inspect
+
+    with pytest.raises(SystemExit) as info:
+        run("toy", "--help")
+    assert info.value.code == 0
+    text = capsys.readouterr().out
+    flat = " ".join(text.split())
+    assert "toy=Toy(...):" in text and "The toy's options (Toy)." in flat  # the group's heading and its doc
+    assert "--toy " not in text and "--toy\n" not in text  # the group itself is no flag
+    for flag in ("--strength STRENGTH", "--mask PATH", "--guide PATH", "--first FIRST", "--second SECOND",
+                 "--mode MODE", "--loud, --no-loud", "--level LEVEL"):
+        assert flag in text, flag
+    assert "How strong the toy is, > 0. (default: 1.0)" in flat
+    assert "Two counts with one description, long enough to be a sentence. (default: 3)" in flat  # the instance's
+    assert "See --first. (default: 2)" in flat  # a grouped entry of the class: described once
+    assert "grey image file" in flat and "image file. An image the toy follows." in flat
+    params = inspect.signature(toy_synthesis).parameters
+    assert cli._option_names(cli.METHODS["toy"], params) == ["strength", "mask", "guide", "first", "second", "mode",
+                                                             "loud", "blend", "orientation", "level"]
+    assert "--blend-map PATH" in text and "--transition" in text and "--orientation VALUE|PATH" in text
+
+
+def test_option_group_defaults_flow_through_and_given_flags_reach_the_group(toy, tmp_path):
+    ex = str(save_image(tmp_path / "ex.png", data.load("bumpy")[:8, :8]))
+    assert run("toy", ex, "-o", str(tmp_path / "a.png"), "--size", "6x4") == 0
+    assert "toy" not in toy[-1] and "level" not in toy[-1]  # nothing given: the function's own defaults
+    assert run("toy", ex, "-o", str(tmp_path / "b.png"), "--size", "6x4", "--strength", "2.5", "--second", "7",
+               "--mode", "none", "--loud", "--level", "5") == 0
+    assert toy[-1]["toy"] == Toy(strength=2.5, first=3, second=7, mode="none", loud=True)  # first: the default's 3
+    assert toy[-1]["level"] == 5
+    assert load_image(tmp_path / "b.png").shape == (4, 6, 3)
+
+
+def test_option_group_map_and_file_fields_are_read_as_images(toy, tmp_path):
+    ex = str(save_image(tmp_path / "ex.png", data.load("bumpy")[:8, :8]))
+    grey = np.tile(np.linspace(0, 1, 6), (4, 1))
+    rgba = save_image(tmp_path / "m.png", np.stack([grey] * 3 + [np.full_like(grey, 0.5)], -1))
+    guide = data.load("brick")[:4, :6]
+    pg = save_image(tmp_path / "g.png", guide)
+    assert run("toy", ex, "-o", str(tmp_path / "o.png"), "--size", "6x4", "--mask", str(rgba),
+               "--guide", str(pg)) == 0
+    group = toy[-1]["toy"]
+    assert group.mask.shape == (4, 6) and np.allclose(group.mask, grey, atol=1 / 255)  # as --mask of a parameter
+    assert np.allclose(group.guide, guide, atol=1 / 255) and group.first == 3
+    # a spatial field (Method.spatial): a number, --NAME-map FILE or --transition, as for a parameter
+    args = ["toy", ex, "-o", str(tmp_path / "o.png"), "--overwrite", "--size", "6x4"]
+    assert run(*args, "--blend", "0.25") == 0 and toy[-1]["toy"].blend == 0.25
+    assert run(*args, "--transition") == 0 and np.array_equal(toy[-1]["toy"].blend, cli._ramp((4, 6)))
+    assert run(*args, "--blend", "ramp") == 0 and np.array_equal(toy[-1]["toy"].blend, cli._ramp((4, 6)))
+    assert run(*args, "--blend-map", str(rgba)) == 0 and np.allclose(toy[-1]["toy"].blend, grey, atol=1 / 255)
+    # an orientation field (Method.fields): a number, a .npy array or a grey image
+    np.save(tmp_path / "theta.npy", grey)
+    assert run(*args, "--orientation", str(tmp_path / "theta.npy")) == 0
+    assert np.array_equal(toy[-1]["toy"].orientation, grey) and toy[-1]["toy"].blend == 0.5
+    assert run(*args, "--orientation", "1.5") == 0 and toy[-1]["toy"].orientation == 1.5
+
+
+def test_option_group_bad_value_is_exit_2_naming_the_flag(toy, tmp_path, capsys):
+    ex = str(save_image(tmp_path / "ex.png", data.load("bumpy")[:8, :8]))
+    out = tmp_path / "o.png"
+    assert run("toy", ex, "-o", str(out), "--strength", "-1") == 2
+    err = _one_line_error(capsys, 2)
+    assert "--strength must be > 0, got -1" in err
+    assert run("toy", ex, "-o", str(out), "--strength", "strong") == 2  # a TypeError that names no field
+    assert _one_line_error(capsys, 2).startswith("texsynth: error: --strength: ")
+    assert not out.exists() and not toy  # refused before the function ran
+
+
+def test_a_field_name_shared_by_two_groups_fails_when_the_parser_is_built(monkeypatch):
+    def clash(exemplar, size, *, toy=Toy(), other=OtherToy(), rng=None):
+        """Two groups with a field ``first`` each."""
+
+    def plain(exemplar, size, *, toy=Toy(), first=1):
+        """A group's field is also a parameter."""
+
+    for func, where in ((clash, "field of other="), (plain, "also a parameter")):
+        monkeypatch.setattr(cli, "METHODS", {"toy": _ToyMethod(target="toy:clash", summary="", func=func)})
+        with pytest.raises(TypeError, match=f"'first' is a .*{where}.*unique"):
+            cli.build_parser()
 
 
 # --------------------------------------------------------------------------- interpolate
@@ -199,8 +476,21 @@ FAST_INTERPOLATE = ["--stages", "((1, 9),)", "--max-iterations", "1", "--no-stat
                     "--max-neighborhoods", "16", "--max-feature-points", "8", "--alpha-steps", "2", "--seed", "0"]
 
 
+def _flat(kwargs):
+    """A call's keywords with the fields of its option groups (dataclass instances) beside them, so that a test
+    reads ``mask`` whether it is a parameter or a field of ``constraints=Constraints(...)``."""
+    import dataclasses
+
+    flat = dict(kwargs)
+    for value in kwargs.values():
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            flat.update({f.name: getattr(value, f.name) for f in dataclasses.fields(value) if f.name not in kwargs})
+    return flat
+
+
 def _spy(monkeypatch, module, name, fake=None):
-    """Record the calls of module.name (the CLI looks the function up at run time); ``fake`` replaces it."""
+    """Record the calls of module.name (the CLI looks the function up at run time), their option groups
+    flattened (:func:`_flat`); ``fake`` replaces it."""
     import functools
 
     real = getattr(module, name)
@@ -208,7 +498,7 @@ def _spy(monkeypatch, module, name, fake=None):
 
     @functools.wraps(real)
     def wrapper(*args, **kwargs):
-        calls.append(kwargs)
+        calls.append(_flat(kwargs))
         return fake(*args, **kwargs) if fake else real(*args, **kwargs)
 
     monkeypatch.setattr(module, name, wrapper)
@@ -228,7 +518,7 @@ def test_interpolate_number_alpha_end_to_end(tmp_path, pair_files, monkeypatch):
     out = tmp_path / "mid.png"
     assert run("interpolate", *pair_files, "-o", str(out), "--alpha", "0.5", *FAST_INTERPOLATE) == 0
     assert load_image(out).shape == (32, 32, 3)
-    assert calls[0]["alpha"] == 0.5 and calls[0]["size"] == (32, 32) and "features" not in calls[0]
+    assert calls[0]["alpha"] == 0.5 and calls[0]["size"] == (32, 32) and calls[0].get("features") is None
 
 
 def test_interpolate_transition_end_to_end(tmp_path, pair_files, monkeypatch):

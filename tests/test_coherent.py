@@ -118,61 +118,17 @@ def test_bad_input():
     assert set(COHERENT_MODES) >= {"random", "nearest", "wrap", "reflect"}
 
 
-# --------------------------------------------------------------------------- Wei-Levoy with k-coherent candidates
-def test_pixels_are_the_exemplar_pixels_named_by_the_coordinates(texture):
-    import texsynth
-
-    ex = texture("jcjohnson/bread.png", 32)
-    out, info = texsynth.synthesize_pixels(ex, 40, levels=2, candidates="k-coherent", k=2, rng=0, return_info=True)
-    rows, cols = info.coordinates[..., 0], info.coordinates[..., 1]
-    np.testing.assert_array_equal(out, ex[rows, cols])  # every pixel is a copy of the one its source names
-    assert info.candidates == "k-coherent" and info.coordinates.shape == (40, 40, 2)
-    again = texsynth.synthesize_pixels(ex, 40, levels=2, candidates="k-coherent", k=2, rng=0)
-    np.testing.assert_array_equal(out, again)
-
-
-@pytest.mark.parametrize("name, bound", [
-    # measured (seeds 0, 1): all 4.1-4.5 (bricks broken into mortar scraps), k-coherent 2.8-3.0 (bricks whole)
-    ("embark/bricks.png", 3.6),
-    # measured: all 48-69 (the output collapses to flat grey: Efros-Leung's "growing garbage"), k-coherent 1.5-1.9
-    ("skimage/brick.png", 3.0),
-])
-def test_k_coherent_keeps_the_bricks_that_all_candidates_lose(texture, name, bound):
-    """Completeness against a random-block mosaic: the fraction of exemplar patches the output misses."""
-    import texsynth
-    from texsynth import metrics
-
-    ex = texture(name, 96)
-    mosaic = metrics.completeness(metrics.mosaic_baseline(ex, 160, rng=0), ex)
-    ours = metrics.completeness(texsynth.synthesize_pixels(ex, 160, candidates="k-coherent", rng=0), ex) / mosaic
-    wei_levoy = metrics.completeness(texsynth.synthesize_pixels(ex, 160, rng=0), ex) / mosaic
-    assert ours < bound < wei_levoy
-
-
-def test_k_coherent_bad_options(texture):
-    import texsynth
-
-    ex = texture("jcjohnson/bread.png", 24)
-    with pytest.raises(ValueError, match="candidates"):
-        texsynth.synthesize_pixels(ex, 20, levels=2, candidates="coherent")
-    with pytest.raises(ValueError, match="order='scanline'"):
-        texsynth.synthesize_pixels(ex, 20, levels=2, candidates="k-coherent", order="independent")
-    with pytest.raises(ValueError, match="k"):
-        texsynth.synthesize_pixels(ex, 20, levels=2, candidates="k-coherent", k=0)
-    with pytest.raises(ValueError, match="k=100000"):
-        texsynth.synthesize_pixels(ex, 20, levels=2, candidates="k-coherent", k=100000)
-
-
 # --------------------------------------------------------------------------- texture optimization's M-step
 def test_optimization_m_step_offers_the_sets_after_the_first_search(texture, monkeypatch):
     """Every M-step but the synthesis's first (from random neighbourhoods) searches over the stage's
     k-coherence sets, with no random search; the energy still never rises within a stage."""
     import texsynth
-    import texsynth.optimization._kwatra as kw
+    import texsynth.core.em._mstep as mstep  # where the field M-step looks the search up
     from texsynth.core.search import _patchmatch as pm
+    from texsynth.optimization import Search, Terms
 
     calls = []
-    checked = kw.patchmatch_features
+    checked = mstep.patchmatch_features
 
     def spy(*args, sets=None, **kwargs):
         calls.append(sets)
@@ -180,12 +136,13 @@ def test_optimization_m_step_offers_the_sets_after_the_first_search(texture, mon
 
     random_searches = []
     search = pm._Problem.random_search
-    monkeypatch.setattr(kw, "patchmatch_features", spy)
+    monkeypatch.setattr(mstep, "patchmatch_features", spy)
     monkeypatch.setattr(pm._Problem, "random_search",
                         lambda self, *a: (random_searches.append(self.sets is None), search(self, *a))[1])
     ex = texture("jcjohnson/bread.png", 64)
-    out, info = texsynth.optimize_texture(ex, 96, candidates="k-coherent", k=3, copy_limit=None,
-                                          completeness_weight=0, histogram_matching=False, rng=0, return_info=True)
+    out, info = texsynth.optimize_texture(ex, 96, search=Search(candidates="k-coherent", k=3),
+                                          terms=Terms(copy_limit=None, completeness_weight=0, histogram_matching=False),
+                                          rng=0, return_info=True)
     assert out.shape == (96, 96, 3) and calls[0] is None and all(s is not None for s in calls[1:])
     for sets in calls[1:]:
         assert sets.shape[1] == 3 and np.array_equal(sets[:, 0], np.arange(len(sets)))
@@ -197,26 +154,32 @@ def test_optimization_m_step_offers_the_sets_after_the_first_search(texture, mon
 
 def test_optimization_k_coherent_is_deterministic_and_differs_by_k(texture):
     import texsynth
+    from texsynth.optimization import Search
 
     ex = texture("jcjohnson/bread.png", 48)
-    a = texsynth.optimize_texture(ex, 64, candidates="k-coherent", rng=1)
-    np.testing.assert_array_equal(a, texsynth.optimize_texture(ex, 64, candidates="k-coherent", rng=1))
-    assert not np.array_equal(a, texsynth.optimize_texture(ex, 64, candidates="k-coherent", k=1, rng=1))
+    a = texsynth.optimize_texture(ex, 64, search=Search(candidates="k-coherent"), rng=1)
+    np.testing.assert_array_equal(a, texsynth.optimize_texture(ex, 64, search=Search(candidates="k-coherent"), rng=1))
+    assert not np.array_equal(a, texsynth.optimize_texture(ex, 64, search=Search(candidates="k-coherent", k=1), rng=1))
     assert not np.array_equal(a, texsynth.optimize_texture(ex, 64, rng=1))
 
 
 @pytest.mark.parametrize("kwargs, match", [
-    ({"candidates": "coherent"}, "candidates must be one of 'all', 'k-coherent'"),
-    ({"candidates": "k-coherent", "k": 0}, "k must be"),
-    ({"candidates": "k-coherent", "k": 2.5}, "k must be"),
-    ({"candidates": "k-coherent", "gradient_weight": 1.0}, "does not combine with gradient_weight"),
-    ({"candidates": "k-coherent", "preset": "paper"}, "does not combine with preset='paper'"),
-    ({"candidates": "k-coherent", "method": "exact"}, "does not combine with method='exact'"),
-    ({"candidates": "k-coherent", "mask": np.ones((40, 40)), "target": np.zeros((40, 40, 3)),
-      "constraint_weight": 10.0}, "does not combine with soft constraints"),
+    ({"search": {"candidates": "coherent"}}, "candidates must be one of 'all', 'k-coherent'"),
+    ({"search": {"candidates": "k-coherent", "k": 0}}, "k must be"),
+    ({"search": {"candidates": "k-coherent", "k": 2.5}}, "k must be"),
+    ({"search": {"candidates": "k-coherent"}, "terms": {"gradient_weight": 1.0}},
+     "does not combine with gradient_weight"),
+    ({"search": {"candidates": "k-coherent"}, "preset": "paper"}, "does not combine with preset='paper'"),
+    ({"search": {"candidates": "k-coherent", "method": "exact"}}, "does not combine with method='exact'"),
+    ({"search": {"candidates": "k-coherent"},
+      "constraints": {"mask": np.ones((40, 40)), "target": np.zeros((40, 40, 3)), "constraint_weight": 10.0}},
+     "does not combine with soft constraints"),
 ])
 def test_optimization_k_coherent_bad_options(texture, kwargs, match):
     import texsynth
+    from texsynth.optimization import Constraints, Search, Terms
 
-    with pytest.raises((ValueError, TypeError), match=match):
+    groups = {"search": Search, "terms": Terms, "constraints": Constraints}
+    with pytest.raises((ValueError, TypeError), match=match):  # a group may refuse a field as it is made
+        kwargs = {name: groups[name](**value) if name in groups else value for name, value in kwargs.items()}
         texsynth.optimize_texture(texture("jcjohnson/bread.png", 32), 40, **kwargs)

@@ -9,6 +9,7 @@ from scipy import ndimage
 import texsynth
 from texsynth.io import load_image
 from texsynth import optimize_texture
+from texsynth.optimization import Constraints, Schedule
 
 
 PHOTOS = Path(__file__).resolve().parents[1] / "benchmarks" / "photos"
@@ -37,11 +38,12 @@ def test_hard_constraints_keep_the_targets_exactly(texture):
     ex = texture("jcjohnson/bread.png", 48)
     mask = np.zeros((48, 48), bool)
     mask[:, :20] = True
-    out = optimize_texture(ex, 48, mask=mask, target=ex, constraint_weight=float("inf"),
-                           neighborhood_sizes=(16, 8), levels=2, max_iterations=2, rng=0)
+    schedule = Schedule(neighborhood_sizes=(16, 8), levels=2, max_iterations=2)
+    out = optimize_texture(ex, 48, constraints=Constraints(mask=mask, target=ex, constraint_weight=float("inf")),
+                           schedule=schedule, rng=0)
     np.testing.assert_array_equal(out[mask], ex[mask])
-    soft = optimize_texture(ex, 48, mask=mask, target=ex, constraint_weight=100.0,
-                            neighborhood_sizes=(16, 8), levels=2, max_iterations=2, rng=0)
+    soft = optimize_texture(ex, 48, constraints=Constraints(mask=mask, target=ex, constraint_weight=100.0),
+                            schedule=schedule, rng=0)
     assert 0 < np.abs(soft[mask] - ex[mask]).max()  # the soft constraint only pulls
 
 
@@ -142,8 +144,9 @@ def test_hard_constraints_alone_give_a_copy_map_everywhere(texture):
     ex = texture("jcjohnson/bread.png", 40)
     target = texture("rohitrango/t1.png", 64)
     mask = ~disc((64, 64), (32, 32), 6)
-    out, info = optimize_texture(ex, 64, mask=mask, target=target, constraint_weight=np.inf,
-                                 neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0, return_info=True)
+    out, info = optimize_texture(ex, 64, constraints=Constraints(mask=mask, target=target, constraint_weight=np.inf),
+                                 schedule=Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=2), rng=0,
+                                 return_info=True)
     np.testing.assert_array_equal(out[mask], target[mask])
     c = info.coordinates
     assert c.shape == (64, 64, 2) and c.min() >= 0 and (c < 40).all()
@@ -204,7 +207,8 @@ def test_soft_constraints_too_large_for_memory_are_refused_with_the_fix(monkeypa
     monkeypatch.setattr(validate, "available_memory", lambda: 1e8)  # 100 MB free
     image = np.random.default_rng(0).random((256, 256, 3))
     with pytest.raises(ValueError, match=r"constraint_weight=float\('inf'\)"):
-        optimize_texture(image, 256, mask=np.ones((256, 256)), target=image, constraint_weight=100.0)
+        optimize_texture(image, 256, constraints=Constraints(mask=np.ones((256, 256)), target=image,
+                                                             constraint_weight=100.0))
 
 
 @pytest.mark.parametrize("call, words", [

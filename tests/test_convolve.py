@@ -58,8 +58,9 @@ def test_correlate_bank_refuses_mismatched_shapes():
 
 def test_texture_optimization_does_not_load_scipy_signal():
     # scipy.signal costs 0.3 s to import, a sixth of a small synthesis in a fresh process
-    code = ("import sys, numpy as np, texsynth; texsynth.optimize_texture(np.random.default_rng(0).random((32, 32)), "
-            "40, neighborhood_sizes=(8,), max_iterations=1, copy_limit=0.3, rng=0); "
+    code = ("import sys, numpy as np, texsynth; from texsynth.optimization import Schedule, Terms; "
+            "texsynth.optimize_texture(np.random.default_rng(0).random((32, 32)), 40, "
+            "schedule=Schedule(neighborhood_sizes=(8,), max_iterations=1), terms=Terms(copy_limit=0.3), rng=0); "
             "print('scipy.signal' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"

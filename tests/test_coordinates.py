@@ -6,7 +6,11 @@ from scipy import ndimage
 
 import texsynth
 from texsynth import apply_coordinates, data
+from texsynth.core.search import Search
+from texsynth.pixel import Neighborhood
 
+L1 = Neighborhood(levels=1)
+L2 = Neighborhood(levels=2)
 
 @pytest.fixture(scope="module")
 def bread():
@@ -36,11 +40,13 @@ COPYING = {
     "wang": lambda ex: texsynth.wang_texture(ex, (70, 90), tile=24, rng=0, return_info=True),
     "efros-leung": lambda ex: texsynth.efros_leung(ex[:24, :24], 20, neighborhood_size=5, rng=0,
                                                   return_info=True),
-    "pixels scanline": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, levels=2, rng=0, return_info=True),
-    "pixels independent": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, levels=2, order="independent",
+    "pixels scanline": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, neighborhood=L2, rng=0,
+                                                             return_info=True),
+    "pixels independent": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, neighborhood=L2, order="independent",
                                                                 rng=0, return_info=True),
-    "pixels k-coherent": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, levels=2, candidates="k-coherent",
-                                                               rng=0, return_info=True),
+    "pixels k-coherent": lambda ex: texsynth.synthesize_pixels(ex[:32, :32], 36, neighborhood=L2,
+                                                               search=Search(candidates="k-coherent"), rng=0,
+                                                               return_info=True),
 }
 
 
@@ -76,8 +82,8 @@ def test_quilt_transfer_map_is_its_last_pass(bread):
 @pytest.mark.parametrize("name", ["quilt", "graphcut", "wang", "pixels independent", "pixels k-coherent"])
 def test_recording_the_map_changes_nothing_synthesised(name, bread, copying):
     kwargs = {"quilt": dict(size=90, block=20), "graphcut": dict(size=80), "wang": dict(size=(70, 90), tile=24),
-              "pixels independent": dict(size=36, levels=2, order="independent"),
-              "pixels k-coherent": dict(size=36, levels=2, candidates="k-coherent")}[name]
+              "pixels independent": dict(size=36, neighborhood=L2, order="independent"),
+              "pixels k-coherent": dict(size=36, neighborhood=L2, search=Search(candidates="k-coherent"))}[name]
     func = {"quilt": texsynth.quilt, "graphcut": texsynth.graphcut_texture, "wang": texsynth.wang_texture}.get(
         name, texsynth.synthesize_pixels)
     size = kwargs.pop("size")
@@ -180,10 +186,9 @@ def test_patchwork_video_map_renders_another_channel_sequence():
 
 
 def test_optimize_texture_gives_the_neighbourhood_of_largest_weight(bread):
-    out, info = texsynth.optimize_texture(bread, 72, neighborhood_sizes=(16, 8), levels=2, max_iterations=3,
-                                          rng=0, return_info=True)
-    assert np.array_equal(out, texsynth.optimize_texture(bread, 72, neighborhood_sizes=(16, 8), levels=2,
-                                                         max_iterations=3, rng=0))
+    schedule = texsynth.optimization.Schedule(neighborhood_sizes=(16, 8), levels=2, max_iterations=3)
+    out, info = texsynth.optimize_texture(bread, 72, schedule=schedule, rng=0, return_info=True)
+    assert np.array_equal(out, texsynth.optimize_texture(bread, 72, schedule=schedule, rng=0))
     assert info.coordinates.shape == (72, 72, 2) and info.weights is None
     error = np.abs(apply_coordinates(bread, info) - out).mean()
     rng = np.random.default_rng(0)
@@ -249,7 +254,7 @@ def test_the_mean_term_and_integer_rounding():
 
 
 def test_an_info_without_a_map_is_refused(bread):
-    _, info = texsynth.synthesize_solid(bread[:24, :24], 8, levels=1, passes=1, rng=0, return_info=True)
+    _, info = texsynth.synthesize_solid(bread[:24, :24], 8, neighborhood=L1, passes=1, rng=0, return_info=True)
     with pytest.raises(ValueError, match="no coordinates"):
         apply_coordinates(bread, info)
 
@@ -282,9 +287,9 @@ def test_a_mixture_renders_each_channel_from_every_source(order, bread):
     and apply_coordinates takes one image per source. Sources of different sizes (24 and 30 px)."""
     a, b = bread[:24, :24], data.load("wood")[:30, :30]
     ramp = np.tile(np.linspace(0, 1, 32), (28, 1))
-    out, info = texsynth.mix_textures([a, b], (28, 32), weights=[1 - ramp, ramp], levels=2, order=order, rng=0,
+    out, info = texsynth.mix_textures([a, b], (28, 32), weights=[1 - ramp, ramp], neighborhood=L2, order=order, rng=0,
                                       return_info=True)
-    assert np.array_equal(out, texsynth.mix_textures([a, b], (28, 32), weights=[1 - ramp, ramp], levels=2,
+    assert np.array_equal(out, texsynth.mix_textures([a, b], (28, 32), weights=[1 - ramp, ramp], neighborhood=L2,
                                                      order=order, rng=0))  # recording changes nothing
     assert info.coordinates.shape == (28, 32, 2, 2) and info.source_index.shape == (28, 32, 2)
     assert np.allclose(info.weights.sum(-1), 1) and np.all(np.diff(info.weights, axis=-1) <= 0)
@@ -306,7 +311,7 @@ def test_a_mixture_renders_each_channel_from_every_source(order, bread):
 
 def test_a_mixture_map_needs_one_image_per_source(bread):
     a, b = bread[:24, :24], bread[24:48, 24:48]
-    _, info = texsynth.mix_textures([a, b], 20, levels=1, rng=0, return_info=True)
+    _, info = texsynth.mix_textures([a, b], 20, neighborhood=L1, rng=0, return_info=True)
     with pytest.raises(TypeError, match="one per source"):
         apply_coordinates(a, info)
     with pytest.raises(ValueError, match="1 image.*2 sources"):
@@ -362,7 +367,7 @@ def test_a_map_saved_to_npz_renders_the_same(tmp_path, bread):
     from texsynth.io import load_coordinates, save_coordinates
 
     a, b = bread[:24, :24], data.load("wood")[:30, :30]
-    mix, info = texsynth.mix_textures([a, b], 20, levels=1, rng=0, return_info=True)
+    mix, info = texsynth.mix_textures([a, b], 20, neighborhood=L1, rng=0, return_info=True)
     saved = load_coordinates(save_coordinates(tmp_path / "mix.npz", info))
     assert np.array_equal(saved.source_index, info.source_index) and saved.weights.dtype == info.weights.dtype
     assert np.array_equal(apply_coordinates([a, b], saved), apply_coordinates([a, b], info))
@@ -375,7 +380,7 @@ def test_a_map_saved_to_npz_renders_the_same(tmp_path, bread):
     with pytest.raises(ValueError, match=r"\.npz"):
         save_coordinates(tmp_path / "q.npy", info)
     with pytest.raises(ValueError, match="no coordinates"):
-        save_coordinates(tmp_path / "s.npz", texsynth.synthesize_solid(bread[:24, :24], 8, levels=1, passes=1,
+        save_coordinates(tmp_path / "s.npz", texsynth.synthesize_solid(bread[:24, :24], 8, neighborhood=L1, passes=1,
                                                                        rng=0, return_info=True)[1])
     np.savez(tmp_path / "other.npz", image=np.zeros(3))
     with pytest.raises(ValueError, match="not a source-coordinate map"):

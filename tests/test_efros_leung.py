@@ -7,9 +7,9 @@ import pytest
 from scipy import ndimage
 
 from conftest import load_texture
-from texsynth.core.search import MaskedIndex, masked_sq_distances
+from texsynth.core.search import MaskedIndex, Search, masked_sq_distances
 from texsynth.metrics import texture_report, verbatim_copy
-from texsynth.pixel import efros_leung
+from texsynth.pixel import Sampling, efros_leung
 from texsynth.testing import relative_scores
 
 
@@ -133,28 +133,29 @@ def pseudo_code(exemplar, size, w, epsilon, max_error, seed):
 def test_batches_give_the_pseudo_code_one_pixel_at_a_time(bread, max_error):
     """Each pass in batches equals the pass one pixel at a time in its order (and the threshold rule)."""
     ex = bread[:14, :14]
-    got = efros_leung(ex, 13, neighborhood_size=5, max_error=max_error, rng=3)
+    got = efros_leung(ex, 13, neighborhood_size=5, sampling=Sampling(max_error=max_error), rng=3)
     want = pseudo_code(ex, 13, 5, 0.1, max_error, 3)
     np.testing.assert_array_equal(got, want)
 
 
 def test_low_max_error_rises_by_ten_percent_per_empty_pass(bread):
-    _, info = efros_leung(bread, 16, neighborhood_size=5, max_error=1e-4, rng=0, return_info=True)
+    _, info = efros_leung(bread, 16, neighborhood_size=5, sampling=Sampling(max_error=1e-4), rng=0, return_info=True)
     steps = np.log(info.max_error / 1e-4) / np.log(1.1)
     assert steps > 10 and abs(steps - round(steps)) < 1e-6  # rose in whole 10 % steps
-    _, info = efros_leung(bread, 16, neighborhood_size=5, max_error=None, rng=0, return_info=True)
+    _, info = efros_leung(bread, 16, neighborhood_size=5, sampling=Sampling(max_error=None), rng=0, return_info=True)
     assert info.max_error is None
 
 
 def test_periodic_exemplar_with_zero_error_tolerance_regrows_its_period_exactly():
     period = np.random.default_rng(0).random((6, 5))  # no two 3x3 cyclic blocks alike
     ex = np.tile(period, (4, 5))  # 24 x 25
-    out, info = efros_leung(ex, 32, neighborhood_size=5, error_tolerance=0.0, rng=0, return_info=True)
+    out, info = efros_leung(ex, 32, neighborhood_size=5, sampling=Sampling(error_tolerance=0.0), rng=0,
+                            return_info=True)
     # the output is the periodic pattern, shifted so that the seed lands where it came from
     r0, c0 = info.source[16, 16] - 16
     rows, cols = np.ogrid[:32, :32]
     np.testing.assert_array_equal(out, period[(rows + r0) % 6, (cols + c0) % 5])
-    assert np.all(info.candidates[info.layer > 0] >= 1)
+    assert np.all(info.n_candidates[info.layer > 0] >= 1)
 
 
 def test_every_pixel_is_copied_from_where_info_says(bread):
@@ -171,8 +172,8 @@ def test_seeded_runs_reproduce_bit_for_bit_and_seeds_matter(bread):
     a = efros_leung(bread, 20, neighborhood_size=5, rng=7)
     np.testing.assert_array_equal(a, efros_leung(bread, 20, neighborhood_size=5, rng=np.random.default_rng(7)))
     assert not np.array_equal(a, efros_leung(bread, 20, neighborhood_size=5, rng=8))
-    b = efros_leung(bread, 20, neighborhood_size=5, method="pca", rng=7)
-    np.testing.assert_array_equal(b, efros_leung(bread, 20, neighborhood_size=5, method="pca", rng=7))
+    b = efros_leung(bread, 20, neighborhood_size=5, search=Search(method="pca"), rng=7)
+    np.testing.assert_array_equal(b, efros_leung(bread, 20, neighborhood_size=5, search=Search(method="pca"), rng=7))
 
 
 def test_hole_filling_keeps_the_known_pixels_and_copies_from_outside_the_hole():
@@ -236,7 +237,7 @@ def test_quality_on_a_real_texture_against_the_baselines():
     """
     ex = load_texture("jcjohnson/bread.png", 32)
     for method in ("exact", "pca"):
-        out = efros_leung(ex, 40, neighborhood_size=9, method=method, rng=0)
+        out = efros_leung(ex, 40, neighborhood_size=9, search=Search(method=method), rng=0)
         scores = relative_scores(texture_report(out, ex, patch_size=6))
         assert scores["energy"] <= 0.12, (method, scores)
         assert scores["completeness"] <= 0.25, (method, scores)
@@ -280,11 +281,26 @@ def test_larger_windows_copy_larger_regions():
      "seed_center is for synthesis from a seed"),
     ({"exemplar_mask": np.ones((5, 5), bool)}, ValueError, r"exemplar_mask must have shape \(24, 24\)"),
     ({"exemplar_mask": np.eye(24, dtype=bool)}, ValueError, "exemplar_mask leaves no 5x5 window"),
+    ({"candidates": "k-coherent"}, ValueError, "efros_leung compares every exemplar window"),
+    ({"k": 3}, ValueError, "k='auto'"),
+    ({"sampling": {"error_tolerance": 0.1}}, TypeError, "sampling must be a Sampling"),
 ])
 def test_bad_arguments_name_the_parameter_and_the_fix(bread, kwargs, error, words):
     kwargs = {"neighborhood_size": 5, **kwargs}
-    with pytest.raises(error, match=words):
+    with pytest.raises(error, match=words):  # the groups' fields are checked when the group is made
+        sampling = {name: kwargs.pop(name) for name in ("error_tolerance", "max_error", "sigma") if name in kwargs}
+        search = {name: kwargs.pop(name) for name in ("method", "candidates", "k") if name in kwargs}
+        kwargs = {**kwargs, **({"sampling": Sampling(**sampling)} if sampling else {}),
+                  **({"search": Search(**search)} if search else {})}
         efros_leung(bread, 16, rng=0, **kwargs)
+
+
+def test_sampling_defaults_are_the_papers(bread):
+    assert Sampling() == Sampling(error_tolerance=0.1, max_error=0.3, sigma="auto")
+    auto = efros_leung(bread, 14, neighborhood_size=5, rng=0)
+    assert np.array_equal(auto, efros_leung(bread, 14, neighborhood_size=5, sampling=Sampling(sigma=5 / 6.4), rng=0))
+    assert np.array_equal(auto, efros_leung(bread, 14, neighborhood_size=5, seed_center=(7, 7), rng=0))
+    assert np.array_equal(auto, efros_leung(bread, 14, neighborhood_size=5, search=Search(method="exact"), rng=0))
 
 
 def test_bad_exemplar_and_size(bread):

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from texsynth import optimize_texture
+from texsynth.optimization import Constraints, Guides, Schedule, Search
 from texsynth.io import load_image
 
 PHOTOS = Path(__file__).resolve().parents[1] / "benchmarks" / "photos"
@@ -41,7 +42,7 @@ def test_texture_by_numbers_puts_pebbles_in_the_disc(scene):
     ex, labels, disc, grass, pebbles = scene
     gap = float(np.linalg.norm(grass - pebbles))  # 0.22: a region of pure pebbles scores +gap, pure grass -gap
     plain = optimize_texture(ex, 96, **KW)
-    guided = optimize_texture(ex, 96, exemplar_guide=labels, output_guide=disc, **KW)
+    guided = optimize_texture(ex, 96, guides=Guides(exemplar_guide=labels, output_guide=disc), **KW)
     assert guided.shape == (96, 96, 3)
     inside, outside = disc > 0, disc == 0
     # unguided (measured): inside -0.06, outside +0.01, i.e. within 0.3 gap of a mixture; the thresholds below
@@ -55,23 +56,24 @@ def test_texture_by_numbers_puts_pebbles_in_the_disc(scene):
 
 def test_guide_weight_zero_is_the_unguided_result(scene):
     ex, labels, disc, *_ = scene
-    kw = dict(neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=1)
+    kw = dict(schedule=Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=2), rng=1)
     plain = optimize_texture(ex, 40, **kw)
-    zero = optimize_texture(ex, 40, exemplar_guide=labels, output_guide=disc[:40, :40], guide_weight=0, **kw)
+    zero = optimize_texture(ex, 40, guides=Guides(exemplar_guide=labels, output_guide=disc[:40, :40], guide_weight=0),
+                            **kw)
     assert np.array_equal(plain, zero)
 
 
 def test_guides_with_constraints_and_grey(scene):
     ex, labels, disc, *_ = scene
-    kw = dict(neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)
-    grey = optimize_texture(ex[..., 0], 40, exemplar_guide=labels, output_guide=disc[:40, :40], **kw)
+    kw = dict(schedule=Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=1), rng=0)
+    grey = optimize_texture(ex[..., 0], 40, guides=Guides(exemplar_guide=labels, output_guide=disc[:40, :40]), **kw)
     assert grey.shape == (40, 40)
     target = np.zeros((40, 40, 3))
     mask = np.zeros((40, 40), bool)
     mask[:8] = True
-    out = optimize_texture(ex, 40, exemplar_guide=np.stack([labels, 1 - labels], -1),
-                           output_guide=np.stack([disc[:40, :40], 1 - disc[:40, :40]], -1), target=target, mask=mask,
-                           constraint_weight=float("inf"), **kw)
+    out = optimize_texture(ex, 40, guides=Guides(exemplar_guide=np.stack([labels, 1 - labels], -1),
+                                                 output_guide=np.stack([disc[:40, :40], 1 - disc[:40, :40]], -1)),
+                           constraints=Constraints(target=target, mask=mask, constraint_weight=float("inf")), **kw)
     assert out.shape == (40, 40, 3) and np.all(out[:8] == 0)
 
 
@@ -92,14 +94,17 @@ def test_guides_with_constraints_and_grey(scene):
 def test_bad_guides_are_refused_with_their_name(scene, kwargs, name):
     ex = scene[0]
     with pytest.raises((ValueError, TypeError), match=name):
-        optimize_texture(ex, 40, neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0, **kwargs)
+        optimize_texture(ex, 40, schedule=Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=1), rng=0,
+                         guides=Guides(**kwargs))
 
 
 def test_many_guide_channels_and_large_weights_run_through_patchmatch(scene):
     """RGBA + 2 guides (6 channels) at guide_weight=4 (guide values up to 2): the M-step's PatchMatch takes them."""
     ex, labels, disc, *_ = scene
     rgba = np.concatenate([ex, np.ones((64, 128, 1))], -1)
-    out = optimize_texture(rgba, 48, exemplar_guide=np.stack([labels, 1 - labels], -1),
-                           output_guide=np.stack([disc[:48, :48], 1 - disc[:48, :48]], -1), guide_weight=4.0,
-                           method="patchmatch", neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
+    out = optimize_texture(rgba, 48, guides=Guides(exemplar_guide=np.stack([labels, 1 - labels], -1),
+                                                   output_guide=np.stack([disc[:48, :48], 1 - disc[:48, :48]], -1),
+                                                   guide_weight=4.0),
+                           search=Search(method="patchmatch"),
+                           schedule=Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=2), rng=0)
     assert out.shape == (48, 48, 4) and np.all((out >= 0) & (out <= 1))

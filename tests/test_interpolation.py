@@ -1,5 +1,7 @@
 """Tests of Ruiters et al. 2010 patch-based texture interpolation (texsynth.interpolate_textures)."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -7,14 +9,19 @@ from scipy import ndimage
 from texsynth.optimization._ruiters import _relax
 
 from texsynth.optimization import edge_feature_map, interpolate_neighborhoods, ridge_feature_map, interpolate_textures, linear_blend, transition_alpha_map
+from texsynth.optimization import (Correspondences, InterpolationSchedule, InterpolationUpdate, NeighborhoodSet,
+                                   VaryingAlpha)
+from texsynth.core.search import Search
 from texsynth.metrics import mosaic_baseline, noise_baseline, texture_energy
 from texsynth.core.search import PatchIndex
 from texsynth.core.neighborhood import accumulate, all_patches, extract, grid_centers
-from texsynth.optimization import optimize_texture
+from texsynth.optimization import Schedule, optimize_texture
 
 from conftest import load_texture
 
-SMALL = dict(stages=((2, 9), (1, 9)), max_iterations=3, max_neighborhoods=96, rng=0)
+SCHEDULE = InterpolationSchedule(stages=((2, 9), (1, 9)), max_iterations=3)
+SMALL = dict(schedule=SCHEDULE, neighborhood_set=NeighborhoodSet(max_neighborhoods=96), rng=0)
+NO_STATISTICS = InterpolationUpdate(statistics_step=False)
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +42,7 @@ def grad_mag(img):
 def test_endpoint_neighbourhoods_are_input_patches(pair, alpha, source):
     # at alpha = 0 the warp of N1 is the identity and its weight 1: N' holds exact patches of I1
     a, b = pair
-    n = interpolate_neighborhoods(a, b, alpha, 9, max_neighborhoods=128, rng=0)
+    n = interpolate_neighborhoods(a, b, alpha, 9, neighborhood_set=NeighborhoodSet(max_neighborhoods=128), rng=0)
     ref = (a, b)[source]
     vecs = all_patches(ref, 9).reshape(-1, 9 * 9 * 3)
     _, d2 = PatchIndex(vecs, method="exact").query(n[..., :3].reshape(len(n), -1).astype(np.float64), k=1)
@@ -52,7 +59,7 @@ def test_endpoint_set_covers_every_neighbourhood(pair):
     # every neighbourhood of I1. Measured 0.90 (the last stride-1 rows and columns of
     # corners are not reached); without the shifted copies it is 1/stride^2 = 0.04.
     a, b = pair
-    n = interpolate_neighborhoods(a, b, 0.0, 9, max_neighborhoods=96, rng=0)
+    n = interpolate_neighborhoods(a, b, 0.0, 9, neighborhood_set=NeighborhoodSet(max_neighborhoods=96), rng=0)
     vecs = all_patches(a, 9).reshape(-1, 9 * 9 * 3)
     _, d2 = PatchIndex(n[..., :3].reshape(len(n), -1).astype(np.float64), method="exact").query(vecs, k=1)
     assert np.mean(np.sqrt(d2[:, 0] / vecs.shape[1]) < 1e-3) > 0.85
@@ -60,8 +67,10 @@ def test_endpoint_set_covers_every_neighbourhood(pair):
 
 def test_keep_fraction_halves_the_set(pair):
     a, b = pair
-    full = interpolate_neighborhoods(a, b, 0.5, 9, keep_fraction=1.0, max_neighborhoods=128, rng=0)
-    half = interpolate_neighborhoods(a, b, 0.5, 9, keep_fraction=0.5, max_neighborhoods=128, rng=0)
+    full = interpolate_neighborhoods(a, b, 0.5, 9, neighborhood_set=NeighborhoodSet(keep_fraction=1.0,
+                                                                                     max_neighborhoods=128), rng=0)
+    half = interpolate_neighborhoods(a, b, 0.5, 9, neighborhood_set=NeighborhoodSet(keep_fraction=0.5,
+                                                                                     max_neighborhoods=128), rng=0)
     # half the pairs, each with the same shifted copies (fewer near the borders)
     assert 0.4 < len(half) / len(full) < 0.6
 
@@ -81,7 +90,8 @@ def test_endpoints_match_texture_optimization(pair, results, alpha, seed):
     ours = results[alpha] if seed == 0 else interpolate_textures(a, b, alpha, **{**SMALL, "rng": seed})
     # our output is periodic (wrap), so the reference is periodic texture optimization
     # with the same two scales (16 then 8 px at half, then full resolution)
-    kwatra = optimize_texture(ref, 48, neighborhood_sizes=(16, 8), levels=2, tileable=True, rng=seed)
+    kwatra = optimize_texture(ref, 48, schedule=Schedule(neighborhood_sizes=(16, 8), levels=2), tileable=True,
+                              rng=seed)
     energy = lambda x: texture_energy(x, ref, patch_size=8)  # noqa: E731
     e_ours, e_kwatra = energy(ours), energy(kwatra)
     e_mosaic = energy(mosaic_baseline(ref, 48, rng=seed))
@@ -125,7 +135,8 @@ def test_halfway_is_between_and_not_blurred(pair, results):
 def test_alpha_map_transition(pair):
     a, b = pair
     amap = transition_alpha_map((24, 72))
-    out = interpolate_textures(a, b, amap, alpha_steps=3, statistics_step=True, **SMALL)
+    out = interpolate_textures(a, b, amap, varying=VaryingAlpha(alpha_steps=3),
+                               update=InterpolationUpdate(statistics_step=True), **SMALL)
     assert out.shape == (24, 72, 3)
     # share of I2 in each third: E(band, I1) / (E(band, I1) + E(band, I2)), 0 for a copy of I1 and
     # 1 for a copy of I2. Measured (seeds 0, 1, 2): 0.05-0.06 / 0.39-0.44 / 0.83-0.90. A strip that
@@ -160,14 +171,14 @@ def test_statistics_bands_work_on_their_own_part_of_the_map():
 
 def test_same_seed_same_output_and_grey(pair):
     a, b = pair
-    kw = dict(SMALL, max_iterations=1)
-    x = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics_step=False, **kw)
+    kw = dict(SMALL, schedule=replace(SCHEDULE, max_iterations=1))
+    x = interpolate_textures(a[..., 0], b[..., 0], 0.5, update=NO_STATISTICS, **kw)
     seen = []
-    y = interpolate_textures(a[..., 0], b[..., 0], 0.5, statistics_step=False,
+    y = interpolate_textures(a[..., 0], b[..., 0], 0.5, update=NO_STATISTICS,
                              progress=lambda step, total, info: seen.append((step, total, info["stage"])), **kw)
     assert x.shape == (48, 48) and np.array_equal(x, y)
     # one report per (stage, iteration), counting up to the announced total
-    stages = SMALL.get("stages", ((2, 33), (2, 17), (1, 17)))
+    stages = SCHEDULE.stages
     assert [s[:2] for s in seen] == [(i + 1, len(stages)) for i in range(len(stages))]
     assert [s[2] for s in seen] == [tuple(st) for st in stages]
 
@@ -198,9 +209,10 @@ def test_empty_feature_map_falls_back_to_colour_only(pair, monkeypatch):
     def no_rpm(*args, **kwargs):
         raise AssertionError("TPS-RPM ran although both feature maps are empty")
 
-    monkeypatch.setattr("texsynth.optimization._ruiters.tps_rpm", no_rpm)  # identity warps: no point matching
+    # identity warps: no point matching
+    monkeypatch.setattr("texsynth.optimization._ruiters_neighborhoods.tps_rpm", no_rpm)
     with pytest.warns(RuntimeWarning, match="colour-only"):
-        out, info = interpolate_textures(a, b, 0.5, features=(empty, empty), statistics_step=False,
+        out, info = interpolate_textures(a, b, 0.5, features=(empty, empty), update=NO_STATISTICS,
                                          return_info=True, **SMALL)
     assert info.colour_only
     assert out.shape == a.shape
@@ -293,10 +305,11 @@ def test_stops_when_energy_stops_falling(pair):
     # Kwatra et al.'s criterion: a stage ends at the first iteration whose energy is not
     # (1 - tolerance) times the previous one
     a, b = pair
-    kw = dict(SMALL, max_iterations=6, statistics_step=True)
-    _, full = interpolate_textures(a, b, 0.5, tolerance=None, return_info=True, **kw)
+    six = replace(SCHEDULE, max_iterations=6)
+    kw = dict(SMALL, update=InterpolationUpdate(statistics_step=True))
+    _, full = interpolate_textures(a, b, 0.5, return_info=True, **dict(kw, schedule=replace(six, tolerance=None)))
     assert np.bincount(full.stage).tolist() == [7, 7]  # the first search, then one per iteration
-    _, stop = interpolate_textures(a, b, 0.5, tolerance=0.0, return_info=True, **kw)
+    _, stop = interpolate_textures(a, b, 0.5, return_info=True, **dict(kw, schedule=replace(six, tolerance=0.0)))
     for k in range(2):
         e = stop.energy[stop.stage == k]
         assert np.all(np.diff(e[:-1]) <= 0)  # fell until the last iteration
@@ -306,19 +319,20 @@ def test_stops_when_energy_stops_falling(pair):
     np.testing.assert_array_equal(first, full.energy[full.stage == 0][: len(first)])
     assert len(stop.energy) < len(full.energy)
     with pytest.raises(ValueError, match="tolerance"):
-        interpolate_textures(a, b, 0.5, tolerance=1.5, **SMALL)
+        interpolate_textures(a, b, 0.5, **dict(SMALL, schedule=replace(SCHEDULE, tolerance=1.5)))
     with pytest.raises(ValueError, match="mean_shift_iterations"):
-        interpolate_textures(a, b, 0.5, mean_shift_iterations=-1, **SMALL)
+        interpolate_textures(a, b, 0.5, update=InterpolationUpdate(mean_shift_iterations=-1), **SMALL)
+    with pytest.raises(TypeError, match="schedule must be a.* InterpolationSchedule"):
+        interpolate_textures(a, b, 0.5, schedule=dict(max_iterations=2))
 
 
 # --------------------------------------------------------------------------- Section 4.1: correspondences
 def _stage(a, b, size, k=1, max_neighborhoods=1024):
-    from texsynth.optimization._ruiters import _check_inputs, _stage_textures
+    from texsynth.optimization._ruiters_neighborhoods import check_inputs, stage_textures
 
-    p = _check_inputs(a, b, features=None, distance_weight=1.0, k=k, keep_fraction=0.5, feature_weight=0.5,
-                      max_feature_points=24, max_neighborhoods=max_neighborhoods, max_set_size=16384,
-                      rpm_options=None, method="auto")
-    return p, *_stage_textures(p, 1, size)
+    p = check_inputs(a, b, None, Correspondences(n_correspondences=k),
+                     NeighborhoodSet(max_neighborhoods=max_neighborhoods), Search())
+    return p, *stage_textures(p, 1, size)
 
 
 def _weighted_d2(t_src, t_dst, corners, size, weights):
@@ -339,12 +353,12 @@ def test_warps_do_not_squeeze_the_patches(pair, size):
     # linear fit; measured here 0.31 / 0.37 at s = 9, 0.50 / 0.34 at s = 17), and N' filled
     # with stretched, smeared patches. The defaults of interpolate_textures (10): 0.01 / 0.11
     # and 0.05 / 0.17.
-    from texsynth.optimization._ruiters import _correspondences, _warps
+    from texsynth.optimization._ruiters_neighborhoods import _correspondences, _warps
 
     a, b = pair
     p, t1, t2 = _stage(a, b, size, max_neighborhoods=96)
     rng = np.random.default_rng(0)
-    c1, c2 = _correspondences(t1, t2, size, p.channel_weights, 1, rng)
+    c1, c2 = _correspondences(t1, t2, size, p, rng)
     fwd, bwd, grid, ok = _warps(t1, t2, c1, c2, size, 24, rng, p.rpm)
     assert ok.mean() > 0.5  # most pairs have feature points to align
     g = grid.reshape(-1, 2) - grid.reshape(-1, 2).mean(0)
@@ -362,13 +376,13 @@ def test_correspondences_are_the_k_nearest_in_both_directions(pair, k):
     # of I2 under ||W_C (N1 - N2)|| (colour + distance channel), AND the same from I2 into I1
     # ("it is important to perform these searches ... in both textures"), checked against
     # a brute-force search written here
-    from texsynth.optimization._ruiters import _correspondences
+    from texsynth.optimization._ruiters_neighborhoods import _correspondences
 
     a, b = pair
     s = 7
     p, t1, t2 = _stage(a[:32, :32], b[:32, :32], s, k=k, max_neighborhoods=64)
     assert len(t1.corners) == len(t2.corners) == 49  # 26 x 26 neighbourhoods, capped to a stride of 4
-    c1, c2 = _correspondences(t1, t2, s, p.channel_weights, k, np.random.default_rng(0))
+    c1, c2 = _correspondences(t1, t2, s, p, np.random.default_rng(0))
     pairs = {tuple(r) for r in np.concatenate([c1, c2], 1)}
     assert len(pairs) == len(c1) <= 2 * k * 49  # unique pairs; a pair found both ways counts once
     for src, dst, forward in ((t1, t2, True), (t2, t1, False)):
@@ -397,14 +411,14 @@ def test_correspondences_by_pca_kdtree_agree_with_exact_search(pair, monkeypatch
     # correspondence found per neighbourhood is on average 0.0 % / 3.7 % farther than the exact
     # nearest, 20 % at the 95th percentile. The bounds leave room for BLAS/platform rounding
     # of the near ties.
-    from texsynth.optimization import _ruiters as interpolation
-    from texsynth.optimization._ruiters import _correspondences
+    from texsynth.optimization import _ruiters_neighborhoods as interpolation
+    from texsynth.optimization._ruiters_neighborhoods import _correspondences
 
     a, b = pair
     s = 9
     p, t1, t2 = _stage(a, b, s)
     w = p.channel_weights
-    exact = _correspondences(t1, t2, s, w, 1, np.random.default_rng(0))
+    exact = _correspondences(t1, t2, s, p, np.random.default_rng(0))
     used = []
 
     class Spy(PatchIndex):
@@ -413,7 +427,7 @@ def test_correspondences_by_pca_kdtree_agree_with_exact_search(pair, monkeypatch
             used.append(self.method)
 
     monkeypatch.setattr(interpolation, "PatchIndex", Spy)
-    approx = _correspondences(t1, t2, s, w, 1, np.random.default_rng(0), method="kdtree")
+    approx = _correspondences(t1, t2, s, replace(p, method="kdtree"), np.random.default_rng(0))
     assert used == ["kdtree", "kdtree"]  # both directions took the kd-tree path
     e = {tuple(r) for r in np.concatenate(exact, 1)}
     k = {tuple(r) for r in np.concatenate(approx, 1)}
@@ -435,7 +449,7 @@ def test_correspondences_by_pca_kdtree_agree_with_exact_search(pair, monkeypatch
 
 # --------------------------------------------------------------------------- Section 4.2: colour adjustment
 def _identity_blend(t1, t2, c1, c2, size, alpha):
-    from texsynth.optimization._ruiters import _blend_pairs
+    from texsynth.optimization._ruiters_neighborhoods import _blend_pairs
 
     grid = np.stack(np.indices((size, size)), -1).reshape(1, -1, 2).astype(float)
     g = np.broadcast_to(grid, (len(c1),) + grid.shape[1:])
@@ -512,8 +526,9 @@ def test_halfway_is_as_sharp_as_the_linear_blend():
     a = resize(load_texture("rohitrango/t4.png"), (96, 96), anti_aliasing=True)  # as in the example
     b = resize(load_texture("rohitrango/t13.png"), (96, 96), anti_aliasing=True)
     features = (ridge_feature_map(a), ridge_feature_map(b))
-    out = interpolate_textures(a, b, 0.5, features=features, stages=((2, 17), (1, 17), (1, 9)), max_iterations=4,
-                               max_neighborhoods=400, rng=0)
+    out = interpolate_textures(a, b, 0.5, features=features,
+                               schedule=InterpolationSchedule(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4),
+                               neighborhood_set=NeighborhoodSet(max_neighborhoods=400), rng=0)
     blend = linear_blend(a, b, 0.5)
     assert _sharpness(out) > 0.9 * _sharpness(blend)
     assert texture_energy(out, a) < 1.25 * texture_energy(blend, a)
@@ -551,19 +566,18 @@ def test_linear_blend_refuses_bad_alpha():
 @pytest.mark.parametrize("names", [("rohitrango/t1.png", "rohitrango/t7.png"),
                                    ("embark/multiexample/1.jpg", "embark/multiexample/2.jpg")])
 def test_k_coherent_correspondences_come_close_to_exact_search(names):
-    """candidates="k-coherent" finds the correspondences by k-coherent search: approximate, so their
+    """Search(candidates="k-coherent") finds the correspondences by k-coherent search: approximate, so their
     mean distance is above exact search's, but most of the way from random pairs to exact."""
     import warnings
 
-    from texsynth.optimization._ruiters import _check_inputs, _correspondences, _stage_textures
+    from texsynth.optimization._ruiters_neighborhoods import _correspondences, check_inputs, stage_textures
 
     a, b = load_texture(names[0], 96), load_texture(names[1], 96)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # no feature maps: colour-only correspondences
-        p = _check_inputs(a, b, features=None, distance_weight=1.0, k=1, keep_fraction=0.5, feature_weight=0.5,
-                          max_feature_points=24, max_neighborhoods=256, max_set_size=16384, rpm_options=None,
-                          method="exact")
-    t1, t2 = _stage_textures(p, 1, 13)
+        p = check_inputs(a, b, None, Correspondences(), NeighborhoodSet(max_neighborhoods=256),
+                         Search(method="exact"))
+    t1, t2 = stage_textures(p, 1, 13)
     view1, view2 = all_patches(t1.image, 13), all_patches(t2.image, 13)
 
     def mean_distance(c1, c2):
@@ -571,8 +585,8 @@ def test_k_coherent_correspondences_come_close_to_exact_search(names):
             (1, 2, 3)).mean())
 
     rng = np.random.default_rng(0)
-    exact = mean_distance(*_correspondences(t1, t2, 13, p.channel_weights, 1, rng, "exact"))
-    coherent = mean_distance(*_correspondences(t1, t2, 13, p.channel_weights, 1, rng, "exact", "k-coherent"))
+    exact = mean_distance(*_correspondences(t1, t2, 13, p, rng))
+    coherent = mean_distance(*_correspondences(t1, t2, 13, replace(p, candidates="k-coherent"), rng))
     c1 = t1.corners[rng.integers(len(t1.corners), size=500)]
     c2 = np.stack([rng.integers(view2.shape[0], size=500), rng.integers(view2.shape[1], size=500)], 1)
     random = mean_distance(c1, c2)
@@ -585,9 +599,13 @@ def test_k_coherent_correspondences_come_close_to_exact_search(names):
 
 def test_interpolation_with_k_coherent_correspondences(pair):
     a, b = pair
-    out = interpolate_textures(a, b, 0.5, candidates="k-coherent", **SMALL)
+    coherent = Search(candidates="k-coherent")
+    out = interpolate_textures(a, b, 0.5, search=coherent, **SMALL)
     assert out.shape == a.shape and np.all((out >= 0) & (out <= 1))
-    np.testing.assert_array_equal(out, interpolate_textures(a, b, 0.5, candidates="k-coherent", **SMALL))
+    np.testing.assert_array_equal(out, interpolate_textures(a, b, 0.5, search=coherent, **SMALL))
     assert not np.array_equal(out, interpolate_textures(a, b, 0.5, **SMALL))
+    # the k-coherence sets' size is the search's k ("auto": 4)
+    np.testing.assert_array_equal(out, interpolate_textures(a, b, 0.5, search=replace(coherent, k=4), **SMALL))
+    assert not np.array_equal(out, interpolate_textures(a, b, 0.5, search=replace(coherent, k=2), **SMALL))
     with pytest.raises(ValueError, match="candidates must be one of 'all', 'k-coherent'"):
-        interpolate_textures(a, b, 0.5, candidates="coherent", **SMALL)
+        interpolate_textures(a, b, 0.5, search=Search(candidates="coherent"), **SMALL)

@@ -261,3 +261,76 @@ def test_patch_sum_keeps_tiny_weights_of_float32_patches():
     mean, weight = total.average()
     assert np.all(weight > 0)
     np.testing.assert_allclose(mean, 0.5, rtol=1e-6)
+
+
+# --------------------------------------------------------------------------- footprints, scanline parts, volumes
+def test_footprints_and_causal_parts():
+    from texsynth.core.neighborhood import causal_parts, footprint, mask_offsets
+
+    assert footprint(3, "disc").all() and footprint((5, 5), "disc").sum() == 21
+    assert footprint((9, 9), "disc").sum() == 69 and footprint((4, 6), "square").all()
+    disc = footprint((5, 9), "disc")  # an ellipse: the centre row whole, the corners out
+    assert disc[2].all() and not disc[0, :2].any() and np.array_equal(disc, disc[::-1, ::-1])
+    for shape in ("square", "disc"):
+        above, left, full = causal_parts(5, shape)
+        foot = footprint(5, shape)
+        assert np.array_equal(above | left, causal_mask(5) & foot)  # the causal part of the footprint
+        assert not (above & left).any() and not full[2, 2]
+        assert np.array_equal(full, foot & ~(np.arange(25).reshape(5, 5) == 12))
+        assert left.sum() == 2 and np.array_equal(left[2], [True, True, False, False, False])
+    np.testing.assert_array_equal(mask_offsets(np.eye(3, dtype=bool)), [[-1, -1], [0, 0], [1, 1]])
+    with pytest.raises(ValueError, match="shape must be one of 'square', 'disc'"):
+        footprint(5, "circle")
+
+
+def test_wavefronts_order_every_causal_neighbour_first():
+    from texsynth.core.neighborhood import causal_parts, mask_offsets, wavefronts
+
+    height, width, size = 7, 9, (5, 5)
+    order, bounds = wavefronts(height, width, size[1] // 2 + 1)
+    assert np.array_equal(np.sort(order), np.arange(height * width))
+    front = np.empty(height * width, int)
+    for t in range(len(bounds) - 1):
+        front[order[bounds[t]:bounds[t + 1]]] = t
+    front = front.reshape(height, width)
+    above, left, full = causal_parts(size)
+    for r in range(height):
+        for c in range(width):
+            for dr, dc in mask_offsets(above | left):  # causal neighbours inside the image: on earlier fronts
+                if 0 <= r + dr < height and 0 <= c + dc < width:
+                    assert front[r + dr, c + dc] < front[r, c]
+            for dr, dc in mask_offsets(full & ~(above | left)):  # the others: on later fronts
+                if 0 <= r + dr < height and 0 <= c + dc < width:
+                    assert front[r + dr, c + dc] > front[r, c]
+
+
+def test_multilevel_vectors_masks_and_parent_alone():
+    from texsynth.core.neighborhood import footprint
+
+    rng = np.random.default_rng(0)
+    img, par = rng.random((12, 12, 2)), rng.random((6, 6, 2))
+    centers = [[5, 6], [0, 11]]
+    disc = footprint(5, "disc")
+    v = multilevel_vectors(img, par, centers, 5, 5, mask=causal_mask(5), parent_mask=disc)
+    here = extract(img, centers, 5)[:, causal_mask(5)].reshape(2, -1)
+    there = extract(par, np.asarray(centers) // 2, 5)[:, disc].reshape(2, -1)
+    assert np.array_equal(v, np.concatenate([here, there], 1))
+    assert np.array_equal(multilevel_vectors(img, None, centers, 5, 5, mask=causal_mask(5)), here)
+    with pytest.raises(ValueError, match="parent_mask must have shape"):
+        multilevel_vectors(img, par, centers, 5, 3, parent_mask=disc)
+
+
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_plane_vectors_are_each_slices_windows(axis):
+    from texsynth.core.neighborhood import footprint, plane_vectors
+
+    rng = np.random.default_rng(axis)
+    vol, par = rng.random((10, 11, 12, 2)), rng.random((5, 6, 6, 2))
+    mask = footprint(3, "disc") & ~np.eye(3, dtype=bool)
+    got = plane_vectors(vol, par, axis, 3, 3, mask=mask).reshape(10, 11, 12, -1)
+    for voxel in [(0, 0, 0), (9, 10, 11), (4, 7, 2)]:
+        plane = np.moveaxis(vol, axis, 0)[voxel[axis]]  # the slice across the axis, its own 2-D image
+        parent = np.moveaxis(par, axis, 0)[voxel[axis] // 2]
+        centre = [tuple(v for a, v in enumerate(voxel) if a != axis)]
+        want = multilevel_vectors(plane, parent, centre, 3, 3, mask=mask)[0]
+        np.testing.assert_array_equal(got[voxel], want)

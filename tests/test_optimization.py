@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+import dataclasses
 import functools
 import inspect
 
@@ -12,9 +13,11 @@ from scipy import ndimage
 from texsynth import metrics
 from texsynth.core.flows import rotation, translation, warp
 from texsynth.io import load_image
-from texsynth.optimization._kwatra import (_Exemplar, _frame_terms, _m_step_frame, _Options, scale_schedule, _schedule,
-                                           _solve_gradient_system)
-from texsynth.optimization import animate_texture, optimize_texture
+from texsynth.core.em import (Constraints, ExemplarPatches, Guides, Schedule, Terms, field_step, frame_step,
+                              frame_terms, level_sizes, solve_gradient_system)
+from texsynth.core.scale import scale_schedule
+from texsynth.core.search import Search
+from texsynth.optimization import Animation, animate_texture, optimize_texture
 from texsynth.core.neighborhood import extract, grid_centers
 from texsynth.core.pyramid import downsample
 
@@ -22,7 +25,9 @@ TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 pytestmark = pytest.mark.skipif(not TEXTURES.is_dir(), reason="../shared/textures is not available")
 
 # small settings so the whole file stays well under a minute on one core
-FAST = dict(neighborhood_sizes=(16, 8), levels=2, max_iterations=4)
+FAST = Schedule(neighborhood_sizes=(16, 8), levels=2, max_iterations=4)
+# the smallest schedule, for the tests of bad input
+TINY = Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=1)
 
 
 def texture(name, size=48, top=0, left=0):
@@ -38,22 +43,27 @@ def bread():
 
 
 # --------------------------------------------------------------------------- the energy
+# the energy alone: no completeness term, no histogram matching, no copy limit
+PLAIN = Terms(completeness_weight=0.0, histogram_matching=False, copy_limit=None)
+
+
 @pytest.mark.parametrize("options", [
-    dict(),                                       # robust r = 0.8, Gaussian fall-off
-    dict(irls_exponent=2.0, falloff=False),       # plain eq. 1
-    dict(gradient_weight=10.0),                   # gradient energy, CG + DCT preconditioner
-    dict(gradient_weight=10.0, tileable=True),    # gradient energy, CG + FFT preconditioner
-    dict(completeness_weight=1.0),                # bidirectional: E = coherence + completeness
-    dict(method="patchmatch"),                    # the PatchMatch M-step, warm-started
-    dict(method="patchmatch", completeness_weight=1.0),  # and its reverse field for completeness
+    dict(),                                                             # robust r = 0.8, Gaussian fall-off
+    dict(terms=dataclasses.replace(PLAIN, irls_exponent=2.0, falloff=False)),  # plain eq. 1
+    dict(terms=dataclasses.replace(PLAIN, gradient_weight=10.0)),      # gradient energy, CG + DCT preconditioner
+    dict(terms=dataclasses.replace(PLAIN, gradient_weight=10.0), tileable=True),  # CG + FFT preconditioner
+    dict(terms=dataclasses.replace(PLAIN, completeness_weight=1.0)),   # bidirectional: coherence + completeness
+    dict(search=Search(method="patchmatch")),                          # the PatchMatch M-step, warm-started
+    dict(terms=dataclasses.replace(PLAIN, completeness_weight=1.0),    # and its reverse field for completeness
+         search=Search(method="patchmatch")),
 ])
 def test_energy_never_rises_within_a_stage(bread, options):
     # E-step minimises an IRLS majoriser that touches E at the current x and the
     # M-step keeps z_p unless a strictly closer one is found, so E(x, z) cannot
     # rise within a (level, size) stage; allow float noise (1e-9 relative). The copy
     # limit and the histogram matching (on by default) change the step, so they are off here.
-    options = dict(dict(completeness_weight=0.0, histogram_matching=False), **options)
-    _, info = optimize_texture(bread, 48, **dict(FAST, tolerance=0.0, max_iterations=5), rng=3, copy_limit=None,
+    options = dict(dict(terms=PLAIN), **options)
+    _, info = optimize_texture(bread, 48, schedule=dataclasses.replace(FAST, tolerance=0.0, max_iterations=5), rng=3,
                                return_info=True, **options)
     assert [(s.level, s.size) for s in info.stages] == [(1, 8), (0, 16), (0, 8)]
     for k in range(len(info.stages)):
@@ -76,7 +86,7 @@ def test_gradient_system_matches_a_direct_solve():
         ey = (h, w) if wrap else (h - 1, w)
         wx, wy = rng.random(ex) + 0.1, rng.random(ey) + 0.1
         gx, gy = rng.random(ex + (2,)) - 0.5, rng.random(ey + (2,)) - 0.5
-        x = _solve_gradient_system(a, a[..., None] * m, wx, gx, wy, gy, mu, wrap, np.zeros((h, w, 2)))
+        x = solve_gradient_system(a, a[..., None] * m, wx, gx, wy, gy, mu, wrap, np.zeros((h, w, 2)))
         # dense normal equations
         n = h * w
         idx = np.arange(n).reshape(h, w)
@@ -112,10 +122,10 @@ def test_gradient_system_converges_with_irls_weights_spanning_six_decades():
         m = rng.random((h, w, 3))
         gx, gy = rng.random(ex + (3,)) - 0.5, rng.random(ey + (3,)) - 0.5
         stats = {}
-        x = _solve_gradient_system(a, a[..., None] * m, wx, gx, wy, gy, 10.0, wrap, np.zeros((h, w, 3)), stats=stats)
+        x = solve_gradient_system(a, a[..., None] * m, wx, gx, wy, gy, 10.0, wrap, np.zeros((h, w, 3)), stats=stats)
         assert stats["iterations"] < 60 and stats["residual"] <= 1e-10, stats
         # the true residual, not only the recursively updated one
-        big = _solve_gradient_system(a, a[..., None] * m, wx, gx, wy, gy, 10.0, wrap, x)
+        big = solve_gradient_system(a, a[..., None] * m, wx, gx, wy, gy, 10.0, wrap, x)
         np.testing.assert_allclose(big, x, rtol=0, atol=1e-7)
 
 
@@ -176,7 +186,7 @@ def test_defaults_at_4x_keep_the_completeness_term_on_the_coarse_levels(name):
     # margin over the worst seed and fails then.
     ex = texture(name, 64)
     out = optimize_texture(ex, 128, rng=0)
-    off = optimize_texture(ex, 128, completeness_weight=0, rng=0)
+    off = optimize_texture(ex, 128, terms=Terms(completeness_weight=0), rng=0)
     assert metrics.completeness(out, ex) < 0.9 * metrics.completeness(off, ex)
     assert metrics.verbatim_copy(out, ex) < 0.5
 
@@ -216,7 +226,7 @@ def test_paper_copies_less_than_a_tiled_exemplar(name):
     assert metrics.verbatim_copy(out, ex) < 0.9
 
 
-BIDIRECTIONAL = PAPER + (("completeness_weight", 1.0), ("copy_limit", 0.2))
+BIDIRECTIONAL = PAPER + (("terms", Terms(completeness_weight=1.0, copy_limit=0.2)),)
 
 
 @pytest.mark.parametrize("name", list(QUALITY))
@@ -243,7 +253,7 @@ def test_completeness_term_alone_brings_the_whole_exemplar():
     # copy_limit must go with it. Margins: 62 % and 27 %.
     name = "rohitrango/t4.png"
     ex, out, _, _ = _quality_run(name, PAPER)
-    _, complete, _, _ = _quality_run(name, PAPER + (("completeness_weight", 1.0),))
+    _, complete, _, _ = _quality_run(name, PAPER + (("terms", Terms(completeness_weight=1.0)),))
     assert metrics.completeness(complete, ex) < 0.5 * metrics.completeness(out, ex)
     assert metrics.verbatim_copy(complete, ex) > 0.4
 
@@ -254,7 +264,7 @@ def test_copy_limit_removes_the_large_copies(name="jcjohnson/bread.png"):
     # own, at texture energy 0.30-0.33 of the mosaic's; margins 29 %, 36 % and 34 %. The price is
     # completeness, hence completeness_weight with it (above).
     ex, out, _, mosaic = _quality_run(name, PAPER)
-    _, limited, _, _ = _quality_run(name, PAPER + (("copy_limit", 0.1),))
+    _, limited, _, _ = _quality_run(name, PAPER + (("terms", Terms(copy_limit=0.1)),))
     v = metrics.verbatim_copy(limited, ex)
     assert v < 0.45 and v < 0.7 * metrics.verbatim_copy(out, ex)
     assert metrics.texture_energy(limited, ex) < 0.5 * metrics.texture_energy(mosaic, ex)
@@ -266,7 +276,7 @@ def test_occurrence_penalty_raises_completeness():
     # with occurrence_weight=1: calibrated over seeds 0-4 (pebbles and bread), completeness
     # 0.27-0.71 of the paper's own at energy 0.73-1.29 of it; margins 26 % and 24 %.
     ex, out, _, _ = _quality_run("jcjohnson/bread.png", PAPER)
-    _, spread, _, _ = _quality_run("jcjohnson/bread.png", PAPER + (("occurrence_weight", 1.0),))
+    _, spread, _, _ = _quality_run("jcjohnson/bread.png", PAPER + (("terms", Terms(occurrence_weight=1.0)),))
     assert metrics.completeness(spread, ex) < 0.9 * metrics.completeness(out, ex)
     assert metrics.texture_energy(spread, ex) < 1.6 * metrics.texture_energy(out, ex)
 
@@ -279,8 +289,8 @@ def test_occurrence_penalty_with_hard_constraints(bread):
     known = np.zeros((48, 48), bool)
     known[:24, :24] = True
     target[known] = bread[:24, :24][known[:24, :24]]
-    out = optimize_texture(bread, 48, mask=known, target=target, constraint_weight=np.inf, occurrence_weight=1.0,
-                           **FAST, rng=0)
+    out = optimize_texture(bread, 48, constraints=Constraints(mask=known, target=target, constraint_weight=np.inf),
+                           terms=Terms(occurrence_weight=1.0), schedule=FAST, rng=0)
     assert np.array_equal(out[known], target[known].astype(out.dtype))
     # the fill is texture, not the canvas's zeros: within the exemplar's range of mean colours
     assert abs(out[~known].mean() - bread.mean()) < 0.1
@@ -298,15 +308,17 @@ def test_hard_constraints_combine_with_every_m_step_option(bread, occurrence_wei
     known = np.zeros((48, 48), bool)
     known[8:28, 8:28] = True
     target[known] = bread[:20, :20].reshape(-1, 3)
-    guides = {}
+    guides = Guides()
     if guided:
         labels = np.zeros(bread.shape[:2])
         labels[:, bread.shape[1] // 2 :] = 1
         wanted = np.zeros((48, 48))
         wanted[24:] = 1
-        guides = dict(exemplar_guide=labels, output_guide=wanted)
-    out = optimize_texture(bread, 48, mask=known, target=target, constraint_weight=np.inf, rng=0, tileable=tileable,
-                           occurrence_weight=occurrence_weight, copy_limit=copy_limit, **guides, **FAST)
+        guides = Guides(exemplar_guide=labels, output_guide=wanted)
+    out = optimize_texture(bread, 48, constraints=Constraints(mask=known, target=target, constraint_weight=np.inf),
+                           rng=0, tileable=tileable, terms=Terms(occurrence_weight=occurrence_weight,
+                                                                 copy_limit=copy_limit),
+                           guides=guides, schedule=FAST)
     assert np.array_equal(out[known], target[known].astype(out.dtype))
     assert np.all(np.isfinite(out)) and abs(out[~known].mean() - bread.mean()) < 0.1
 
@@ -314,9 +326,10 @@ def test_hard_constraints_combine_with_every_m_step_option(bread, occurrence_wei
 # --------------------------------------------------------------------------- behaviour
 def test_same_seed_same_output_and_layout():
     ex = texture("lcv/metal.pgm", 40).astype(np.float32)
-    a = optimize_texture(ex, (36, 44), neighborhood_sizes=(8,), levels=2, max_iterations=2, rng=5)
-    b = optimize_texture(ex, (36, 44), neighborhood_sizes=(8,), levels=2, max_iterations=2, rng=5)
-    c = optimize_texture(ex, (36, 44), neighborhood_sizes=(8,), levels=2, max_iterations=2, rng=6)
+    schedule = Schedule(neighborhood_sizes=(8,), levels=2, max_iterations=2)
+    a = optimize_texture(ex, (36, 44), schedule=schedule, rng=5)
+    b = optimize_texture(ex, (36, 44), schedule=schedule, rng=5)
+    c = optimize_texture(ex, (36, 44), schedule=schedule, rng=6)
     assert a.shape == (36, 44) and a.dtype == np.float32
     assert np.array_equal(a, b)
     assert not np.array_equal(a, c)
@@ -324,7 +337,7 @@ def test_same_seed_same_output_and_layout():
 
 
 def test_info_reports_stages_and_sources(bread):
-    out, info = optimize_texture(bread, 48, **FAST, rng=1, return_info=True)
+    out, info = optimize_texture(bread, 48, schedule=FAST, rng=1, return_info=True)
     assert [(s.level, s.size) for s in info.stages] == [(1, 8), (0, 16), (0, 8)]
     assert info.boundaries[0] == 0 and np.all(np.diff(info.boundaries) > 0)
     assert len(info.energy) == len(info.mse) == len(info.stage)
@@ -344,11 +357,11 @@ def test_info_reports_stages_and_sources(bread):
 
 def test_tileable_output_has_no_seam():
     ex = texture("rohitrango/t4.png", 56)
-    out = optimize_texture(ex, 64, **FAST, tileable=True, rng=2)
+    out = optimize_texture(ex, 64, schedule=FAST, tileable=True, rng=2)
     rolled = np.roll(out, (32, 32), axis=(0, 1))  # brings the wrap-around seam to the middle
     e_out = metrics.texture_energy(out, ex)
     e_rolled = metrics.texture_energy(rolled, ex)
-    plain = optimize_texture(ex, 64, **FAST, rng=2)
+    plain = optimize_texture(ex, 64, schedule=FAST, rng=2)
     e_plain_rolled = metrics.texture_energy(np.roll(plain, (32, 32), axis=(0, 1)), ex)
     # the seam adds mismatching neighbourhoods to a non-tileable result only
     assert e_rolled < 1.15 * e_out
@@ -358,9 +371,10 @@ def test_tileable_output_has_no_seam():
 def test_init_is_respected():
     ex = texture("jcjohnson/bread.png", 48)
     init = texture("jcjohnson/bread.png", 40, 8, 8)
-    out = optimize_texture(ex, 40, neighborhood_sizes=(8,), levels=1, max_iterations=2, init=init, rng=0)
+    schedule = Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=2)
+    out = optimize_texture(ex, 40, schedule=schedule, init=init, rng=0)
     # starting from an exemplar crop, the result stays near it (it is already a texture)
-    other = optimize_texture(ex, 40, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
+    other = optimize_texture(ex, 40, schedule=schedule, rng=0)
     assert np.mean((out - init) ** 2) < 0.3 * np.mean((other - init) ** 2)
 
 
@@ -370,9 +384,9 @@ def test_soft_constraints_pull_towards_the_target():
     target = texture("lcv/metal.pgm", 40, 100, 100)
     mask = np.zeros((40, 40), bool)
     mask[:, :20] = True
-    kw = dict(neighborhood_sizes=(8,), levels=1, max_iterations=3, rng=0, mask=mask, target=target)
-    weak = optimize_texture(ex, 40, constraint_weight=0.01, **kw)
-    strong = optimize_texture(ex, 40, constraint_weight=100.0, **kw)
+    kw = dict(schedule=Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=3), rng=0)
+    weak = optimize_texture(ex, 40, constraints=Constraints(mask=mask, target=target, constraint_weight=0.01), **kw)
+    strong = optimize_texture(ex, 40, constraints=Constraints(mask=mask, target=target, constraint_weight=100.0), **kw)
     err = lambda img: np.sqrt(np.mean((img[mask] - target[mask]) ** 2))  # noqa: E731
     # λ = 100 makes the constraint nearly hard (texture weights are ~1-10 per pixel)
     assert err(strong) < 0.02
@@ -400,8 +414,9 @@ def test_hole_filling_on_bricks():
     rgb = img[..., :3]
     hole = ~keep
     assert 0.2 < hole.mean() < 0.4
-    out = optimize_texture(rgb, rgb.shape[:2], max_iterations=2, mask=keep, target=rgb, exemplar_mask=keep,
-                           constraint_weight=100.0, rng=0)
+    out = optimize_texture(rgb, rgb.shape[:2], schedule=Schedule(max_iterations=2),
+                           constraints=Constraints(mask=keep, target=rgb, exemplar_mask=keep, constraint_weight=100.0),
+                           rng=0)
     # known pixels stay (λ = 100 is nearly hard)
     assert np.sqrt(np.mean((out[keep] - rgb[keep]) ** 2)) < 0.03
     # the hole (black in the file) is filled with brick colours, not left dark
@@ -422,9 +437,9 @@ def test_animation_moves_texture_with_the_flow():
     img = texture("rohitrango/t4.png", 128)
     ex, first = img[:64, :64], img[70:110, 70:110]
     flow = translation((40, 40), (0.0, 3.0))
-    video, info = animate_texture(ex, flow, n_frames=3, neighborhood_sizes=(16, 8), levels=1, first_frame=first,
-                                  max_frame_iterations=2, tileable=True, constraint_weight=10.0, rng=0,
-                                  return_info=True)
+    video, info = animate_texture(ex, flow, n_frames=3, schedule=Schedule(neighborhood_sizes=(16, 8), levels=1),
+                                  first_frame=first, tileable=True, rng=0, return_info=True,
+                                  animation=Animation(max_frame_iterations=2, constraint_weight=10.0))
     assert video.shape == (3, 40, 40, 3) and info.first is None
     assert np.array_equal(video[0], first)
     assert len(info.frames) == 2 and info.frame_seconds.shape == (2,)
@@ -467,14 +482,11 @@ def test_field_m_step_takes_an_output_that_overshoots_the_unit_range(bread):
     # an up-sampled level or the gradient solve can leave x a little outside [0, 1]; the PatchMatch
     # M-step measures distances to x as it is (it raised "float images must lie in [0, 1]" once,
     # from make_tileable of the brick photo)
-    from texsynth.optimization._kwatra import _m_step_field
-
-    opts = _Options(r=0.8, mu=0.0, spacing=0.25, max_iterations=1, tolerance=0.0, method="patchmatch")
-    ex = _Exemplar(bread, np.ones(bread.shape[:2]), 8, opts, np.random.default_rng(0))
+    ex = ExemplarPatches(bread, np.ones(bread.shape[:2]), 8, rng=np.random.default_rng(0))
     x = texture("jcjohnson/bread.png", 40, 8, 8) * 1.2 - 0.1  # values in about [-0.1, 1.1]
     centers = grid_centers((40, 40), 8, 2, mode="valid")
     start = ex.centers(np.random.default_rng(1).integers(len(ex), size=len(centers)))
-    new, rho = _m_step_field(ex, x, centers, "valid", start, 2, np.random.default_rng(2))
+    new, rho = field_step(ex, x, centers, "valid", start, 2, np.random.default_rng(2))
     want = (ex.g[None, :, :, None] * (extract(x, centers, 8, mode="valid") - ex.patches(new)) ** 2).sum(axis=(1, 2, 3))
     np.testing.assert_allclose(rho, want, rtol=1e-4)  # rho is the distance to the overshooting x
 
@@ -483,8 +495,7 @@ def test_frame_m_step_never_worse_than_the_current_neighbourhoods(bread):
     # the coherent-candidate M-step of animation frames keeps z_p unless a candidate
     # scores strictly better on ρ(x_p, v) + λ E_c, and the index's answer is a
     # candidate: compare the criterion before and after on a real texture
-    opts = _Options(r=0.8, mu=0.0, spacing=0.25, max_iterations=1, tolerance=0.0, method="exact")
-    ex = _Exemplar(bread, np.ones(bread.shape[:2]), 8, opts, np.random.default_rng(0), frame=True)
+    ex = ExemplarPatches(bread, np.ones(bread.shape[:2]), 8, method="exact", rng=np.random.default_rng(0), frame=True)
     x = texture("jcjohnson/bread.png", 40, 8, 8)
     target = texture("jcjohnson/bread.png", 40, 0, 0)
     centers = grid_centers((40, 40), 8, 2, mode="valid")
@@ -500,8 +511,8 @@ def test_frame_m_step_never_worse_than_the_current_neighbourhoods(bread):
         mp = extract(mask[..., None], centers, 8, mode="valid")
         return (g * (xp - v) ** 2).sum(axis=(1, 2, 3)) + 3.0 * (mp * (v - tp) ** 2).sum(axis=(1, 2, 3))
 
-    terms = _frame_terms(ex, centers, "valid", constraint, x.shape[-1])
-    new, rho = _m_step_frame(ex, x, centers, "valid", zidx, terms, None, search=True)
+    terms = frame_terms(ex, centers, "valid", constraint, x.shape[-1])
+    new, rho = frame_step(ex, x, centers, "valid", zidx, terms, None, lookup=True)
     before, after = criterion(zidx), criterion(new)
     assert np.all(after <= before * (1 + 1e-5))
     assert np.mean(after) < 0.5 * np.mean(before)  # random z_p: the search improves most of them
@@ -513,8 +524,8 @@ def test_frame_m_step_never_worse_than_the_current_neighbourhoods(bread):
 
 def test_animation_grey_and_callable_flows():
     ex = texture("lcv/metal.pgm", 40)
-    video = animate_texture(ex, lambda i: translation((24, 24), (i, 0.0)), n_frames=3, neighborhood_sizes=(8,),
-                            levels=1, max_iterations=1, max_frame_iterations=1, rng=0)
+    video = animate_texture(ex, lambda i: translation((24, 24), (i, 0.0)), n_frames=3, schedule=TINY,
+                            animation=Animation(max_frame_iterations=1), rng=0)
     assert video.shape == (3, 24, 24)
 
 
@@ -522,17 +533,18 @@ def test_animation_grey_and_callable_flows():
 def test_paper_preset_is_the_papers():
     # Section 3: grid spacing w/4; 3.1: r = 0.8; 3.2: three levels, sizes 32, 16, 8
     params = inspect.signature(optimize_texture).parameters
-    assert params["relative_grid_spacing"].default == 0.25
-    assert params["irls_exponent"].default == 0.8
-    assert params["gradient_weight"].default == 0.0  # the paper's generalisation is opt-in (μ = 10)
+    schedule, terms = params["schedule"].default, params["terms"].default
+    assert schedule.relative_grid_spacing == 0.25
+    assert terms.irls_exponent == 0.8
+    assert terms.gradient_weight == 0.0  # the paper's generalisation is opt-in (μ = 10)
     # Figure 3 (a 64-px exemplar): (1/4, 8), (1/2, 16), (1/2, 8), (1, 32), (1, 16), (1, 8)
-    plan = _schedule((32, 16, 8), [(64, 64), (32, 32), (16, 16)], [(128, 128), (64, 64), (32, 32)])
+    plan = level_sizes((32, 16, 8), [(64, 64), (32, 32), (16, 16)], [(128, 128), (64, 64), (32, 32)])
     assert plan == [(32, 16, 8), (16, 8), (8,)]
 
 
 def test_paper_run_follows_figure_3_with_w_over_4_grids():
     ex = texture("jcjohnson/bread.png", 64)
-    _, info = optimize_texture(ex, 64, preset="paper", max_iterations=1, rng=0, return_info=True)
+    _, info = optimize_texture(ex, 64, preset="paper", schedule=Schedule(max_iterations=1), rng=0, return_info=True)
     assert [(s.level, s.size) for s in info.stages] == [(2, 8), (1, 16), (1, 8), (0, 32), (0, 16), (0, 8)]
     assert [s.spacing for s in info.stages] == [2, 4, 2, 8, 4, 2]
     assert [s.shape for s in info.stages] == [(16, 16), (32, 32), (32, 32), (64, 64), (64, 64), (64, 64)]
@@ -548,7 +560,8 @@ def test_default_schedule_follows_the_feature_scale():
     assert scale_schedule(small[..., None], (1024, 1024)) == ((32, 16, 8), 4)
     assert scale_schedule(large[:64, :64, None], (96, 96)) == ((16, 8, 4), 2)
     assert scale_schedule(large[..., None], (24, 24)) == ((16,), 4)  # none larger than the output
-    _, info = optimize_texture(texture("jcjohnson/bread.png", 64), 96, max_iterations=1, rng=0, return_info=True)
+    _, info = optimize_texture(texture("jcjohnson/bread.png", 64), 96, schedule=Schedule(max_iterations=1), rng=0,
+                               return_info=True)
     assert [(s.level, s.size) for s in info.stages] == [(1, 16), (1, 8), (1, 4), (0, 16), (0, 8), (0, 4)]
 
 
@@ -560,14 +573,14 @@ def test_default_completeness_term_and_copy_limit_per_level():
     ex = texture("jcjohnson/bread.png", 64)
 
     def per_stage(size, **options):
-        _, info = optimize_texture(ex, size, max_iterations=1, rng=0, return_info=True, **options)
+        _, info = optimize_texture(ex, size, schedule=Schedule(max_iterations=1), rng=0, return_info=True, **options)
         return [(s.level, s.completeness_weight, s.copy_limit) for s in info.stages]
 
     assert set(per_stage(96)) == {(1, 1.0, 0.25), (0, 1.0, 0.25)}
     assert set(per_stage(128)) == {(1, 1.0, 0.25), (0, 0.0, 0.3)}
-    assert set(per_stage(128, completeness_weight=1)) == {(1, 1.0, 0.25), (0, 1.0, 0.25)}
-    assert set(per_stage(128, completeness_weight=0)) == {(1, 0.0, 0.25), (0, 0.0, 0.3)}
-    assert set(per_stage(128, copy_limit=0.2)) == {(1, 1.0, 0.2), (0, 0.0, 0.2)}
+    assert set(per_stage(128, terms=Terms(completeness_weight=1))) == {(1, 1.0, 0.25), (0, 1.0, 0.25)}
+    assert set(per_stage(128, terms=Terms(completeness_weight=0))) == {(1, 0.0, 0.25), (0, 0.0, 0.3)}
+    assert set(per_stage(128, terms=Terms(copy_limit=0.2))) == {(1, 1.0, 0.2), (0, 0.0, 0.2)}
     assert {(c, lim) for _, c, lim in per_stage(128, preset="paper")} == {(0.0, None)}
 
 
@@ -579,15 +592,15 @@ def test_non_tileable_output_is_the_corner_of_a_larger_tileable_canvas():
     # tileable canvas larger by half the largest neighbourhood and keep its top-left part,
     # so no neighbourhood ends at an edge: exactly that canvas, cropped
     ex = texture("jcjohnson/bread.png", 64)
-    out = optimize_texture(ex, 96, max_iterations=2, rng=0)
-    canvas = optimize_texture(ex, 96 + 8, tileable=True, max_iterations=2, rng=0)  # sizes (16, 8, 4): margin 8
+    out = optimize_texture(ex, 96, schedule=Schedule(max_iterations=2), rng=0)
+    canvas = optimize_texture(ex, 96 + 8, tileable=True, schedule=Schedule(max_iterations=2), rng=0)  # margin 8
     np.testing.assert_array_equal(out, canvas[:96, :96])
 
 
 def test_progress_callable_receives_step_total_info(bread):
     calls = []
-    optimize_texture(bread, 32, neighborhood_sizes=(16, 8), levels=1, max_iterations=3, tolerance=0.0, rng=0,
-                     progress=lambda step, total, info: calls.append((step, total, dict(info))))
+    schedule = Schedule(neighborhood_sizes=(16, 8), levels=1, max_iterations=3, tolerance=0.0)
+    optimize_texture(bread, 32, schedule=schedule, rng=0, progress=lambda step, total, info: calls.append((step, total, dict(info))))
     assert calls, "the callable was never called"
     steps = [c[0] for c in calls]
     totals = {c[1] for c in calls}
@@ -600,11 +613,11 @@ def test_progress_callable_receives_step_total_info(bread):
 
 # --------------------------------------------------------------------------- bad input
 def test_nan_in_mask_init_first_frame_is_named(bread):
-    ok = dict(neighborhood_sizes=(8,), levels=1, max_iterations=1)
+    ok = dict(schedule=TINY)
     mask = np.ones((16, 16))
     mask[3, 4] = np.nan
     with pytest.raises(ValueError, match="mask contains NaN"):
-        optimize_texture(bread, 16, mask=mask, target=np.zeros((16, 16, 3)), **ok)
+        optimize_texture(bread, 16, constraints=Constraints(mask=mask, target=np.zeros((16, 16, 3))), **ok)
     with pytest.raises(ValueError, match="init contains NaN"):
         optimize_texture(bread, 16, init=np.full((16, 16, 3), np.nan), **ok)
     with pytest.raises(ValueError, match="first_frame contains NaN"):
@@ -613,23 +626,23 @@ def test_nan_in_mask_init_first_frame_is_named(bread):
 
 
 def test_bad_input_messages(bread):
-    ok = dict(neighborhood_sizes=(8,), levels=1, max_iterations=1)
+    ok = dict(schedule=TINY)
     cases = [
         (dict(exemplar=bread[:6, :6]), "exemplar is 6x6"),
         (dict(size=4), "size"),
-        (dict(mask=np.ones((10, 10), bool), target=np.zeros((16, 16, 3))), "mask"),
-        (dict(mask=np.ones((16, 16), bool), target=np.zeros((16, 12, 3))), "target"),
-        (dict(target=np.zeros((16, 16))), "target"),  # grey target for a colour exemplar
-        (dict(mask=np.ones((16, 16), bool)), "target"),
+        (dict(constraints=Constraints(mask=np.ones((10, 10), bool), target=np.zeros((16, 16, 3)))), "mask"),
+        (dict(constraints=Constraints(mask=np.ones((16, 16), bool), target=np.zeros((16, 12, 3)))), "target"),
+        (dict(constraints=Constraints(target=np.zeros((16, 16)))), "target"),  # grey target for a colour exemplar
+        (dict(constraints=Constraints(mask=np.ones((16, 16), bool))), "target"),
         (dict(init=np.zeros((8, 8, 3))), "init"),
-        (dict(constraint_weight=-1.0), "constraint_weight"),
-        (dict(irls_exponent=0.0), "irls_exponent"),
-        (dict(irls_exponent=2.5), "irls_exponent"),
-        (dict(gradient_weight=-1.0), "gradient_weight"),
-        (dict(completeness_weight=-1.0), "completeness_weight"),
-        (dict(relative_grid_spacing=1.5), "relative_grid_spacing"),
-        (dict(method="fast"), "method"),
-        (dict(exemplar_mask=np.zeros(bread.shape[:2], bool)), "exemplar_mask"),
+        (dict(constraints=Constraints(constraint_weight=-1.0)), "constraint_weight"),
+        (dict(terms=Terms(irls_exponent=0.0)), "irls_exponent"),
+        (dict(terms=Terms(irls_exponent=2.5)), "irls_exponent"),
+        (dict(terms=Terms(gradient_weight=-1.0)), "gradient_weight"),
+        (dict(terms=Terms(completeness_weight=-1.0)), "completeness_weight"),
+        (dict(schedule=dataclasses.replace(TINY, relative_grid_spacing=1.5)), "relative_grid_spacing"),
+        (dict(search=Search(method="fast")), "method"),
+        (dict(constraints=Constraints(exemplar_mask=np.zeros(bread.shape[:2], bool))), "exemplar_mask"),
     ]
     for change, needle in cases:
         args = dict(exemplar=bread, size=16, **ok)
@@ -641,11 +654,11 @@ def test_bad_input_messages(bread):
     with pytest.raises(ValueError, match="exemplar contains NaN"):
         optimize_texture(nan, 16, **ok)
     with pytest.raises(ValueError, match="target contains NaN"):
-        optimize_texture(bread, 16, target=np.full((16, 16, 3), np.nan), **ok)
+        optimize_texture(bread, 16, constraints=Constraints(target=np.full((16, 16, 3), np.nan)), **ok)
 
 
 def test_bad_flows(bread):
-    ok = dict(neighborhood_sizes=(8,), levels=1, max_iterations=1)
+    ok = dict(schedule=TINY)
     with pytest.raises(ValueError, match="flows"):
         animate_texture(bread, np.zeros((2, 16, 16, 3)), **ok)
     with pytest.raises(ValueError, match="flows"):
@@ -659,6 +672,6 @@ def test_bad_flows(bread):
     with pytest.raises(ValueError, match="frames"):
         animate_texture(bread, np.zeros((2, 16, 16, 2)), n_frames=5, **ok)
     with pytest.raises(ValueError, match="frame_falloff"):
-        animate_texture(bread, np.zeros((2, 16, 16, 2)), frame_falloff=0.0, **ok)
+        animate_texture(bread, np.zeros((2, 16, 16, 2)), animation=Animation(frame_falloff=0.0), **ok)
     with pytest.raises(TypeError, match="frame_falloff"):
-        animate_texture(bread, np.zeros((2, 16, 16, 2)), frame_falloff="sharp", **ok)
+        animate_texture(bread, np.zeros((2, 16, 16, 2)), animation=Animation(frame_falloff="sharp"), **ok)

@@ -6,9 +6,10 @@ from scipy.ndimage import sobel
 
 from texsynth import data, optimize_texture
 from texsynth.core.fields import bilinear, splat
+from texsynth.optimization import Constraints, Fields, Guides, Schedule, Terms
 
 # small stages: the index M-step, three iterations; about a second per call
-KW = dict(neighborhood_sizes=(16, 8), levels=2, max_iterations=3)
+KW = dict(schedule=Schedule(neighborhood_sizes=(16, 8), levels=2, max_iterations=3))
 
 
 def _orientation(img):
@@ -34,14 +35,16 @@ def _centroid(img):
     return float((f * p).sum() / p.sum())
 
 
-@pytest.mark.parametrize("options", [dict(size=48, preset="paper", neighborhood_sizes=(16, 8), levels=2, rng=1),
-                                     dict(size=72, rng=0)], ids=["paper", "defaults"])
+@pytest.mark.parametrize("options", [
+    dict(size=48, preset="paper", schedule=Schedule(neighborhood_sizes=(16, 8), levels=2), rng=1),
+    dict(size=72, rng=0),
+], ids=["paper", "defaults"])
 def test_no_fields_is_bit_identical_to_no_field_arguments(options):
     # orientation=None, scale=None must not change a single bit: both sides computed in this run
     # (an output digest written down on one machine is not valid on another CPU)
     ex = data.load("bumpy")[:64, :64]
     plain = optimize_texture(ex, **options)
-    assert np.array_equal(optimize_texture(ex, orientation=None, scale=None, **options), plain)
+    assert np.array_equal(optimize_texture(ex, fields=Fields(orientation=None, scale=None), **options), plain)
 
 
 def test_splat_is_the_adjoint_of_bilinear_sampling():
@@ -56,8 +59,8 @@ def test_splat_is_the_adjoint_of_bilinear_sampling():
 def test_orientation_field_turns_the_texture():
     ex = data.load("brick")[:64, :64]  # horizontal mortar: gradients point up/down
     plain = optimize_texture(ex, (48, 96), rng=0, **KW)
-    turned = optimize_texture(ex, (48, 96), orientation=lambda r, c: np.where(c < 48, 0.0, np.pi / 2), rng=0,
-                              **KW)
+    turned = optimize_texture(ex, (48, 96), fields=Fields(orientation=lambda r, c: np.where(c < 48, 0.0, np.pi / 2)),
+                              rng=0, **KW)
     ref = _orientation(plain)
     # Calibration: over 3 seeds the unrotated output's orientation was within 1.5 degrees of the
     # exemplar's, and outputs turned by 45 and 90 degrees within 3.5 degrees of the turned exemplar;
@@ -69,7 +72,7 @@ def test_orientation_field_turns_the_texture():
 
 def test_scale_field_grows_the_elements():
     ex = data.load("brick")[:64, :64]
-    out, info = optimize_texture(ex, (48, 96), scale=lambda r, c: np.where(c < 48, 0.7, 1.6), rng=0,
+    out, info = optimize_texture(ex, (48, 96), fields=Fields(scale=lambda r, c: np.where(c < 48, 0.7, 1.6)), rng=0,
                                  return_info=True, **KW)
     ratio = _centroid(out[:, :48]) / _centroid(out[:, 48:])
     # Calibration: the left/right centroid ratio of unscaled outputs measured 0.88-1.0 (3 seeds); an ideal
@@ -81,19 +84,21 @@ def test_scale_field_grows_the_elements():
 
 def test_tileable_fields_wrap():
     ex = data.load("bumpy")[:48, :48]
-    out = optimize_texture(ex, 48, orientation=lambda r, c: c / 48 * 2 * np.pi, tileable=True, rng=0, **KW)
+    out = optimize_texture(ex, 48, fields=Fields(orientation=lambda r, c: c / 48 * 2 * np.pi), tileable=True, rng=0,
+                           **KW)
     # across the wrap the step between the last and the first column is like any step between columns
     inner = np.abs(np.diff(out, axis=1)).mean()
     assert np.abs(out[:, 0] - out[:, -1]).mean() < 2.0 * inner
 
 
 @pytest.mark.parametrize("kwargs, match", [
-    (dict(orientation=np.zeros((10, 10))), r"orientation has shape \(10, 10\) but the output size is \(32, 32\)"),
-    (dict(scale=np.full((32, 32), np.nan)), "scale contains NaN"),
-    (dict(scale=0.0), "scale must be positive"),
-    (dict(scale=lambda r, c: -r), r"scale\(rows, cols\) must be positive"),
-    (dict(orientation=1.0, gradient_weight=10.0), "pass gradient_weight=0 or no fields"),
-    (dict(scale=1.2, target=np.zeros((32, 32, 3))), "constraint_weight=float"),
+    (dict(fields=Fields(orientation=np.zeros((10, 10)))),
+     r"orientation has shape \(10, 10\) but the output size is \(32, 32\)"),
+    (dict(fields=Fields(scale=np.full((32, 32), np.nan))), "scale contains NaN"),
+    (dict(fields=Fields(scale=0.0)), "scale must be positive"),
+    (dict(fields=Fields(scale=lambda r, c: -r)), r"scale\(rows, cols\) must be positive"),
+    (dict(fields=Fields(orientation=1.0), terms=Terms(gradient_weight=10.0)), "pass gradient_weight=0 or no fields"),
+    (dict(fields=Fields(scale=1.2), constraints=Constraints(target=np.zeros((32, 32, 3)))), "constraint_weight=float"),
 ])
 def test_bad_fields_are_clear_value_errors(kwargs, match):
     ex = data.load("bumpy")[:32, :32]
@@ -115,12 +120,12 @@ def test_label_guides_match_each_region_to_its_own_label():
     labels[:, 32:] = 1
     wanted = np.zeros((64, 64))
     wanted[:, 13:] = 1  # the output is 80 % pebbles: other proportions than the exemplar's
-    kw = dict(neighborhood_sizes=(16, 8), levels=2, max_iterations=3, rng=0)
-    per_label = optimize_texture(ex, 64, exemplar_guide=labels, output_guide=wanted, **kw)
+    kw = dict(schedule=Schedule(neighborhood_sizes=(16, 8), levels=2, max_iterations=3), rng=0)
+    per_label = optimize_texture(ex, 64, guides=Guides(exemplar_guide=labels, output_guide=wanted), **kw)
     # the same guides made continuous by a jitter of 1e-3 (far below any colour step) are not label
     # maps: the output is matched to the whole exemplar's histogram, as before label matching existed
     jitter = labels + np.random.default_rng(0).uniform(0, 1e-3, labels.shape) * (1 - 2 * labels)
-    whole = optimize_texture(ex, 64, exemplar_guide=jitter, output_guide=wanted, **kw)
+    whole = optimize_texture(ex, 64, guides=Guides(exemplar_guide=jitter, output_guide=wanted), **kw)
 
     def error(out):  # mean-colour error of each output region against the exemplar region of its label
         return np.array([np.abs(out[wanted == k].mean(0) - ex[labels == k].mean(0)).mean() for k in (0, 1)])

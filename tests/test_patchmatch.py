@@ -678,7 +678,7 @@ def test_query_patches_gathered_into_the_workspace():
 
 
 def test_distances_without_the_penalty_that_ranked_them():
-    # with a penalty PatchMatch ranks by distance + penalty; distances=True gives the held patches' plain
+    # with a penalty PatchMatch ranks by distance + penalty; the third value is the held patches' plain
     # weighted distances, which a caller needs as its energy (texture optimization's ρ_p under the copy limit)
     from texsynth.core.search import patchmatch_features
 
@@ -690,7 +690,7 @@ def test_distances_without_the_penalty_that_ranked_them():
         return 0.5 * (c[:, 1] > 10)
     field, cost, dist = patchmatch_features(img, exemplar, 5, centers=centers, init=None, iterations=3,
                                             exemplar_mask=None, pixel_weights=g, mode="wrap", penalty=penalty,
-                                            rng=np.random.default_rng(0), distances=True)
+                                            rng=np.random.default_rng(0))
     q = extract(img, centers, 5, mode="wrap")
     z = extract(exemplar, field[:, 0], 5, mode="valid")
     exact = np.einsum("nhwc,hw->n", (q - z) ** 2, g)
@@ -698,6 +698,5 @@ def test_distances_without_the_penalty_that_ranked_them():
     np.testing.assert_allclose(cost[:, 0], exact + penalty(None, field[:, 0]), rtol=1e-12)
     assert (field[:, 0, 1] > 10).any() and (cost[:, 0] > dist[:, 0]).any()  # the penalty did apply somewhere
     plain = patchmatch_features(img, exemplar, 5, centers=centers, init=None, iterations=3, exemplar_mask=None,
-                                pixel_weights=g, mode="wrap", penalty=None, rng=np.random.default_rng(0),
-                                distances=True)
+                                pixel_weights=g, mode="wrap", penalty=None, rng=np.random.default_rng(0))
     assert plain[2] is plain[1]  # without a penalty the costs are the distances

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from texsynth import cli, data, metrics
 from texsynth.io import load_frames, load_image, save_frames, save_image
-from texsynth.patch._patchwork import prescale_pattern
+from texsynth.patch._patchwork_transfer import prescale_pattern
 from texsynth.patch import patchwork, patchwork_transfer, patchwork_video, voronoi_weights
 
 
@@ -357,7 +357,7 @@ def test_transfer_follows_the_pattern(texture):
 
     out, info = patchwork_transfer(tex, pattern, rng=0, return_info=True)
     plain = patchwork(tex, 96, grid_spacing=16, sharpness=2, rng=0)
-    few = patchwork_transfer(tex, pattern, candidates=1, rng=0)  # one random candidate: no matching
+    few = patchwork_transfer(tex, pattern, n_candidates=1, rng=0)  # one random candidate: no matching
     # measured: 0.94 with 64 candidates, -0.05 with one, -0.18 for the untargeted patchwork
     assert corr(out) > 0.8
     assert abs(corr(plain)) < 0.4 and abs(corr(few)) < 0.4
@@ -367,7 +367,7 @@ def test_transfer_follows_the_pattern(texture):
 def test_transfer_eq7_with_one_cell_is_the_patch(texture):
     tex = texture("lcv/metal.pgm", 96)
     pattern = np.full((24, 24), 0.5)
-    out, info = patchwork_transfer(tex, pattern, grid_spacing=24, candidates=4, rng=0, return_info=True)
+    out, info = patchwork_transfer(tex, pattern, grid_spacing=24, n_candidates=4, rng=0, return_info=True)
     # a single cell: eq. 7 reduces to I(x - p + q) - a_1 + a_1
     py, px = (info.p[0] - 0.5).astype(int)
     qy, qx = (info.q[0] - 0.5).astype(int)
@@ -411,7 +411,7 @@ def test_transfer_matches_eq7_summed_over_all_cells(texture, f):
     # rounding separates it from this float64 reference (measured: max 6e-7). Tolerance 1e-5: 16
     # terms of float32 products and a square root stay far below it, while a wrong exponent,
     # divisor, local mean or offset moves pixels by 0.01-0.3.
-    out, info = patchwork_transfer(tex, pattern, grid_spacing=16, sharpness=f, candidates=16, neighbors=8,
+    out, info = patchwork_transfer(tex, pattern, grid_spacing=16, sharpness=f, n_candidates=16, neighbors=8,
                                    rng=0, return_info=True)
     assert info.grid_shape == (4, 4)
     assert np.all(taper(info, (64, 64)) == 1)
@@ -426,7 +426,7 @@ def test_transfer_matches_eq7_summed_over_all_cells(texture, f):
     assert inside >= 12
     # the default 4x4 bound is eq. 7 over every cell with w_i phi_i in place of w_i (float32 rounding:
     # measured max 4e-7) ...
-    bounded, binfo = patchwork_transfer(tex, pattern, grid_spacing=16, sharpness=f, candidates=16, rng=0,
+    bounded, binfo = patchwork_transfer(tex, pattern, grid_spacing=16, sharpness=f, n_candidates=16, rng=0,
                                         return_info=True)
     assert np.abs(bounded - all_cells_eq7(tex, binfo, (64, 64), f, tapered=True)).max() < 1e-5
     # ... and the check is sensitive: the bound tapers off and drops the far cells, which at f = 2
@@ -458,12 +458,12 @@ def test_prescale_option_changes_the_matching(texture):
     dim = 0.4 * target + 0.3  # the same pattern, dimmer and with less contrast
     # prescale (the default) maps the dim pattern back onto the texture's mean and range, i.e. onto
     # `target`: the same q_i and the same output as matching `target` itself without pre-scaling
-    on, info_on = patchwork_transfer(tex, dim, candidates=16, rng=0, return_info=True)
-    ref, info_ref = patchwork_transfer(tex, target, candidates=16, prescale=False, rng=0, return_info=True)
+    on, info_on = patchwork_transfer(tex, dim, n_candidates=16, rng=0, return_info=True)
+    ref, info_ref = patchwork_transfer(tex, target, n_candidates=16, prescale=False, rng=0, return_info=True)
     assert np.array_equal(info_on.q, info_ref.q)
     np.testing.assert_allclose(on, ref, atol=1e-6)
     # turned off, the dim pattern itself is matched: other patches, another output
-    off, info_off = patchwork_transfer(tex, dim, candidates=16, prescale=False, rng=0, return_info=True)
+    off, info_off = patchwork_transfer(tex, dim, n_candidates=16, prescale=False, rng=0, return_info=True)
     assert np.mean(np.any(info_off.q != info_on.q, axis=1)) > 0.3  # measured: 78% of the cells
     assert np.abs(off - on).mean() > 0.02  # measured: 0.09
 
@@ -472,7 +472,7 @@ def test_video_transfer(texture):
     clip = _drifting(texture, frames=6, size=48)
     pattern = np.zeros((32, 32, 3))
     pattern[8:24, 8:24] = 1
-    out = patchwork_transfer(clip, pattern, grid_spacing=8, candidates=8, n_frames=4, rng=0)
+    out = patchwork_transfer(clip, pattern, grid_spacing=8, n_candidates=8, n_frames=4, rng=0)
     assert out.shape == (4, 32, 32, 3)
     assert out[:, 10:22, 10:22].mean() > out[:, :6].mean()
 
@@ -485,7 +485,7 @@ def test_video_transfer_matches_the_pattern_against_the_average_frame(texture):
     # a window moving over the ink photograph: every frame differs from the average frame A(x)
     clip = np.stack([full[100 + 3 * t : 196 + 3 * t, 100 + 4 * t : 196 + 4 * t] for t in range(8)])
     pattern = np.repeat(resize(skdata.camera(), (48, 48), anti_aliasing=True)[..., None], 3, axis=-1)
-    kwargs = dict(grid_spacing=8, candidates=16, rng=0, return_info=True)
+    kwargs = dict(grid_spacing=8, n_candidates=16, rng=0, return_info=True)
     video, info = patchwork_transfer(clip, pattern, n_frames=6, **kwargs)
     average = clip.astype(np.float32).mean(0)  # A(x), eq. 6
     _, info_a = patchwork_transfer(average, pattern, **kwargs)
@@ -505,8 +505,8 @@ def test_video_transfer_of_a_still_clip_is_the_image_transfer(texture):
     frame = texture("embark/2.jpg", 96)
     pattern = np.zeros((40, 40, 3))
     pattern[10:30, 10:30] = 1.0
-    video = patchwork_transfer(np.stack([frame] * 4), pattern, grid_spacing=8, candidates=8, n_frames=3, rng=1)
-    image = patchwork_transfer(frame, pattern, grid_spacing=8, candidates=8, rng=1)
+    video = patchwork_transfer(np.stack([frame] * 4), pattern, grid_spacing=8, n_candidates=8, n_frames=3, rng=1)
+    image = patchwork_transfer(frame, pattern, grid_spacing=8, n_candidates=8, rng=1)
     # I(x, t) = A(x): every intermediate frame is A (eq. 6), so every frame is eq. 7 on the image
     np.testing.assert_allclose(video, np.stack([image] * 3), atol=1e-5)
 
@@ -612,16 +612,16 @@ def test_cli_patchwork_transfer(tmp_path):
     pattern[10:30, 14:42] = 1.0  # a bright rectangle on black, grey: repeated to the texture's channels
     pat = save_image(tmp_path / "pattern.png", pattern)
     out = tmp_path / "transfer.png"
-    assert _cli("patchwork-transfer", tex, pat, "-o", out, "--grid-spacing", 8, "--candidates", 8,
+    assert _cli("patchwork-transfer", tex, pat, "-o", out, "--grid-spacing", 8, "--n-candidates", 8,
                 "--seed", 0) == 0
     image = load_image(out)
     assert image.shape == (40, 56, 3)  # the pattern's size, the texture's channels
     api = patchwork_transfer(load_image(tex), np.repeat(load_image(pat)[..., None], 3, -1), grid_spacing=8,
-                             candidates=8, rng=0)
+                             n_candidates=8, rng=0)
     assert _api_equals_file(api, image)
     assert image[14:26, 18:38].mean() > image[:6].mean() + 0.05  # the rectangle shows
     out2 = tmp_path / "plain.png"
-    assert _cli("patchwork-transfer", tex, pat, "-o", out2, "--grid-spacing", 8, "--candidates", 8,
+    assert _cli("patchwork-transfer", tex, pat, "-o", out2, "--grid-spacing", 8, "--n-candidates", 8,
                 "--no-prescale", "--seed", 0) == 0
     assert not np.array_equal(load_image(out2), image)
 

@@ -24,6 +24,8 @@ from skimage.morphology import skeletonize
 from texsynth.procedural import (
     GRAY_SCOTT_PRESETS,
     TURK_PRESETS,
+    GrayScottRates,
+    TurkRates,
     apply_colormap,
     band_limit_octaves,
     fbm,
@@ -547,7 +549,7 @@ def test_turk_reproducible_frames_and_beta():
     assert i1.frames.shape == (3, 24, 24)
     assert np.array_equal(i1.frames[-1], i1.concentrations["b"])
     assert np.all(np.abs(i1.beta - 12) <= 0.1)
-    assert i1.steps == 300 and i1.parameters["s"] == TURK_PRESETS["spots"]["s"]
+    assert i1.steps == 300 and i1.parameters["s"] == TURK_PRESETS["spots"].s
 
 
 def test_turk_cascade_freezes_spots():
@@ -580,9 +582,10 @@ def test_gray_scott_spots_and_mazes():
 
 def test_gray_scott_options():
     img, info = gray_scott((32, 32), preset="coral", steps=50, rng=0, return_info=True)
-    assert info.parameters["F"] == GRAY_SCOTT_PRESETS["coral"]["F"]
-    _, info2 = gray_scott((32, 32), F=0.03, k=0.06, steps=50, rng=0, return_info=True)
-    assert info2.parameters["F"] == 0.03 and info2.parameters["k"] == 0.06
+    assert info.parameters["feed"] == GRAY_SCOTT_PRESETS["coral"].feed
+    _, info2 = gray_scott((32, 32), rates=GrayScottRates(feed=0.03, kill=0.06), steps=50, rng=0, return_info=True)
+    assert info2.parameters["feed"] == 0.03 and info2.parameters["kill"] == 0.06
+    assert info2.parameters["Du"] == GRAY_SCOTT_PRESETS["spots"].Du  # fields left "auto" are the preset's
     assert np.array_equal(gray_scott((32, 32), steps=50, rng=5), gray_scott((32, 32), steps=50, rng=5))
     seen = []
     gray_scott((16, 16), steps=20, rng=0, progress=lambda step, total, inf: seen.append(step))
@@ -591,11 +594,11 @@ def test_gray_scott_options():
 
 def test_stability_bound():
     with pytest.raises(ValueError, match=r"Da=0\.3 .*4 \* Da \* dt / h\^2 <= 1.*dt <= 0\.8333"):
-        reaction_diffusion((8, 8), steps=1, Da=0.3)
+        reaction_diffusion((8, 8), steps=1, rates=TurkRates(Da=0.3))
     with pytest.raises(ValueError, match=r"Du=0\.16 with dt=2"):
         gray_scott((8, 8), steps=1, dt=2.0)
     # at half the time step the same rate is accepted
-    reaction_diffusion((8, 8), steps=1, Da=0.3, dt=0.5)
+    reaction_diffusion((8, 8), steps=1, rates=TurkRates(Da=0.3), dt=0.5)
 
 
 # --------------------------------------------------------------------------
@@ -629,11 +632,13 @@ def test_stability_bound():
     (lambda: meinhardt_stripes((8, 8), steps=1, p1=0), "p1"),
     (lambda: meinhardt_stripes((8, 8), steps=1, diff2=0.3), "diff2=0.3 .* unstable"),
     (lambda: meinhardt_stripes((8, 8), steps=1, arand=-1), "arand"),
-    (lambda: reaction_diffusion((8, 8), steps=1, s=-1), "s must"),
+    (lambda: reaction_diffusion((8, 8), steps=1, rates=TurkRates(s=-1)), "s must"),
+    (lambda: reaction_diffusion((8, 8), steps=1, rates=GrayScottRates()), "rates must be a TurkRates"),
     (lambda: reaction_diffusion((8, 8), steps=1, cascade=[(1,)]), "cascade"),
     (lambda: reaction_diffusion((8, 8), steps=1, record_every=0), "record_every"),
     (lambda: gray_scott((8, 8), preset="zebra"), "preset"),
-    (lambda: gray_scott((8, 8), steps=1, Dv=-0.1), "Dv"),
+    (lambda: gray_scott((8, 8), steps=1, rates=GrayScottRates(Dv=-0.1)), "Dv"),
+    (lambda: gray_scott((8, 8), steps=1, rates={"feed": 0.03}), "rates must be a GrayScottRates"),
     (lambda: gray_scott((8, 8), steps=1, seeds=0), "seeds"),
 ])
 def test_bad_inputs(call, match):
@@ -681,7 +686,6 @@ _NON_FINITE = st.sampled_from([math.nan, math.inf, -math.inf, np.float32("nan"),
 _NEGATIVE = st.floats(max_value=-1e-300, allow_nan=False, allow_infinity=False)
 _BAD_POSITIVE = st.one_of(_NON_NUMBERS, _NON_FINITE, _NEGATIVE, st.just(0), st.just(0.0))  # for "> 0" numbers
 _BAD_NON_NEGATIVE = st.one_of(_NON_NUMBERS, _NON_FINITE, _NEGATIVE)  # for ">= 0" numbers
-_BAD_OPTIONAL_RATE = _BAD_NON_NEGATIVE.filter(lambda v: v is not None)  # None takes the preset's value
 _BAD_COUNT = st.one_of(st.sampled_from([True, "3", 2.5, 3.0, math.nan, [1]]), st.integers(-10**6, 0))
 _BAD_SIZE = st.one_of(
     st.sampled_from([None, True, "8x8", b"ab", 8.0, (8,), (8, 8, 8, 8), (8.0, 8), (math.nan, 8), {8: 8}, (True, 8)]),
@@ -780,8 +784,8 @@ def _other_cases():
             (name, "progress", st.sampled_from(["yes", 2, 0.5]), lambda v, fn=fn: fn((8, 8), steps=1, progress=v)),
         ]
     for rate in ("s", "Da", "Db", "beta", "beta_spread"):
-        cases.append(("reaction_diffusion", rate, _BAD_OPTIONAL_RATE,
-                      lambda v, rate=rate: reaction_diffusion((8, 8), steps=2, **{rate: v})))
+        cases.append(("reaction_diffusion", rate, _BAD_NON_NEGATIVE,
+                      lambda v, rate=rate: reaction_diffusion((8, 8), steps=2, rates=TurkRates(**{rate: v}))))
     cases += [
         ("reaction_diffusion", "dt", st.one_of(_BAD_POSITIVE, st.floats(4.01, 1e300)),
          lambda v: reaction_diffusion((8, 8), steps=2, dt=v)),  # also above the stability bound
@@ -799,8 +803,13 @@ def _other_cases():
          lambda v: meinhardt_stripes((8, 8), steps=2, p1=v)),  # the steady state p2 / (2 p1) overflows
         ("meinhardt_stripes", "p2", _BAD_POSITIVE, lambda v: meinhardt_stripes((8, 8), steps=2, p2=v)),
     ]
-    for rate in ("F", "k", "Du", "Dv"):
-        cases.append(("gray_scott", rate, _BAD_OPTIONAL_RATE if rate in "Fk" else _BAD_NON_NEGATIVE, lambda v, rate=rate: gray_scott((8, 8), steps=2, **{rate: v})))
+    for rate in ("feed", "kill", "Du", "Dv"):
+        cases.append(("gray_scott", rate, _BAD_NON_NEGATIVE,
+                      lambda v, rate=rate: gray_scott((8, 8), steps=2, rates=GrayScottRates(**{rate: v}))))
+    for name, fn, wrong in (("reaction_diffusion", reaction_diffusion, GrayScottRates()),
+                            ("gray_scott", gray_scott, TurkRates())):
+        cases.append((name, "rates", st.sampled_from([None, "auto", {"s": 0.1}, 0.1, wrong]),
+                      lambda v, fn=fn: fn((8, 8), steps=1, rates=v)))
     for rate in ("p3", "diff1", "diff2", "arand"):
         cases.append(("meinhardt_stripes", rate, _BAD_NON_NEGATIVE,
                       lambda v, rate=rate: meinhardt_stripes((8, 8), steps=2, **{rate: v})))

@@ -73,7 +73,7 @@ def test_adsn_expected_autocorrelation_is_the_exemplars(metal):
     seeds = 300
     acc, means = np.zeros_like(ex), []
     for seed in range(seeds):
-        v = random_phase_noise(ex, method="adsn", rng=seed)
+        v = random_phase_noise(ex, process="adsn", rng=seed)
         d = v - ex.mean()
         acc += np.real(np.fft.ifft2(np.abs(np.fft.fft2(d)) ** 2)) / d.size
         means.append(v.mean())
@@ -92,8 +92,8 @@ def test_adsn_expected_autocorrelation_is_the_exemplars(metal):
 def test_rpn_and_adsn_have_the_exemplars_spectrum(metal, wood):
     for ex in (metal, wood):
         noise = noise_baseline(ex, (128, 160), rng=0)
-        for method in ("rpn", "adsn"):
-            out = random_phase_noise(ex, (128, 160), method=method, rng=1)
+        for process in ("rpn", "adsn"):
+            out = random_phase_noise(ex, (128, 160), process=process, rng=1)
             # Radially averaged log power spectrum: 0.14-0.20 from the exemplar's on metal, 0.21-0.25 on wood
             # (rpn and adsn, seeds 0-2), against 0.86-0.89 for histogram-matched white noise; 0.35 of the
             # noise's distance leaves room and still fails any output that lost the spectrum.
@@ -110,7 +110,7 @@ def test_larger_output_keeps_mean_and_variance(metal):
     assert out.mean() == pytest.approx(ex.mean(), abs=1e-6)
     assert out.var() == pytest.approx(p.var(), rel=1e-4)
     # ADSN: the same in expectation
-    adsn = [random_phase_noise(ex, (160, 200), method="adsn", rng=s).var() for s in range(4)]
+    adsn = [random_phase_noise(ex, (160, 200), process="adsn", rng=s).var() for s in range(4)]
     assert np.mean(adsn) == pytest.approx(p.var(), rel=0.1)
 
 
@@ -151,30 +151,30 @@ def test_dtypes_and_layouts(metal, wood):
     assert out.dtype == np.float64 and out.shape == (50, 30) and 0 <= out.min() and out.max() <= 1
     assert random_phase_noise(small[..., None], rng=0).shape == (40, 40, 1)
     rgba = np.dstack([wood[:40, :40], np.ones((40, 40))])
-    assert random_phase_noise(rgba, 33, method="adsn", rng=0).shape == (33, 33, 4)
+    assert random_phase_noise(rgba, 33, process="adsn", rng=0).shape == (33, 33, 4)
 
 
 def test_seeds(wood):
     a = random_phase_noise(wood, 64, rng=7)
     np.testing.assert_array_equal(a, random_phase_noise(wood, 64, rng=np.random.default_rng(7)))
     assert np.abs(a - random_phase_noise(wood, 64, rng=8)).mean() > 0.02
-    assert np.abs(a - random_phase_noise(wood, 64, method="adsn", rng=7)).mean() > 0.02
+    assert np.abs(a - random_phase_noise(wood, 64, process="adsn", rng=7)).mean() > 0.02
 
 
 def test_command_line(tmp_path, wood):
     src = save_image(tmp_path / "wood.png", wood)
     out = tmp_path / "rpn.png"
-    assert cli.main(["random-phase", str(src), "-o", str(out), "--size", "200x120", "--method", "adsn",
+    assert cli.main(["random-phase", str(src), "-o", str(out), "--size", "200x120", "--process", "adsn",
                      "--seed", "1"]) == 0
     assert load_image(out).shape == (120, 200, 3)
-    assert cli.main(["random-phase", str(src), "-o", str(tmp_path / "bad.png"), "--method", "gauss"]) == 2
+    assert cli.main(["random-phase", str(src), "-o", str(tmp_path / "bad.png"), "--process", "gauss"]) == 2
     assert not (tmp_path / "bad.png").exists()
 
 
 # ----------------------------------------------------------------------------- bad input
 def test_bad_input(metal):
-    with pytest.raises(ValueError, match="method must be one of"):
-        random_phase_noise(metal, method="phase")
+    with pytest.raises(ValueError, match="process must be one of"):
+        random_phase_noise(metal, process="phase")
     with pytest.raises(ValueError, match="periodic_exemplar must be one of"):
         random_phase_noise(metal, periodic_exemplar="mirror")
     with pytest.raises(ValueError, match="size"):

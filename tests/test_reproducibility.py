@@ -21,9 +21,10 @@ from texsynth import data
 
 # one small call (or a tuple of calls) per family
 CALLS = {
-    "pixel": "texsynth.synthesize_pixels(ex[:32, :32], 40, levels=2, rng=3)",
+    "pixel": "texsynth.synthesize_pixels(ex[:32, :32], 40, neighborhood=texsynth.Neighborhood(levels=2), rng=3)",
     "patch": "texsynth.quilt(ex, 72, rng=3), texsynth.patchwork(ex, 72, rng=3)",
-    "optimization": "texsynth.optimize_texture(ex[:48, :48], 64, max_iterations=2, rng=3)",
+    "optimization": "texsynth.optimize_texture(ex[:48, :48], 64, schedule=texsynth.optimization.Schedule("
+                    "max_iterations=2), rng=3)",
     "statistical": "texsynth.heeger_bergen(ex, 64, iterations=2, rng=3)",
     "procedural": "texsynth.procedural.marble((48, 48), rng=3),"
                   " texsynth.procedural.reaction_diffusion((32, 32), steps=200, rng=3)",

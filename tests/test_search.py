@@ -266,9 +266,9 @@ def recall_and_ratio(vectors, queries, idx, d2):
 
 # Measured on 2026-11-22 with the defaults (recall@1 / mean distance ratio returned/exact,
 # seeds 0-2; the random-index baseline has ratio 6.5 on gravel and 94 on text, recall ~1/N):
-#   gravel t4 (5220 x 147):  kdtree 0.966 / 1.002, kdtree candidates=32 0.988 / 1.001,
+#   gravel t4 (5220 x 147):  kdtree 0.966 / 1.002, kdtree n_candidates=32 0.988 / 1.001,
 #                            tsvq 0.30-0.31 / 1.20-1.21, tsvq beams=4 0.67-0.71 / 1.03-1.05
-#   text (8100 x 49):        kdtree 1.000 / 1.000, kdtree candidates=32 1.000 / 1.000,
+#   text (8100 x 49):        kdtree 1.000 / 1.000, kdtree n_candidates=32 1.000 / 1.000,
 #                            tsvq 0.57-0.58 / 1.34-1.35, tsvq beams=4 0.90-0.94 / 1.02-1.05
 # Thresholds sit below the worst seed with a margin, and far from the random baseline:
 # a broken descent (random leaf) or a wrong PCA (random candidates) lands near the
@@ -277,7 +277,7 @@ def recall_and_ratio(vectors, queries, idx, d2):
     "kwargs, min_recall, max_ratio",
     [
         (dict(method="kdtree"), 0.93, 1.01),
-        (dict(method="kdtree", candidates=32), 0.97, 1.005),
+        (dict(method="kdtree", n_candidates=32), 0.97, 1.005),
         (dict(method="tsvq"), 0.2, 1.5),
         (dict(method="tsvq", beams=4), 0.6, 1.08),
     ],
@@ -302,9 +302,9 @@ def test_more_beams_and_candidates_improve_recall(gravel):
         "tsvq1": dict(method="tsvq"),
         "tsvq4": dict(method="tsvq", beams=4),
         "tsvq16": dict(method="tsvq", beams=16),
-        "kd5": dict(method="kdtree", candidates=5),
-        "kd32": dict(method="kdtree", candidates=32),
-        "kd32exact": dict(method="kdtree", candidates=32, eps=0),
+        "kd5": dict(method="kdtree", n_candidates=5),
+        "kd32": dict(method="kdtree", n_candidates=32),
+        "kd32exact": dict(method="kdtree", n_candidates=32, eps=0),
     }.items():
         idx, d2 = PatchIndex(vectors, rng=0, **kw).query(queries)
         recalls[key] = recall_and_ratio(vectors, queries, idx, d2)[0]
@@ -475,7 +475,7 @@ def test_kdtree_recall_on_large_colour_patches(monkeypatch):
 def test_tsvq_builds_on_near_duplicate_float32_vectors():
     """Three float32 values a few 1e-4 apart: their distances tie in float32, k-means++ seeds
     fewer codewords than branching and Lloyd collapses. The build raised IndexError before 0.2
-    (multisource worked around it by rebuilding in float64); it now splits such a node evenly."""
+    (the solid textures worked around it by rebuilding in float64); it now splits such a node evenly."""
     rng = np.random.default_rng(3)
     base = rng.random(34).astype(np.float32)
     k = rng.integers(2, 4)
@@ -618,10 +618,10 @@ def test_profiles_tune_their_backend():
     stage = PatchIndex(v, method="kdtree", profile="stage", rng=0)._backend
     frame = PatchIndex(v, method="kdtree", profile="frame", rng=0)._backend
     plain = PatchIndex(v, method="kdtree", rng=0)._backend
-    assert (stage.candidates, stage.eps) == (16, 2.0) and (frame.candidates, frame.eps) == (4, 2.0)
-    assert (plain.candidates, plain.eps) == (None, 1.0)
+    assert (stage.n_candidates, stage.eps) == (16, 2.0) and (frame.n_candidates, frame.eps) == (4, 2.0)
+    assert (plain.n_candidates, plain.eps) == (None, 1.0)
     # the user's own options win over the profile's
-    assert PatchIndex(v, method="kdtree", profile="frame", candidates=9, rng=0)._backend.candidates == 9
+    assert PatchIndex(v, method="kdtree", profile="frame", n_candidates=9, rng=0)._backend.n_candidates == 9
     assert set(search.PROFILES) >= {"default", "stage", "frame", "pixels", "scanline", "solid", "correspondence"}
     with pytest.raises(TypeError, match="unknown search option"):
         PatchIndex(v, candidate=4)
@@ -643,14 +643,56 @@ def test_one_switch_changes_the_backend_of_every_algorithm(monkeypatch):
     monkeypatch.setattr(_index.PatchIndex, "__init__", spy)
     bread = load_image(TEXTURES / "jcjohnson/bread.png")[:32, :32, :3]
     with search.use("tsvq"):
-        texsynth.optimize_texture(bread, 32, neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)
-        texsynth.synthesize_pixels(bread, 16, levels=1, order="independent", passes=1, rng=0)
-        texsynth.interpolate_textures(bread, bread[::-1], 0.5, stages=((1, 9),), max_iterations=1, statistics_step=False,
-                                      rng=0)
+        texsynth.optimize_texture(bread, 32, schedule=texsynth.optimization.Schedule(neighborhood_sizes=(8,), levels=1,
+                                                                                     max_iterations=1), rng=0)
+        texsynth.synthesize_pixels(bread, 16, neighborhood=texsynth.Neighborhood(levels=1), order="independent", passes=1,
+                                   rng=0)
+        texsynth.interpolate_textures(bread, bread[::-1], 0.5,
+                                      schedule=texsynth.InterpolationSchedule(stages=((1, 9),), max_iterations=1),
+                                      update=texsynth.InterpolationUpdate(statistics_step=False), rng=0)
     assert used and set(used) == {"tsvq"}
     used.clear()
     with search.use("tsvq"):
-        texsynth.optimize_texture(bread, 32, neighborhood_sizes=(8,), levels=1, max_iterations=1, method="exact",
-                                  rng=0)
+        texsynth.optimize_texture(bread, 32, schedule=texsynth.optimization.Schedule(neighborhood_sizes=(8,), levels=1,
+                                                                                     max_iterations=1),
+                                  search=texsynth.optimization.Search(method="exact"), rng=0)
     assert set(used) == {"exact"}
     assert search.resolve("auto", 100, 8) == "exact"  # back to the rule outside the block
+
+
+# --------------------------------------------------------------------------- partly known queries
+def test_subset_exact_is_the_distance_over_the_known_dimensions():
+    from texsynth.core.search import SubsetExact
+
+    rng = np.random.default_rng(0)
+    vectors, query = rng.random((300, 10)), rng.random(10)
+    search = SubsetExact(vectors)
+    for _ in range(3):  # the same subsets again: their norms are kept, the answer is the same
+        for known in (np.arange(10) < 4, np.arange(10) % 3 == 0, np.ones(10, bool)):
+            want = ((vectors[:, known] - query[known]) ** 2).sum(1)
+            got = search.sq_distances(query, known)
+            np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-12)
+            k, d2 = search.nearest(query, known)
+            assert k == int(np.argmin(got)) and d2 == got[k]
+    assert len(search._norms) == 3
+    # values at unknown dimensions do not count
+    known = np.arange(10) < 5
+    np.testing.assert_array_equal(search.sq_distances(np.where(known, query, 1e6), known),
+                                  search.sq_distances(query, known))
+
+
+def test_sequential_exact_nearest_is_the_argmin_of_its_distances():
+    from texsynth.core.search import SequentialExact
+
+    rng = np.random.default_rng(1)
+    first, second = rng.random((80, 6)), rng.random((80, 3))
+    index = SequentialExact(first, second)
+    queries = rng.random((5, 6))
+    index.start(queries)
+    for j in range(5):
+        part = rng.random(3)
+        d = index.distances(j, part)
+        k, d2 = index.nearest(j, part)
+        assert k == np.argmin(d) and d2 == d[k]
+        full = np.concatenate([first, second], 1)
+        assert k == np.argmin(((full - np.concatenate([queries[j], part])) ** 2).sum(1))

@@ -8,9 +8,13 @@ from texsynth.data import load
 from texsynth.surface._field import tangent_field
 from texsynth.surface._retile import retile
 from texsynth.surface._shapes import sphere, torus
-from texsynth.surface._vertex_synthesis import synthesize_surface
+from texsynth.core.search import Search
+from texsynth.surface._vertex_synthesis import SurfaceSchedule, synthesize_surface
 
 from conftest import load_texture
+
+
+TWO = SurfaceSchedule(levels=2)
 
 
 def _spacing_cv(points):
@@ -182,7 +186,7 @@ def _flattened_views(mesh, colors, field, pixel_size, centers, size=16):
 def test_element_scale_matches_the_exemplar_everywhere_on_a_torus(preset):
     ex = load_texture("skimage/gravel.png", 64, rgb=True)
     ex = ex if ex.ndim == 3 else ex[..., None]
-    out, info = synthesize_surface(torus(2500), ex, n_vertices=6000, levels=2, rng=0, preset=preset,
+    out, info = synthesize_surface(torus(2500), ex, n_vertices=6000, schedule=TWO, rng=0, preset=preset,
                                    return_info=True)
     rng = np.random.default_rng(1)
     centers = rng.choice(len(out.vertices), 60, replace=False)
@@ -230,7 +234,7 @@ def _gradient_energy(mesh, directions):
 def test_user_field_turns_the_texture():
     ex = _stripes()
     s = sphere(642)
-    kw = dict(n_vertices=3000, levels=2, rng=0)
+    kw = dict(n_vertices=3000, schedule=TWO, rng=0)
 
     def east(p):
         return np.cross([0, 0, 1.0], p)
@@ -258,7 +262,7 @@ def test_stripes_follow_the_smooth_field(shape):
     # Every level must use one field: stripes synthesised along the relaxed field change colour across it
     # (along n x t) more than along it. Measured 1.90-1.97 (sphere) and 2.02-2.09 (torus) over seeds 0-1; a
     # random field gives about 1.0 (see test_user_field_turns_the_texture). Threshold 1.4 between.
-    out, info = synthesize_surface(shape, _stripes(), n_vertices=3000, levels=2, rng=0, return_info=True)
+    out, info = synthesize_surface(shape, _stripes(), n_vertices=3000, schedule=TWO, rng=0, return_info=True)
     t = info.field
     b = np.cross(out.vertex_normals, t)
     i, j = out.edges.T
@@ -273,15 +277,15 @@ def test_stripes_follow_the_smooth_field(shape):
 def test_synthesis_copies_exemplar_pixels_and_repeats_with_rng():
     ex = load("bread")[:40, :40]
     s = sphere(162)
-    a, info = synthesize_surface(s, ex, n_vertices=800, levels=2, rng=5, return_info=True)
-    b = synthesize_surface(s, ex, n_vertices=800, levels=2, rng=5)
+    a, info = synthesize_surface(s, ex, n_vertices=800, schedule=TWO, rng=5, return_info=True)
+    b = synthesize_surface(s, ex, n_vertices=800, schedule=TWO, rng=5)
     assert np.array_equal(a.colors, b.colors)
     # every colour is the exemplar pixel at the recorded source
     assert np.allclose(a.colors, ex[info.sources[:, 0], info.sources[:, 1]], atol=1e-6)
     assert len(info.levels) == 2 and len(info.levels[1].vertices) < len(info.levels[0].vertices) / 3
     assert set(info.stage_seconds) == {"hierarchy", "field", "level 1", "level 0"}
     # without a density the mesh's own vertices are coloured
-    own = synthesize_surface(s, ex, levels=1, rng=0)
+    own = synthesize_surface(s, ex, schedule=SurfaceSchedule(levels=1), rng=0)
     assert np.array_equal(own.vertices, s.vertices)
 
 
@@ -306,13 +310,13 @@ def test_queries_hold_exemplar_colours_not_blends():
 
 def test_paper_preset_and_global_search_run():
     ex = load("bread")[:32, :32]
-    out, info = synthesize_surface(sphere(162), ex, n_vertices=500, levels=2, preset="paper", rng=0,
+    out, info = synthesize_surface(sphere(162), ex, n_vertices=500, schedule=TWO, preset="paper", rng=0,
                                    return_info=True)
     # the sweep's causal queries weigh their grid points each their own way: an exact search, not the TSVQ
     assert info.candidates == "all" and info.order == "sweep" and info.method == "exact"
     assert out.colors.shape == (len(out.vertices), 3)
-    _, info = synthesize_surface(sphere(162), ex, n_vertices=500, levels=2, preset="paper", order="independent",
-                                 rng=0, return_info=True)
+    _, info = synthesize_surface(sphere(162), ex, n_vertices=500, preset="paper", rng=0, return_info=True,
+                                 schedule=SurfaceSchedule(levels=2, order="independent"))
     assert info.method == "tsvq"
 
 
@@ -390,14 +394,18 @@ def test_sweep_queries_see_only_the_vertices_already_visited():
         assert np.array_equal(counted, valid[v])
 
 
+SWEEP = SurfaceSchedule(levels=2, order="sweep")
+
+
 def test_sweep_order_copies_exemplar_pixels_and_is_the_paper_preset():
     ex = load("bread")[:40, :40]
     s = sphere(162)
-    a, info = synthesize_surface(s, ex, n_vertices=800, levels=2, order="sweep", rng=3, return_info=True)
+    a, info = synthesize_surface(s, ex, n_vertices=800, schedule=SWEEP, rng=3, return_info=True)
     assert info.order == "sweep"
-    assert np.array_equal(a.colors, synthesize_surface(s, ex, n_vertices=800, levels=2, order="sweep", rng=3).colors)
+    assert np.array_equal(a.colors, synthesize_surface(s, ex, n_vertices=800, schedule=SWEEP, rng=3).colors)
     assert np.allclose(a.colors, ex[info.sources[:, 0], info.sources[:, 1]], atol=1e-6)
-    _, paper = synthesize_surface(s, ex[:32, :32], n_vertices=500, levels=2, preset="paper", rng=0, return_info=True)
+    _, paper = synthesize_surface(s, ex[:32, :32], n_vertices=500, schedule=TWO, preset="paper", rng=0,
+                                  return_info=True)
     assert paper.order == "sweep"
 
 
@@ -406,28 +414,32 @@ def test_sweep_memory_is_checked_before_anything_is_allocated(monkeypatch):
     monkeypatch.setattr("texsynth.surface._vertex_synthesis._SWEEP_BYTES", 10**12)
     ex = load("bread")[:40, :40]
     with pytest.raises(ValueError, match="n_vertices=800 needs about .* GiB"):
-        synthesize_surface(sphere(162), ex, n_vertices=800, levels=2, order="sweep")
-    assert synthesize_surface(sphere(162), ex, n_vertices=800, levels=2).colors is not None
+        synthesize_surface(sphere(162), ex, n_vertices=800, schedule=SWEEP)
+    assert synthesize_surface(sphere(162), ex, n_vertices=800, schedule=TWO).colors is not None
 
 
 def test_synthesis_bad_input():
     s = sphere(162)
     ex = load("bread")[:32, :32]
     with pytest.raises(ValueError, match=r"field must be one \(x, y, z\) vector per vertex, shape \(162, 3\)"):
-        synthesize_surface(s, ex, field=np.ones((5, 3)), levels=2)
+        synthesize_surface(s, ex, field=np.ones((5, 3)), schedule=TWO)
     with pytest.raises(ValueError, match="field has 162 vectors with NaN"):
-        synthesize_surface(s, ex, field=np.full((162, 3), np.nan), levels=2)
+        synthesize_surface(s, ex, field=np.full((162, 3), np.nan), schedule=TWO)
     with pytest.raises(ValueError, match="n_vertices=.* needs about .* GiB .* pass a smaller n_vertices"):
-        synthesize_surface(s, ex, n_vertices=10**12, levels=2)
+        synthesize_surface(s, ex, n_vertices=10**12, schedule=TWO)
     with pytest.raises(ValueError, match="pixel_size=1e-09 .* pass a larger pixel_size"):
-        synthesize_surface(s, ex, pixel_size=1e-9, levels=2)
+        synthesize_surface(s, ex, pixel_size=1e-9, schedule=TWO)
     with pytest.raises(ValueError, match="pass exactly one of n_vertices"):
-        synthesize_surface(s, ex, n_vertices=100, pixel_size=0.1, levels=2)
+        synthesize_surface(s, ex, n_vertices=100, pixel_size=0.1, schedule=TWO)
     with pytest.raises(ValueError, match="coarsest level"):
-        synthesize_surface(s, ex, levels=3)
+        synthesize_surface(s, ex, schedule=SurfaceSchedule(levels=3))
     with pytest.raises(ValueError, match="candidates must be one of"):
-        synthesize_surface(s, ex, candidates="some", levels=2)
+        synthesize_surface(s, ex, search=Search(candidates="some"), schedule=TWO)
     with pytest.raises(ValueError, match="order must be one of 'independent', 'sweep', got 'scanline'"):
-        synthesize_surface(s, ex, order="scanline", levels=2)
+        synthesize_surface(s, ex, schedule=SurfaceSchedule(levels=2, order="scanline"))
     with pytest.raises(ValueError, match="preset must be one of"):
-        synthesize_surface(s, ex, preset="fast", levels=2)
+        synthesize_surface(s, ex, preset="fast", schedule=TWO)
+    with pytest.raises(TypeError, match="schedule must be a"):
+        synthesize_surface(s, ex, schedule={"levels": 2})
+    with pytest.raises(ValueError, match="passes must be"):
+        synthesize_surface(s, ex, schedule=SurfaceSchedule(levels=2, passes=0))

@@ -6,7 +6,10 @@ from scipy import ndimage
 
 import texsynth
 from texsynth import find_textons, metrics, synthesize_controlled
+from texsynth.core.search import Search
+from texsynth.pixel import Neighborhood
 
+L2 = Neighborhood(levels=2)
 
 def _grey(image):
     return image.mean(-1) if image.ndim == 3 else image
@@ -40,7 +43,7 @@ def _mean_frequency(image):
 # --------------------------------------------------------------------------- properties
 def test_without_fields_pixels_are_exemplar_pixels_at_the_coordinates(texture):
     ex = texture("embark/bricks.png", 48)
-    out, info = synthesize_controlled(ex, 40, levels=2, rng=0, return_info=True)
+    out, info = synthesize_controlled(ex, 40, neighborhood=L2, rng=0, return_info=True)
     assert info.coordinates.shape == (40, 40, 2) and info.weights is None  # unrotated, unscaled: copies
     rows, cols = info.coordinates[..., 0], info.coordinates[..., 1]
     np.testing.assert_array_equal(info.positions, info.coordinates)
@@ -55,7 +58,7 @@ def test_without_fields_pixels_are_exemplar_pixels_at_the_coordinates(texture):
 
 def test_turned_output_is_the_bilinear_blend_of_its_coordinate_map(texture):
     ex = texture("rohitrango/t4.png", 40)
-    out, info = synthesize_controlled(ex, 32, levels=2, orientation=0.5, scale=1.3, rng=0, return_info=True)
+    out, info = synthesize_controlled(ex, 32, neighborhood=L2, orientation=0.5, scale=1.3, rng=0, return_info=True)
     assert info.coordinates.shape == (32, 32, 4, 2) and info.weights.shape == (32, 32, 4)
     np.testing.assert_allclose(info.weights.sum(-1), 1.0)
     assert np.all(np.diff(info.weights, axis=-1) <= 0)  # largest weight first
@@ -67,11 +70,11 @@ def test_turned_output_is_the_bilinear_blend_of_its_coordinate_map(texture):
 
 def test_same_seed_same_output_and_identity_fields_change_nothing(texture):
     ex = texture("rohitrango/t4.png", 40)
-    a = synthesize_controlled(ex, 36, levels=2, rng=3)
-    np.testing.assert_array_equal(a, synthesize_controlled(ex, 36, levels=2, rng=3))
-    same = synthesize_controlled(ex, 36, levels=2, rng=3, orientation=0.0, scale=np.ones((36, 36)))
+    a = synthesize_controlled(ex, 36, neighborhood=L2, rng=3)
+    np.testing.assert_array_equal(a, synthesize_controlled(ex, 36, neighborhood=L2, rng=3))
+    same = synthesize_controlled(ex, 36, neighborhood=L2, rng=3, orientation=0.0, scale=np.ones((36, 36)))
     np.testing.assert_array_equal(a, same)
-    grey = synthesize_controlled(texture("lcv/text.pgm", 40), 30, levels=2, rng=0)
+    grey = synthesize_controlled(texture("lcv/text.pgm", 40), 30, neighborhood=L2, rng=0)
     assert grey.shape == (30, 30)  # grey in, grey out
 
 
@@ -136,7 +139,7 @@ def test_blend_zero_and_one_reproduce_each_exemplar(texture):
     """
     a, b = texture("embark/bricks.png", 80), texture("rohitrango/t4.png", 80)
     for value, shown, other in ((0.0, a, b), (1.0, b, a)):
-        out, info = synthesize_controlled(a, 96, exemplar_b=b, blend=value, levels=2, rng=0, return_info=True)
+        out, info = synthesize_controlled(a, 96, exemplar_b=b, blend=value, neighborhood=L2, rng=0, return_info=True)
         assert (info.sources == value).all()
         assert metrics.histogram_distance(out, shown) < 0.6 * metrics.histogram_distance(out, other)
         assert metrics.texture_energy(out, shown) < 0.6 * metrics.texture_energy(out, other)
@@ -150,7 +153,7 @@ def test_blend_ramp_follows_the_map(texture):
     """
     a, b = texture("embark/bricks.png", 64), texture("rohitrango/t4.png", 64)
     ramp = np.broadcast_to(np.linspace(0, 1, 192), (96, 192))
-    _, info = synthesize_controlled(a, (96, 192), exemplar_b=b, blend=ramp, levels=2, rng=0, return_info=True)
+    _, info = synthesize_controlled(a, (96, 192), exemplar_b=b, blend=ramp, neighborhood=L2, rng=0, return_info=True)
     share = info.sources.reshape(96, 6, 32).mean(axis=(0, 2))
     assert share[0] < 0.3 and share[-1] > 0.85 and np.corrcoef(share, np.arange(6))[0, 1] > 0.9
     assert abs(info.sources.mean() - 0.5) < 0.1
@@ -190,4 +193,22 @@ def test_bad_input_names_the_parameter(texture):
         synthesize_controlled(ex, (10**6, 10**6))
     with pytest.raises(ValueError, match="sigma"):
         find_textons(ex, sigma=-1.0)
+    with pytest.raises(TypeError, match="threshold must be a number in \\[0, 1\\] or 'auto'"):
+        find_textons(ex, threshold=None)
+    with pytest.raises(ValueError, match="synthesize_controlled searches k-coherent candidates only"):
+        synthesize_controlled(ex, 24, search=Search(candidates="all"))
+    with pytest.raises(ValueError, match="method"):
+        synthesize_controlled(ex, 24, search=Search(candidates="k-coherent", method="ball"))
+    with pytest.raises(TypeError, match="neighborhood must be a Neighborhood"):
+        synthesize_controlled(ex, 24, neighborhood=5)
     assert texsynth.synthesize_controlled is synthesize_controlled
+
+
+def test_search_group_and_its_auto_values(texture):
+    ex = texture("embark/bricks.png", 32)
+    default = synthesize_controlled(ex, 24, neighborhood=L2, rng=0)
+    for search in (Search(candidates="auto"), Search(candidates="k-coherent", k=1)):
+        assert np.array_equal(default, synthesize_controlled(ex, 24, neighborhood=L2, search=search, rng=0))
+    k2 = synthesize_controlled(ex, 24, neighborhood=L2, search=Search(candidates="k-coherent", k=2), rng=0)
+    assert not np.array_equal(default, k2)
+    assert np.array_equal(find_textons(ex), find_textons(ex, threshold="auto"))

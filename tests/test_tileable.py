@@ -13,9 +13,14 @@ import numpy as np
 import pytest
 
 import texsynth
+from texsynth.core.search import Search
 from texsynth.io import load_image
+from texsynth.pixel import Neighborhood
 
 PHOTOS = Path(__file__).resolve().parents[1] / "benchmarks" / "photos"
+L1 = Neighborhood(levels=1)
+L2 = Neighborhood(levels=2)
+L3 = Neighborhood(levels=3)
 
 
 def seam_ratio(image):
@@ -104,8 +109,9 @@ TILEABLE = {
     "patch_sampling": lambda ex, t: texsynth.patch_sampling(ex, 96, block=32, tileable=t, rng=0),
     "graphcut_texture": lambda ex, t: texsynth.graphcut_texture(ex, 96, block=32, tileable=t, rng=0),
     "patchwork": lambda ex, t: texsynth.patchwork(ex, 96, grid_spacing=24, tileable=t, rng=0),
-    "optimize_texture": lambda ex, t: texsynth.optimize_texture(ex, 64, neighborhood_sizes=(16, 8), levels=2,
-                                                                max_iterations=3, tileable=t, rng=0),
+    "optimize_texture": lambda ex, t: texsynth.optimize_texture(
+        ex, 64, schedule=texsynth.optimization.Schedule(neighborhood_sizes=(16, 8), levels=2, max_iterations=3),
+        tileable=t, rng=0),
 }
 
 
@@ -121,7 +127,7 @@ def test_synthesize_pixels_independent_is_tileable():
     # the wrap-around seam is matched like any other (measured 1.05, 0.96, 1.00 for seeds 0-2;
     # the 64 px exemplar crop: 3.97). The scanline order needs tileable=True (below).
     ex = _pebbles()[:64, :64]
-    out = texsynth.synthesize_pixels(ex, 64, levels=3, order="independent", passes=2, rng=0)
+    out = texsynth.synthesize_pixels(ex, 64, neighborhood=L3, order="independent", passes=2, rng=0)
     assert seam_ratio(out) < 1.4 < seam_ratio(ex)
 
 
@@ -138,14 +144,14 @@ def test_synthesize_pixels_scanline_tileable():
     # so the test takes the mean of five seeds: tileable below 1.4 (the other methods' bound), plain
     # above 1.8. 0.2 s a run.
     ex = _pebbles()[:64, :64]
-    tiled = _mean_ratio(lambda s: texsynth.synthesize_pixels(ex, 64, levels=3, tileable=True, rng=s), range(5))
-    plain = _mean_ratio(lambda s: texsynth.synthesize_pixels(ex, 64, levels=3, rng=s), range(5))
+    tiled = _mean_ratio(lambda s: texsynth.synthesize_pixels(ex, 64, neighborhood=L3, tileable=True, rng=s), range(5))
+    plain = _mean_ratio(lambda s: texsynth.synthesize_pixels(ex, 64, neighborhood=L3, rng=s), range(5))
     assert tiled < 1.4 and plain > 1.8
     # the map still renders the output exactly
-    out, info = texsynth.synthesize_pixels(ex, 64, levels=2, tileable=True, rng=0, return_info=True)
+    out, info = texsynth.synthesize_pixels(ex, 64, neighborhood=L2, tileable=True, rng=0, return_info=True)
     assert np.array_equal(texsynth.apply_coordinates(ex, info), out)
     with pytest.raises(ValueError, match="k-coherent"):
-        texsynth.synthesize_pixels(ex, 64, tileable=True, candidates="k-coherent")
+        texsynth.synthesize_pixels(ex, 64, tileable=True, search=Search(candidates="k-coherent"))
 
 
 def test_efros_leung_tileable():
@@ -194,17 +200,17 @@ def test_mix_textures_tileable():
     other = load_image(PHOTOS / "pebbles_2.png")[::4, ::4][:64, :64]
 
     def mix(seed, tileable, **kw):
-        return texsynth.mix_textures([ex, other], 48, weights=[2.0, 1.0], levels=2, tileable=tileable, rng=seed,
+        return texsynth.mix_textures([ex, other], 48, weights=[2.0, 1.0], neighborhood=L2, tileable=tileable, rng=seed,
                                      **kw)
 
     assert _mean_ratio(lambda s: mix(s, True), range(3)) < 1.4
     assert _mean_ratio(lambda s: mix(s, False), range(3)) > 1.7
     # the map of the mixture still renders it
-    out, info = texsynth.mix_textures([ex[:24, :24], other[:24, :24]], 16, levels=1, tileable=True, rng=0,
+    out, info = texsynth.mix_textures([ex[:24, :24], other[:24, :24]], 16, neighborhood=L1, tileable=True, rng=0,
                                       return_info=True)
     assert np.allclose(texsynth.apply_coordinates([ex[:24, :24], other[:24, :24]], info), out)
     # independent order tiles either way: tileable=True changes nothing there
     small = [ex[:16, :16], other[:16, :16]]
-    assert np.array_equal(texsynth.mix_textures(small, 12, levels=1, order="independent", passes=1, tileable=True,
-                                                rng=0),
-                          texsynth.mix_textures(small, 12, levels=1, order="independent", passes=1, rng=0))
+    assert np.array_equal(texsynth.mix_textures(small, 12, neighborhood=L1, order="independent", passes=1,
+                                                tileable=True, rng=0),
+                          texsynth.mix_textures(small, 12, neighborhood=L1, order="independent", passes=1, rng=0))

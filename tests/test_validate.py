@@ -119,9 +119,11 @@ def test_bool_options_accept_only_bools():
     with pytest.raises(TypeError, match="tileable must be True or False"):
         texsynth.patchwork(ex, 24, grid_spacing=8, tileable="no")
     with pytest.raises(TypeError, match="tileable must be True or False"):
-        texsynth.optimize_texture(ex, 24, neighborhood_sizes=(8,), levels=1, tileable="no")
+        texsynth.optimize_texture(ex, 24, schedule=texsynth.optimization.Schedule(neighborhood_sizes=(8,), levels=1),
+                                  tileable="no")
     with pytest.raises(TypeError, match="falloff must be True or False"):
-        texsynth.optimize_texture(ex, 24, neighborhood_sizes=(8,), levels=1, falloff=1)
+        texsynth.optimize_texture(ex, 24, schedule=texsynth.optimization.Schedule(neighborhood_sizes=(8,), levels=1),
+                                  terms=texsynth.optimization.Terms(falloff=1))
 
 
 def test_thread_limits_of_the_user_are_respected():

@@ -247,7 +247,7 @@ def run_item(item, folder):
     import inspect
 
     from .io import image_bits, load_image, save_image
-    from .registry import METHODS
+    from .registry import METHODS, group_options
 
     start = time.perf_counter()
     try:
@@ -255,7 +255,7 @@ def run_item(item, folder):
         func = spec.function()
         exemplar = load_image(item["path"])
         size = tuple(item["size"]) if item["size"] else exemplar.shape[:2]
-        kwargs = dict(item["options"] or {}, rng=item["seed"])
+        kwargs = group_options(func, dict(item["options"] or {}, rng=item["seed"]))
         args = [exemplar]
         if spec.size:
             if inspect.signature(func).parameters[spec.size].kind is inspect.Parameter.KEYWORD_ONLY:
@@ -335,7 +335,10 @@ def batch(inputs, output_folder, *, methods=("patchwork",), options=None, seeds=
         Registry names (``texsynth list``) of methods taking one exemplar;
         a manifest's ``method`` column overrides them.
     options : dict or list of dict
-        Keyword options passed to each method (a list: one variant each).
+        Keyword options passed to each method (a list: one variant each), flat as
+        the command line's flags: the fields of an option group by their own names
+        (``{"levels": 2, "method": "exact"}``), rebuilt into the group
+        (:func:`texsynth.registry.group_options`).
     seeds : int or list of int
         A count of seed indices (0 .. N-1) or the indices; an item's seed
         is derived from its key (:func:`item_seed`), not from the index

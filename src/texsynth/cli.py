@@ -16,6 +16,18 @@ method's options are generated from the keyword-only parameters of its Python
 function and their numpydoc descriptions, so the command and the API never
 drift apart. Bad input gives a one-line error and exit status 2.
 
+An option group, a parameter whose default is a frozen dataclass instance
+(``search=Search()``), is flattened: each of its fields is a flag named after
+the field (``--method``, ``--candidates``, ``--k``), with the field's value in
+the default instance as its default and its help from the class's numpydoc
+``Parameters``; the group's fields are listed under their own heading of
+``--help``. The registry's lists (``files``, ``maps``, ``fields``, ``skip``,
+...) name fields as they name parameters, with the same handling. The flags
+given rebuild the group, ``dataclasses.replace(default, **given)``, and the
+others keep the default's values; an error of the group's constructor names
+the flag (``--k must be ...``). Field names are unique per function (a clash
+fails when the parser is built).
+
 The output keeps the bit depth of the (first) input file, as far as its format
 allows (PNG up to 16 bits, TIFF up to 32-bit float, other formats 8), unless
 ``--bits`` says otherwise. Methods that record where each output pixel came
@@ -32,14 +44,18 @@ from __future__ import annotations
 
 import argparse
 import ast
+import dataclasses
 import importlib
 import inspect
 import re
+import shutil
 import sys
+import textwrap
 from pathlib import Path
 
 from .io import check_suffix
-from .registry import COORDINATE_METHODS, METHODS, VIDEO_COORDINATE_METHODS, Method
+from .registry import (COORDINATE_METHODS, METHODS, VIDEO_COORDINATE_METHODS, Method, group_fields, group_options,
+                       is_group, option_holder)
 
 __all__ = ["main", "METHODS", "Method"]
 
@@ -69,10 +85,14 @@ def _doc_entries(func):
 
 
 _REFERENCE = re.compile(r"^As in :(?:func|meth):`~?([\w.]+)`")
+_ONLY_REFERENCE = re.compile(r"^As in :(?:func|meth):`~?[\w.]+`\.?$")  # nothing but the pointer
 
 
 def _referenced_function(func, text):
-    """The function a description such as "As in :func:`optimize_texture`, ..." refers to, or None."""
+    """The function a description such as "As in :func:`optimize_texture`, ..." refers to, or None.
+
+    A bare name is looked up in the module of ``func``, then among texsynth's public names.
+    """
     match = _REFERENCE.match(text)
     if not match:
         return None
@@ -82,34 +102,100 @@ def _referenced_function(func, text):
     except (ImportError, KeyError):
         return None
     other = getattr(module, name, None)
+    if other is None and not module_name:
+        try:
+            other = getattr(importlib.import_module("texsynth"), name, None)
+        except ImportError:
+            return None
     return other if callable(other) and other is not func else None
 
 
-def _doc_params(func, shown=None):
-    """Parameter descriptions from a numpydoc docstring: {name: description}.
+def _doc_sources(obj):
+    """The Parameters entries of ``obj``'s docstring and, for a function, those of its option groups' classes."""
+    entries = list(_doc_entries(obj))
+    for param in _parameters(obj).values():
+        if is_group(param.default):
+            entries += _doc_entries(type(param.default))
+    return entries
 
-    A grouped entry (``a, b, c : type`` with one description for all) gives
-    its description to the first of its names that is ``shown`` as an
-    option; the others get "see --first" instead of a copy of the same
-    sentence. When the group's description refers to another function ("As
-    in :func:`optimize_texture`, ..."), every name also gets its own
-    description from that function's docstring.
+
+def _parameters(obj):
+    """The parameters of a function's signature ({} for a class or what has no signature)."""
+    if isinstance(obj, type):
+        return {}
+    try:
+        return inspect.signature(obj).parameters
+    except (TypeError, ValueError):
+        return {}
+
+
+def _group_heading(pname, default):
+    """The --help heading of an option group's flags: ``search=Search(...)``."""
+    return f"{pname}={type(default).__name__}(...)"
+
+
+def _full_doc(obj, seen=()):
+    """{name: description} of ``obj``'s parameters (and its groups' fields), each complete on its own.
+
+    A grouped entry's description goes to each of its names, after the name's
+    own description from the function the entry refers to ("As in
+    :func:`inpaint`"), itself complete; a bare "As in ..." is dropped where
+    the name has its own. No description points to another option: these
+    are what another function's grouped entry borrows.
     """
     out = {}
-    for names, text in _doc_entries(func):
-        if len(names) == 1:
-            out[names[0]] = text
-            continue
-        other = _referenced_function(func, text)
-        own = _doc_params(other) if other is not None else {}
-        first = next((n for n in names if shown is None or n in shown), names[0])
+    for names, text in _doc_sources(obj):
+        other = _referenced_function(obj, text)
+        own = _full_doc(other, seen + (obj,)) if other is not None and other not in seen else {}
         for n in names:
             mine = own.get(n, "")
+            out[n] = mine if mine and _ONLY_REFERENCE.match(text) else f"{mine} {text}".strip()
+    return out
+
+
+def _doc_params(func, shown=None):
+    """Option descriptions from a numpydoc docstring: {name: description}.
+
+    The function's Parameters section, and for each option group (a
+    parameter whose default is a dataclass instance) the Parameters section
+    of the group's class, one entry per field. A grouped entry (``a, b, c :
+    type`` with one description for all) gives its description to the
+    first of its names that is ``shown`` as an option; the others get "see
+    --first" instead of a copy of the same sentence. When the description
+    refers to another function ("As in :func:`optimize_texture`, ..."),
+    every name also gets its own, complete description from that function's
+    docstring (a bare "As in ..." is then left out); a name whose
+    description is the same as an option shown before it gets "See
+    --that-option." instead of a copy.
+    """
+    out = {}
+    carrier = {}  # a borrowed description -> the shown option that carries it
+    groups = {pname: _group_heading(pname, param.default) for pname, param in _parameters(func).items()
+              if is_group(param.default) and (shown is None or any(
+                  field.name in shown for field in group_fields(param.default)))}  # the headings of their flags
+
+    def flag(name):
+        return groups.get(name) or "--" + name.replace("_", "-")
+
+    for names, text in _doc_sources(func):
+        other = _referenced_function(func, text)
+        own = _full_doc(other, (func,)) if other is not None else {}
+        visible = [n for n in names if shown is None or n in shown or n in groups]
+        first = (visible or names)[0]
+        bare = bool(_ONLY_REFERENCE.match(text))
+        for n in names:
+            mine = own.get(n, "")
+            if mine in carrier:
+                out[n] = f"See {flag(carrier[mine])}."
+                continue
+            if mine and n in visible:
+                carrier[mine] = n
             if n == first:
-                out[n] = f"{mine} {text}".strip()
+                out[n] = mine if mine and bare else f"{mine} {text}".strip()
+            elif mine and bare:  # its own description says it all
+                out[n] = mine
             else:
-                see = "--" + first.replace("_", "-")
-                out[n] = f"{mine} (see {see})" if mine else f"See {see}."
+                out[n] = f"{mine} (see {flag(first)})" if mine else f"See {flag(first)}."
     return out
 
 
@@ -117,6 +203,7 @@ def _plain(text):
     """numpydoc markup to plain help text: ``x`` -> x, :func:`~a.f` -> f()."""
     text = re.sub(r":(?:func|meth):`~?(?:[\w]+\.)*(\w+)`", r"\1()", text)
     text = re.sub(r":\w+:`~?([^`]+)`", r"\1", text)
+    text = re.sub(r"\s*\[\d+\]_", "", text)  # citations of the References section: [2]_
     return text.replace("``", "")
 
 
@@ -191,19 +278,30 @@ def _add_method_parser(sub, name, method):
                                  "CHANNEL -o OUT' renders a channel (for a video: the channel's frames) through it "
                                  "later")
     params = inspect.signature(func).parameters
-    shown = _option_names(method, params)
+    options = _options(method, params)
+    shown = [option.name for option in options]
     help_text = _doc_params(func, shown)
-    for pname, param in params.items():
-        if pname not in shown:
-            continue
+    containers = {}  # an option group's parameter -> its section of the help
+    for option in options:
+        pname, default = option.name, option.default
+        if option.group is None:
+            container = parser
+        elif option.group not in containers:
+            group_doc = f"{_plain(help_text.get(option.group, ''))} Each flag sets one field of {option.group}; " \
+                        f"the others keep their defaults."  # wrapped here: the description formatter is raw
+            width = max(40, shutil.get_terminal_size().columns - 4)
+            containers[option.group] = container = parser.add_argument_group(
+                _group_heading(option.group, params[option.group].default),
+                textwrap.fill(group_doc.strip(), width))
+        else:
+            container = containers[option.group]
         flag = "--" + pname.replace("_", "-")
         flags = [flag]
         desc = _plain(help_text.get(pname, "")).replace("%", "%%")  # argparse %-formats help strings
-        default = param.default
         required = default is inspect.Parameter.empty
         if pname == method.spatial:
             # NAME (number | ramp | file), NAME-map FILE and --transition: one of them, at most
-            group = parser.add_mutually_exclusive_group(required=required)
+            group = container.add_mutually_exclusive_group(required=required)
             forms = ["a number"] + (["'ramp' (as --transition)"] if pname in method.ramps else []) + (
                 ["a grey image file (as " + flag + "-map)"] if pname in method.maps else [])
             group.add_argument(*flags, dest=pname, type=_parse_value, default=None if required else default,
@@ -215,33 +313,34 @@ def _add_method_parser(sub, name, method):
                                help=f"a transition strip: {pname} rising from 0 at the left edge to 1 at the "
                                     f"right edge of the output (--size, default the first input's size)")
         elif pname == method.mixing:
-            parser.add_argument(*flags, dest=pname, default="equal",
-                                help="one weight per input: 'equal', 'ramp' (first input at the left edge to the "
-                                     "last at the right) or grey weight images, comma-separated (one per input, "
-                                     "or one file m for two inputs: weights 1-m and m) (default: 'equal')")
+            container.add_argument(*flags, dest=pname, default="equal",
+                                   help="one weight per input: 'equal', 'ramp' (first input at the left edge to "
+                                        "the last at the right) or grey weight images, comma-separated (one per "
+                                        "input, or one file m for two inputs: weights 1-m and m) (default: 'equal')")
         elif pname in method.map_pairs:
-            parser.add_argument(*flags, dest=pname, nargs=2, metavar=("PATH1", "PATH2"),
-                                help=f"two image files, read as binary maps (grey, colour channels averaged, "
-                                     f"an alpha channel ignored, threshold 0.5). {desc}")
+            container.add_argument(*flags, dest=pname, nargs=2, metavar=("PATH1", "PATH2"), default=default,
+                                   help=f"two image files, read as binary maps (grey, colour channels averaged, "
+                                        f"an alpha channel ignored, threshold 0.5). {desc}")
         elif required:
-            parser.add_argument(*flags, dest=pname, type=_parse_value, required=True, help=desc)
+            container.add_argument(*flags, dest=pname, type=_parse_value, required=True, help=desc)
         elif pname in method.maps:
-            parser.add_argument(*flags, dest=pname, metavar="PATH",
-                                help=f"grey image file (colour channels averaged, an alpha channel ignored). {desc}")
+            container.add_argument(*flags, dest=pname, metavar="PATH", default=default,
+                                   help=f"grey image file (colour channels averaged, an alpha channel ignored). "
+                                        f"{desc}")
         elif pname in method.fields:
-            parser.add_argument(*flags, dest=pname, metavar="VALUE|PATH", default=default,
-                                help=f"a number, a .npy array of the output's size, or a grey image file (grey "
-                                     f"{_FIELD_GREY[pname][1]}). {desc}")
+            container.add_argument(*flags, dest=pname, metavar="VALUE|PATH", default=default,
+                                   help=f"a number, a .npy array of the output's size, or a grey image file (grey "
+                                        f"{_FIELD_GREY[pname][1]}). {desc}")
         elif pname in method.files:
-            parser.add_argument(*flags, dest=pname, metavar="PATH", help=f"image file. {desc}")
+            container.add_argument(*flags, dest=pname, metavar="PATH", default=default, help=f"image file. {desc}")
         elif isinstance(default, bool):
-            parser.add_argument(*flags, dest=pname, action=argparse.BooleanOptionalAction, default=default,
-                                help=f"{desc} (default: {default})")
+            container.add_argument(*flags, dest=pname, action=argparse.BooleanOptionalAction, default=default,
+                                   help=f"{desc} (default: {default})")
         else:  # a string default is a word of a closed vocabulary: no literal parsing ("none" stays "none"),
             # except "auto", which stands for a value chosen for the input (a number, a tuple or None)
             word = isinstance(default, str) and default != "auto"
-            parser.add_argument(*flags, dest=pname, type=str if word else _parse_value,
-                                default=default, help=f"{desc} (default: {default!r})")
+            container.add_argument(*flags, dest=pname, type=str if word else _parse_value,
+                                   default=default, help=f"{desc} (default: {default!r})")
     parser.set_defaults(_method=name)
     return parser
 
@@ -365,19 +464,79 @@ def read_grey_map(path, option):
     return image
 
 
-def _option_names(method, params):
-    """Parameters shown as --options: keyword-only ones, and positional ones after the inputs and size."""
+class _Option:
+    """One method option on the command line: a parameter, or a field of an option group.
+
+    ``group`` is the parameter whose dataclass instance holds the field
+    (None for a parameter); ``default`` is the parameter's default or the
+    field's value in that instance (``inspect.Parameter.empty``: required).
+    """
+
+    __slots__ = ("name", "default", "group")
+
+    def __init__(self, name, default, group=None):
+        self.name, self.default, self.group = name, default, group
+
+
+def _options(method, params):
+    """The method's --options in signature order: keyword-only parameters, and positional ones after the inputs
+    and size; an option group (a parameter whose default is a dataclass instance) gives one option per field.
+
+    Every name in the registry's lists (``files``, ``maps``, ``skip``, ...) may be a parameter or a field.
+    Field names are unique across the function's groups and parameters (they are the flags): a clash is a
+    TypeError here, when the parser is built.
+    """
     consumed = {"image": 1, "images": 1, "frames": 1, "pair": 2, "none": 0}[method.inputs]
     if method.size and params[method.size].kind is not inspect.Parameter.KEYWORD_ONLY:
         consumed += 1
-    names = []
+    owners = {pname: None for pname in params}  # a name -> the group that holds it (None: a parameter)
+    options = []
     for position, (pname, param) in enumerate(params.items()):
+        if is_group(param.default):
+            for field in group_fields(param.default):
+                if field.name in owners and field.name != pname:
+                    other = owners[field.name]
+                    where = f"a field of {other}= too" if other else "also a parameter"
+                    raise TypeError(f"{method.target}: {field.name!r} is a field of {pname}="
+                                    f"{type(param.default).__name__}(...) and {where}; the command line makes one "
+                                    f"flag of each name, so field names must be unique per function: rename one")
+                owners[field.name] = pname
         if pname in _ALWAYS_SKIPPED or pname in method.skip or pname == method.size:
             continue
         if param.kind is inspect.Parameter.KEYWORD_ONLY or (
                 param.kind is inspect.Parameter.POSITIONAL_OR_KEYWORD and position >= consumed):
-            names.append(pname)
-    return names
+            if not is_group(param.default):
+                options.append(_Option(pname, param.default))
+                continue
+            options += [_Option(field.name, getattr(param.default, field.name), pname)
+                        for field in group_fields(param.default)
+                        if field.name not in _ALWAYS_SKIPPED and field.name not in method.skip]
+    return options
+
+
+def _option_names(method, params):
+    """The names of the method's --options: parameters and option groups' fields (see :func:`_options`)."""
+    return [option.name for option in _options(method, params)]
+
+
+def _flag_message(message, names):
+    """An option group's error message with the fields it names as flags ("k must be" -> "--k must be"); if it
+    names none of ``names`` (the fields given), they are put in front."""
+    named = False
+    for name in sorted(names, key=len, reverse=True):
+        message, n = re.subn(rf"(?<![\w\-.'\"`]){re.escape(name)}(?![\w\-'\"`(])",
+                             "--" + name.replace("_", "-"), message)
+        named = named or n > 0
+    return message if named else ", ".join("--" + n.replace("_", "-") for n in names) + ": " + message
+
+
+def _rebuild_group(default, given):
+    """The option group ``default`` with the fields the command line ``given`` ({field: value}) replaced."""
+    try:
+        return dataclasses.replace(default, **given)
+    except (ValueError, TypeError) as error:
+        message = str(error).splitlines()[0] if str(error) else type(error).__name__
+        raise CommandError(_flag_message(message, list(given))) from None
 
 
 def _match_channels(first, second):
@@ -531,7 +690,8 @@ def _run_method(args):
     if out.exists() and not args.overwrite:
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
     # chunks: written block by block to a Zarr store or a tiled BigTIFF (the methods with a chunks= option)
-    chunked = "chunks" in inspect.signature(func).parameters and (
+    chunks_holder = option_holder(inspect.signature(func).parameters, "chunks")
+    chunked = chunks_holder is not None and (
         out.suffix.lower() == ".zarr" or getattr(args, "chunks", None) is not None)
     if chunked and out.suffix.lower() not in {".zarr", ".tif", ".tiff"}:
         raise CommandError(f"--chunks writes block by block to a .zarr store or a .tif file, got {args.output!r}")
@@ -575,7 +735,9 @@ def _run_method(args):
             raise CommandError("--size is required for this method")
         if method.output == "volume" and len(size) == 2:  # a volume as deep as it is high
             size = (size[0],) + tuple(size)
-    for pname in _option_names(method, params):
+    given = {}  # an option group's parameter -> {field: value} of the flags given
+    for option in _options(method, params):
+        pname = option.name
         value = getattr(args, pname)
         if pname == method.spatial:
             value = _spatial_value(method, args, pname, value, size if method.size else inputs[0].shape[:2])
@@ -597,11 +759,13 @@ def _run_method(args):
             value = read_field(value, pname)
         elif pname in method.files and isinstance(value, str):
             value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
-        if value is not params[pname].default:
-            kwargs[pname] = value
+        if value is not option.default:
+            (kwargs if option.group is None else given.setdefault(option.group, {}))[pname] = value
     if chunked:
-        kwargs.setdefault("chunks", DEFAULT_CHUNKS)
+        (given.setdefault(chunks_holder, {}) if chunks_holder else kwargs).setdefault("chunks", DEFAULT_CHUNKS)
         kwargs.pop("progress", None)  # the writer reports progress, per row of blocks
+    for group, fields in given.items():  # each group rebuilt from its default with the flags given
+        kwargs[group] = _rebuild_group(params[group].default, fields)
     if method.size:
         if params[method.size].kind is inspect.Parameter.KEYWORD_ONLY:
             kwargs[method.size] = size
@@ -830,10 +994,12 @@ def _run_surface(args):
         result = lapped_textures(mesh, exemplar, pixel_size=args.pixel_size, field=field, symmetry=args.symmetry,
                                  rng=args.seed)
     else:
+        options = group_options(synthesize_surface, {
+            "n_vertices": args.n_vertices, "pixel_size": args.pixel_size, "field": field, "symmetry": args.symmetry,
+            "preset": args.preset, "rng": args.seed,
+            **{name: value for name, value in (("levels", args.levels), ("order", args.order)) if value is not None}})
         result = synthesize_surface(mesh, exemplar[..., :3] if exemplar.ndim == 3 and exemplar.shape[2] == 4
-                                    else exemplar, n_vertices=args.n_vertices, pixel_size=args.pixel_size, field=field,
-                                    symmetry=args.symmetry, levels=args.levels, preset=args.preset, order=args.order,
-                                    rng=args.seed)
+                                    else exemplar, **options)
     written = [write_mesh(out, result, overwrite=args.overwrite)]
     if args.preview:
         save_image(args.preview, render_mesh(result, 768), overwrite=args.overwrite)

@@ -61,13 +61,13 @@ def select_entries(names):
     return [e for e in ENTRIES if e.slug in names]
 
 
-def run_demo(out="texsynth-demo", *, seed=0, entries=None, log=None):
-    """Write the gallery into ``out`` and return the path of its ``index.html``.
+def run_demo(output_dir="texsynth-demo", *, seed=0, entries=None, log=None):
+    """Write the gallery into the folder ``output_dir`` and return the path of its ``index.html``.
 
     The folder is created if needed. It is refused if it already holds files
     that an earlier demo did not write, so nothing of the user's is replaced.
     """
-    out = _prepare_folder(out)
+    out = _prepare_folder(output_dir)
     rows = []
     for entry in ENTRIES if entries is None else entries:
         exemplar = data.load(entry.sample) if entry.sample else None

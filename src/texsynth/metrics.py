@@ -46,7 +46,7 @@ from .core._validate import (
     check_positive_int,
     with_channels,
 )
-from .core.search import PatchIndex
+from .core.search import PatchIndex, is_auto
 from .core.neighborhood import all_patches, patch_shape
 
 __all__ = [
@@ -105,14 +105,14 @@ def _mean_nearest_distance(queries_image, candidates_image, queries_name, candid
     """
     size = _check_patch(candidates_image, patch_size, candidates_name)
     _check_patch(queries_image, size, queries_name)
-    stride = max(1, size[0] // 4) if stride is None else check_positive_int(stride, "stride")
+    stride = max(1, size[0] // 4) if is_auto(stride) else check_positive_int(stride, "stride")
     queries, _, _ = _grid_vectors(queries_image, size, stride)
     vectors = all_patches(candidates_image, size, mode="valid").reshape(-1, queries.shape[1])
     _, dist = _nearest_distances(queries, vectors, method, rng)
     return float(dist.mean() / queries.shape[1])
 
 
-def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact", rng=None):
+def texture_energy(output, exemplar, *, patch_size=8, stride="auto", method="exact", rng=None):
     """Coherence: mean distance of output neighbourhoods to their nearest exemplar neighbourhood.
 
     Parameters
@@ -121,8 +121,8 @@ def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact
         Images with the same number of channels (any sizes).
     patch_size : int or (int, int)
         Neighbourhood size ``w``.
-    stride : int, optional
-        Spacing of the output neighbourhoods; default ``patch_size // 4``
+    stride : int or "auto"
+        Spacing of the output neighbourhoods; ``"auto"`` (default): ``patch_size // 4``
         (the sparse grid of Kwatra et al. 2005). Every exemplar neighbourhood
         is a candidate.
     method : str
@@ -161,7 +161,7 @@ def texture_energy(output, exemplar, *, patch_size=8, stride=None, method="exact
     return _mean_nearest_distance(out, ex, "the output", "the exemplar", patch_size, stride, method, rng)
 
 
-def completeness(output, exemplar, *, patch_size=8, stride=None, method="exact", rng=None):
+def completeness(output, exemplar, *, patch_size=8, stride="auto", method="exact", rng=None):
     """Completeness: mean distance of exemplar neighbourhoods to their nearest output neighbourhood.
 
     The second term of the bidirectional similarity of Simakov et al. 2008
@@ -376,11 +376,11 @@ def noise_baseline(exemplar, size, *, rng=None):
     return out[..., 0] if grey else out
 
 
-def mosaic_baseline(exemplar, size, *, block=None, rng=None):
+def mosaic_baseline(exemplar, size, *, block="auto", rng=None):
     """Random exemplar blocks pasted edge to edge on a grid, without blending.
 
     What naive patch pasting gives: coherent inside blocks, seams between
-    them. ``block`` defaults to a quarter of the exemplar's smaller side
+    them. ``block="auto"`` (default) is a quarter of the exemplar's smaller side
     (at least 2 pixels, at most the exemplar's smaller side).
 
     >>> mosaic_baseline(np.zeros((8, 8, 3)), 5, rng=0).shape
@@ -389,7 +389,7 @@ def mosaic_baseline(exemplar, size, *, block=None, rng=None):
     ex, grey = with_channels(as_image(exemplar, "exemplar"))
     h, w = as_size(size)
     check_memory(float(h) * w * ex.shape[-1] * 8 * 4, (h, w), what="the baseline")
-    b = min(max(2, min(ex.shape[:2]) // 4), min(ex.shape[:2])) if block is None else check_positive_int(block, "block")
+    b = min(max(2, min(ex.shape[:2]) // 4), min(ex.shape[:2])) if is_auto(block) else check_positive_int(block, "block")
     if b > min(ex.shape[:2]):
         raise ValueError(f"block {b} is larger than the exemplar {ex.shape[:2]}; pass a smaller block")
     gen = as_rng(rng)

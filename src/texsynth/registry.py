@@ -10,13 +10,56 @@ here; then a docs page, tests, and a row of the README table, which
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
+import inspect
 from dataclasses import dataclass
 from typing import Callable
 
 from . import data
 
-__all__ = ["Method", "Demo", "METHODS", "SURFACE_DEMOS", "demos"]
+__all__ = ["Method", "Demo", "METHODS", "SURFACE_DEMOS", "demos", "is_group", "group_fields", "option_holder",
+           "group_options"]
+
+
+def is_group(default):
+    """True if a parameter's default is an option group: an instance of a dataclass (``search=Search()``)."""
+    return dataclasses.is_dataclass(default) and not isinstance(default, type)
+
+
+def group_fields(instance):
+    """The fields of an option group that a caller sets by name: those its constructor takes."""
+    return [f for f in dataclasses.fields(instance) if f.init and not f.name.startswith("_")]
+
+
+def option_holder(params, name):
+    """Where a function with ``params`` (its signature's parameters) takes the option ``name``: ``""`` (a
+    parameter), the option group parameter that has it as a field, or None (nowhere)."""
+    if name in params:
+        return ""
+    return next((pname for pname, param in params.items() if is_group(param.default)
+                 and name in {field.name for field in group_fields(param.default)}), None)
+
+
+def group_options(func, options):
+    """Flat options ``{name: value}`` (a command line's, a manifest's) as ``func`` takes them: the fields of
+    each option group rebuilt into it with :func:`dataclasses.replace`; a name ``func`` does not take is
+    passed on, for its own error.
+
+    >>> from texsynth.optimization import optimize_texture
+    >>> group_options(optimize_texture, {"levels": 2, "rng": 0})
+    {'rng': 0, 'schedule': Schedule(neighborhood_sizes='auto', levels=2, relative_grid_spacing=0.25, max_iterations=5, tolerance='auto')}
+    """
+    params = inspect.signature(func).parameters
+    out, given = {}, {}
+    for name, value in options.items():
+        holder = option_holder(params, name)
+        if holder:
+            given.setdefault(holder, {})[name] = value
+        else:
+            out[name] = value
+    out.update({holder: dataclasses.replace(params[holder].default, **fields) for holder, fields in given.items()})
+    return out
 
 
 @dataclass(frozen=True)
@@ -155,7 +198,7 @@ def _call(target, *args, crop=None, **options):
         module, name = target.split(":")
         func = getattr(importlib.import_module(f"texsynth.{module}"), name)
         inputs = () if exemplar is None else (exemplar if crop is None else exemplar[:crop, :crop],)
-        return func(*inputs, *args, rng=seed, **options)
+        return func(*inputs, *args, **group_options(func, {"rng": seed, **options}))  # fields into their groups
 
     return make
 
@@ -214,15 +257,23 @@ def _style_transfer(exemplar, seed):
     from skimage import data as skdata
     from skimage.transform import resize
 
-    from .optimization import optimize_texture
+    from .optimization import Guides, optimize_texture
 
     photo = resize(skdata.camera() / 255.0, (96, 96), anti_aliasing=True)
     texture = exemplar[:64, :64]
     lum = texture @ np.array([0.2125, 0.7154, 0.0721])
     # Hertzmann et al.'s luminance remapping (Sec. 3.4): the texture's luminance to the photo's mean and spread
     guide = np.clip((lum - lum.mean()) / lum.std() * photo.std() + photo.mean(), 0.0, 1.0)
-    out = optimize_texture(texture, 96, exemplar_guide=guide, output_guide=photo, guide_weight=4.0, rng=seed)
+    out = optimize_texture(texture, 96, guides=Guides(exemplar_guide=guide, output_guide=photo, guide_weight=4.0),
+                           rng=seed)
     return _side_by_side([np.repeat(photo[..., None], 3, -1), out])
+
+
+def _text_complete(exemplar, seed):
+    from .optimization import Terms, optimize_texture
+
+    return optimize_texture(exemplar[:96, :96], (144, 144), terms=Terms(completeness_weight=1.0, copy_limit=0.2),
+                            rng=seed)
 
 
 def _animate(exemplar, seed):
@@ -248,10 +299,11 @@ def _controlled(exemplar, seed):
 
 
 def _interpolate(exemplar, seed):
-    from .optimization import interpolate_textures
+    from .optimization import InterpolationSchedule, interpolate_textures
 
     other = data.load("bumpy")[:64, :64]
-    return interpolate_textures(exemplar[:64, :64], other, 0.5, size=(64, 64), stages=((2, 17), (1, 17)), rng=seed)
+    return interpolate_textures(exemplar[:64, :64], other, 0.5, size=(64, 64),
+                                schedule=InterpolationSchedule(stages=((2, 17), (1, 17))), rng=seed)
 
 
 def _seam_carve(exemplar, seed):
@@ -359,19 +411,19 @@ METHODS: dict[str, Method] = {
                              _call("procedural:gray_scott", (192, 192), preset="mazes", steps=6000))]),
     "pixels": _m("pixel:synthesize_pixels",
                  "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)", _WEI_LEVOY,
-                 "multisource",
+                 "wei_levoy",
                  demos=[("pixels_bread", "Wei-Levoy pixel synthesis (scanline, 3 levels, causal 5x5 neighbourhoods)",
                          "bread", _call("pixel:synthesize_pixels", (160, 160), crop=64)),
                         ("pixels_kcoherent_brick", "Wei-Levoy with k-coherent candidates (Ashikhmin's search, k=1): "
                          "bricks copied in pieces", "brick", _call("pixel:synthesize_pixels", (192, 192),
                                                                     candidates="k-coherent"))]),
     "mix": _m("pixel:mix_textures", "Wei 2002: mixture of two or more textures (--weights equal | ramp | w1.png,w2.png)",
-              _WEI, "multisource", inputs="images", mixing="weights",
+              _WEI, "wei_2002", inputs="images", mixing="weights",
               demos=[("mix_brick_bread", "Wei texture mixture, ramp weights: brick (left) turning into bread (right)",
                       "brick", _mixture)]),
     "solid": _m("pixel:synthesize_solid",
                 "Wei 2002: solid texture from 1-3 views along z, y, x (.npy volume plus PNG slices)", _WEI,
-                "multisource", inputs="images", output="volume",
+                "wei_2002", inputs="images", output="volume",
                 demos=[("solid_bread", "Wei solid texture from one 2-D view: three faces of a 32^3 cube (x, y and "
                         "z slices)", "bread", _solid)]),
     "controlled": _m("pixel:synthesize_controlled",
@@ -398,9 +450,7 @@ METHODS: dict[str, Method] = {
                            "bread", _call("optimization:optimize_texture", (128, 128))),
                           ("optimize_text_complete", "Kwatra texture optimization with the completeness term of the "
                            "bidirectional similarity and a copy limit (completeness_weight=1, copy_limit=0.2): all "
-                           "of the 96x96 exemplar, in pieces of at most a third of it", "text",
-                           _call("optimization:optimize_texture", (144, 144), crop=96, completeness_weight=1.0,
-                                 copy_limit=0.2)),
+                           "of the 96x96 exemplar, in pieces of at most a third of it", "text", _text_complete),
                           ("style_transfer_water", "Style transfer as guided synthesis (Hertzmann et al. 2001, "
                            "doi:10.1145/383259.383295): the photograph's luminance is the output guide, the "
                            "water's (remapped) luminance the exemplar guide", "water", _style_transfer)]),
@@ -498,14 +548,14 @@ METHODS: dict[str, Method] = {
                                                            ("text", "Portilla-Simoncelli: text (letter-like strokes, "
                                                                     "no words)"))]),
     "random-phase": _m("statistical:random_phase_noise",
-                       "Galerne et al. 2011: random phase noise / ADSN, micro-textures in one FFT (--method adsn)",
+                       "Galerne et al. 2011: random phase noise / ADSN, micro-textures in one FFT (--process adsn)",
                        _GGM, "random_phase",
                        demos=[(f"random_phase_{sample}", title, sample,
                                _call("statistical:random_phase_noise", (256, 256), **options))
                               for sample, title, options in (
                                   ("metal", "Random phase noise: micro-texture (works)", {}),
                                   ("bread", "ADSN: the same colour noise for every channel (works)",
-                                   {"method": "adsn"}),
+                                   {"process": "adsn"}),
                                   ("brick", "Random phase noise: structured texture (fails: edges are phases)", {}))]),
     "tile-blend": _m("statistical:tile_and_blend",
                      "Heitz-Neyret 2018: infinite by-example noise, tiling and histogram-preserving blending",

@@ -22,6 +22,8 @@
                                    values without importing ``scipy.signal``)
 :mod:`texsynth.core.files`         atomic writes of files and folders (the one place a file is
                                    written)
+:mod:`texsynth.core.color`         colour decorrelation: the principal axes of an image's colours
+:mod:`texsynth.core.chunked`       outputs rendered block by block as lazy Dask arrays
 =============================  ==========================================================
 
 The core imports no algorithm family; the families import the core (see
@@ -30,4 +32,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve", "files"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve", "files", "color", "chunked"])

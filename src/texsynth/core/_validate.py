@@ -28,6 +28,8 @@ import numpy as np
 
 __all__ = [
     "as_array",
+    "check_group",
+    "is_auto",
     "as_image",
     "as_float_array",
     "with_channels",
@@ -299,6 +301,34 @@ def check_in_range(value, name, low, high, *, low_open=False, high_open=False):
         interval = f"{'(' if low_open else '['}{low}, {high}{')' if high_open else ']'}"
         raise ValueError(f"{name} must lie in {interval}, got {value}")
     return value
+
+
+def is_auto(value):
+    """True if ``value`` is ``"auto"``: the one spelling of "chosen by the method or its preset".
+
+    Here for modules that must not load the search layer (which imports scipy.fft): the procedural
+    textures. :func:`texsynth.core.search.is_auto` is the same test.
+
+    >>> is_auto("auto"), is_auto(None), is_auto(4)
+    (True, False, False)
+    """
+    return isinstance(value, str) and value == "auto"
+
+
+def check_group(value, cls, name):
+    """``value`` if it is an instance of the option group ``cls`` (a frozen dataclass), else a TypeError.
+
+    >>> from texsynth.core.search import Search
+    >>> check_group({"method": "exact"}, Search, "search")
+    Traceback (most recent call last):
+    ...
+    TypeError: search must be a Search, e.g. search=Search(method=...), got dict {'method': 'exact'}
+    """
+    if isinstance(value, cls):
+        return value
+    first = next(iter(cls.__dataclass_fields__))
+    raise TypeError(f"{name} must be a {cls.__name__}, e.g. {name}={cls.__name__}({first}=...), "
+                    f"got {type(value).__name__} {reprlib.repr(value)}")
 
 
 def check_bool(value, name):

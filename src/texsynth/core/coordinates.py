@@ -345,7 +345,8 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
     A mixture of two materials renders each channel from both:
 
     >>> wood = data.load("wood")[:48, :48]
-    >>> mix, info = texsynth.mix_textures([albedo, wood], 32, levels=2, rng=0, return_info=True)
+    >>> mix, info = texsynth.mix_textures([albedo, wood], 32, neighborhood=texsynth.Neighborhood(levels=2), rng=0,
+    ...                                   return_info=True)
     >>> info.coordinates.shape, info.source_index.shape
     ((32, 32, 2, 2), (32, 32, 2))
     >>> bool(np.allclose(apply_coordinates([albedo, wood], info), mix))

@@ -113,31 +113,57 @@ def as_field(value, size, name, *, positive=False):
     return arr
 
 
-def level_field(arr, level, shape):
-    """The field at a pyramid level: pixel ``p`` of the level lies over output pixel ``2^level p``."""
-    step = 2**level
-    return np.ascontiguousarray(arr[::step, ::step][: shape[0], : shape[1]])
+def level_field(output_field, level, shape):
+    """The field at a pyramid level: pixel ``p`` of the level lies over output pixel ``2^level p``.
 
+    ``output_field`` is an ``(H, W)`` field of the output's size (as :func:`as_field` gives it),
+    ``shape`` the level's ``(h, w)``.
 
-def frames(theta, scale):
-    """Per pixel the matrix ``A = S R(theta)`` (exemplar offsets to output offsets) and its inverse.
-
-    ``R(theta)`` turns the texture counter-clockwise as the image is shown
-    (rows down): the exemplar's rightward offset ``(0, 1)`` becomes
-    ``(-sin, cos)``, upward for 90 degrees.
+    Examples
+    --------
+    >>> level_field(np.arange(16.0).reshape(4, 4), 1, (2, 2)).tolist()
+    [[0.0, 2.0], [8.0, 10.0]]
     """
-    cos, sin = np.cos(theta), np.sin(theta)
+    step = 2**level
+    return np.ascontiguousarray(output_field[::step, ::step][: shape[0], : shape[1]])
+
+
+def frames(orientation, scale):
+    """Per pixel the matrix ``A = S R(orientation)`` (exemplar offsets to output offsets) and its inverse.
+
+    ``orientation`` and ``scale`` are arrays of one shape (angles in radians, magnifications).
+    ``R(orientation)`` turns the texture counter-clockwise as the image is shown
+    (rows down): the exemplar's rightward offset ``(0, 1)`` becomes
+    ``(-sin, cos)``, upward for 90 degrees. Returns ``(A, A^-1)``, each ``(N, 2, 2)``.
+
+    Examples
+    --------
+    >>> a, inverse = frames(np.array([np.pi / 2]), np.array([2.0]))
+    >>> np.round(a[0] @ [0.0, 1.0], 6).tolist()  # rightward becomes upward, twice as long
+    [-2.0, 0.0]
+    """
+    cos, sin = np.cos(orientation), np.sin(orientation)
     a = np.stack([np.stack([cos, -sin], -1), np.stack([sin, cos], -1)], -2) * scale[..., None, None]
     inverse = np.stack([np.stack([cos, sin], -1), np.stack([-sin, cos], -1)], -2) / scale[..., None, None]
     return a.reshape(-1, 2, 2), inverse.reshape(-1, 2, 2)
 
 
-def taps(pos, h, w, wrap):
-    """Flat indices ``(..., 4)`` and weights of the bilinear taps of float (row, col) positions."""
+def taps(positions, height, width, wrap):
+    """Flat indices ``(..., 4)`` and weights of the bilinear taps of float (row, col) ``positions`` ``(..., 2)``.
+
+    On an image of ``height x width`` pixels: toroidal with ``wrap``, else positions clamped to it.
+
+    Examples
+    --------
+    >>> index, weight = taps(np.array([[0.5, 1.0]]), 2, 3, wrap=False)
+    >>> index.tolist(), weight.tolist()
+    ([[1, 2, 4, 5]], [[0.5, 0.0, 0.5, 0.0]])
+    """
+    h, w = height, width
     if wrap:
-        r, col = pos[..., 0], pos[..., 1]
+        r, col = positions[..., 0], positions[..., 1]
     else:
-        r, col = np.clip(pos[..., 0], 0, h - 1), np.clip(pos[..., 1], 0, w - 1)
+        r, col = np.clip(positions[..., 0], 0, h - 1), np.clip(positions[..., 1], 0, w - 1)
     r0, c0 = np.floor(r), np.floor(col)
     fr, fc = r - r0, col - c0
     r0, c0 = r0.astype(np.intp), c0.astype(np.intp)
@@ -151,39 +177,53 @@ def taps(pos, h, w, wrap):
     return index, weight
 
 
-def bilinear(image, pos, *, wrap, done=None, spread=None):
-    """Bilinear samples of an ``(h, w, C)`` image at float (row, col) positions ``(..., 2)``.
+def bilinear(image, positions, *, wrap, done=None, spread=None):
+    """Bilinear samples of an ``(h, w, C)`` image at float (row, col) ``positions`` ``(..., 2)``.
 
     ``wrap``: toroidal (the output); otherwise positions are clamped to the
     image (the exemplar). With ``done`` (a flat bool per pixel) only done
     pixels count: the value is their weighted mean and ``known`` their share
     of the bilinear weight (0 where none is done). With ``spread`` (``(...)``
     half-widths, in pixels) each value is the mean of the bilinear samples at
-    ``pos - spread`` and ``pos + spread`` along both axes: a tent filter that
-    also sees the pixels between the samples of a magnified footprint.
+    ``positions - spread`` and ``positions + spread`` along both axes: a tent filter that
+    also sees the pixels between the samples of a magnified footprint. Returns ``(value, known)``.
+
+    Examples
+    --------
+    >>> image = np.arange(6.0).reshape(2, 3, 1)
+    >>> bilinear(image, np.array([[0.5, 1.0]]), wrap=False)[0].tolist()
+    [[2.5]]
     """
     h, w, c = image.shape
     if spread is None:
-        index, weight = taps(pos, h, w, wrap)
+        index, weight = taps(positions, h, w, wrap)
     else:
         shift = spread[..., None]
-        i1, w1 = taps(pos - shift, h, w, wrap)
-        i2, w2 = taps(pos + shift, h, w, wrap)
+        i1, w1 = taps(positions - shift, h, w, wrap)
+        i2, w2 = taps(positions + shift, h, w, wrap)
         index, weight = np.concatenate([i1, i2], -1), np.concatenate([w1, w2], -1) / 2
     return sample(image, index, weight, done=done)
 
 
-def sample(image, index, weight, *, done=None):
-    """:func:`bilinear` from its taps: the weighted sums of ``image``'s pixels ``index`` ``(..., K)`` (flat).
+def sample(image, tap_indices, tap_weights, *, done=None):
+    """:func:`bilinear` from its taps: the sums of ``image``'s flat pixels ``tap_indices`` ``(..., K)``
+    weighted by ``tap_weights`` ``(..., K)`` (both as :func:`taps` gives them).
 
     For taps computed once and sampled many times (the neighbourhoods of an
     EM loop); ``done`` as in :func:`bilinear`. Returns ``(value, known)``.
+
+    Examples
+    --------
+    >>> image = np.arange(6.0).reshape(2, 3, 1)
+    >>> sample(image, *taps(np.array([[0.5, 1.0]]), 2, 3, wrap=False))[0].tolist()
+    [[2.5]]
     """
     h, w, c = image.shape
+    weight = tap_weights
     if done is not None:
-        weight = weight * done[index]
+        weight = weight * done[tap_indices]
     weight = weight.astype(image.dtype, copy=False)
-    values = image.reshape(h * w, c)[index]
+    values = image.reshape(h * w, c)[tap_indices]
     known = weight.sum(-1)
     value = np.einsum("...k,...kc->...c", weight, values)
     if done is not None:
@@ -191,8 +231,8 @@ def sample(image, index, weight, *, done=None):
     return value, known
 
 
-def splat(values, pos, weights, shape, *, wrap):
-    """Add ``values`` ``(..., C)`` at float (row, col) positions ``(..., 2)`` into an ``(H, W)`` image: the adjoint of :func:`bilinear`.
+def splat(values, positions, weights, shape, *, wrap):
+    """Add ``values`` ``(..., C)`` at float (row, col) ``positions`` ``(..., 2)`` into an ``(H, W)`` image: the adjoint of :func:`bilinear`.
 
     Each value is spread over the four pixels around its position with the
     bilinear weights of :func:`taps` times its own ``weights`` ``(...)``
@@ -200,16 +240,30 @@ def splat(values, pos, weights, shape, *, wrap):
     :func:`bilinear` clamps them). Returns the weighted sums ``(H, W, C)``
     and the summed weights ``(H, W)`` (float64), whose ratio is the weighted
     average of the values that reach each pixel.
+
+    Examples
+    --------
+    >>> sums, total = splat(np.array([[4.0]]), np.array([[0.5, 0.0]]), np.array([1.0]), (2, 2), wrap=False)
+    >>> sums[..., 0].tolist(), total.tolist()
+    ([[2.0, 0.0], [2.0, 0.0]], [[0.5, 0.0], [0.5, 0.0]])
     """
-    index, tap = taps(pos, shape[0], shape[1], wrap)
+    index, tap = taps(positions, shape[0], shape[1], wrap)
     return scatter(values, index, tap * np.asarray(weights, np.float64)[..., None], shape)
 
 
-def scatter(values, index, weight, shape):
-    """:func:`splat` from taps: ``values`` ``(..., C)`` added to the flat pixels ``index`` ``(..., K)`` with
-    ``weight`` ``(..., K)``. Returns the weighted sums ``(H, W, C)`` and the summed weights ``(H, W)``."""
+def scatter(values, tap_indices, tap_weights, shape):
+    """:func:`splat` from taps: ``values`` ``(..., C)`` added to the flat pixels ``tap_indices`` ``(..., K)`` with
+    ``tap_weights`` ``(..., K)``. Returns the weighted sums ``(H, W, C)`` and the summed weights ``(H, W)``.
+
+    Examples
+    --------
+    >>> sums, total = scatter(np.array([[4.0]]), np.array([[0, 3]]), np.array([[0.25, 0.75]]), (2, 2))
+    >>> sums[..., 0].tolist(), total.tolist()
+    ([[1.0, 0.0], [0.0, 3.0]], [[0.25, 0.0], [0.0, 0.75]])
+    """
     h, w = shape
-    index = index.reshape(-1)
+    index = tap_indices.reshape(-1)
+    weight = tap_weights
     total = np.bincount(index, weight.reshape(-1), minlength=h * w).reshape(h, w)
     sums = [np.bincount(index, (weight * values[..., c, None]).reshape(-1), minlength=h * w)
             for c in range(values.shape[-1])]

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from ._parallel import parallel_for
-from ._validate import as_size, check_choice, check_memory, check_positive_float, max_threads
+from ._validate import as_size, check_choice, check_memory, check_positive_float, is_auto, max_threads
 
 __all__ = [
     "MODES",
@@ -48,13 +48,23 @@ __all__ = [
     "grid_centers",
     "gaussian_falloff",
     "causal_mask",
+    "SHAPES",
+    "footprint",
+    "causal_parts",
+    "mask_offsets",
+    "wavefronts",
     "multilevel_vectors",
+    "plane_vectors",
 ]
 
 MODES = ("valid", "wrap", "reflect")
+#: Footprints of a neighbourhood inside its ``(h, w)`` box: the whole box, or the inscribed disc (ellipse).
+SHAPES = ("square", "disc")
 # PatchSum adds a grid's patches on several threads from this many values on (below, a thread costs more
 # than it saves)
 _THREADED_VALUES = 2**20
+# plane_vectors gathers the neighbourhoods of this many slices at once (bounds its temporaries)
+_SLICE_CHUNK = 8
 
 
 def patch_shape(patch_size, name="patch_size"):
@@ -568,14 +578,14 @@ def grid_centers(shape, patch_size, grid_spacing, *, mode="wrap"):
     return np.stack([rr.ravel(), cc.ravel()], axis=1).astype(np.int64)
 
 
-def gaussian_falloff(patch_size, sigma=None):
+def gaussian_falloff(patch_size, sigma="auto"):
     """Gaussian weights over a patch, 1 at the centre.
 
     Parameters
     ----------
     patch_size : int or (int, int)
-    sigma : float, optional
-        Standard deviation in pixels. Default ``max(h, w) / 4``, so the
+    sigma : float or "auto"
+        Standard deviation in pixels. ``"auto"`` (default): ``max(h, w) / 4``, so the
         weight at the middle of an edge is ``exp(-2) ~ 0.14``.
 
     Returns
@@ -591,7 +601,7 @@ def gaussian_falloff(patch_size, sigma=None):
     """
     h, w = patch_shape(patch_size)
     check_memory(24.0 * h * w, (h, w), "patch_size", "the mask")
-    sigma = max(h, w) / 4.0 if sigma is None else check_positive_float(sigma, "sigma")
+    sigma = max(h, w) / 4.0 if is_auto(sigma) else check_positive_float(sigma, "sigma")
     y = np.arange(h) - h // 2
     x = np.arange(w) - w // 2
     r2 = (y[:, None] ** 2 + x[None, :] ** 2) / 2.0
@@ -620,24 +630,114 @@ def causal_mask(patch_size):
     return mask
 
 
-def multilevel_vectors(image, parent, centers, patch_size, parent_size, *, mode="wrap", mask=None):
+def footprint(patch_size, shape="square"):
+    """The pixels of an ``(h, w)`` neighbourhood box that its footprint keeps.
+
+    ``"square"``: the whole box (Wei & Levoy 2000). ``"disc"``: the ellipse
+    inscribed in the box, ``(dy / (h/2))^2 + (dx / (w/2))^2 <= 1`` (a disc
+    when ``h == w``; 3x3 keeps all 9 pixels, 5x5 drops the 4 corners, 21
+    left), which compares the same distance in every direction.
+
+    Examples
+    --------
+    >>> footprint(5, "disc").astype(int)
+    array([[0, 1, 1, 1, 0],
+           [1, 1, 1, 1, 1],
+           [1, 1, 1, 1, 1],
+           [1, 1, 1, 1, 1],
+           [0, 1, 1, 1, 0]])
+    """
+    h, w = patch_shape(patch_size)
+    check_memory(1.0 * h * w, (h, w), "patch_size", "the mask")
+    check_choice(shape, "shape", SHAPES)
+    if shape == "square":
+        return np.ones((h, w), bool)
+    dy = (np.arange(h) - h // 2) / (h / 2)
+    dx = (np.arange(w) - w // 2) / (w / 2)
+    return dy[:, None] ** 2 + dx[None, :] ** 2 <= 1.0
+
+
+def causal_parts(patch_size, shape="square"):
+    """The parts of a neighbourhood that scanline synthesis tells apart, inside its :func:`footprint`.
+
+    Returns ``(above, left, full)``, boolean ``(h, w)`` masks: the causal
+    rows above the centre (known for a whole scanline at once), the causal
+    pixels left of the centre in its row (known one at a time; every
+    footprint keeps the whole centre row, so these are always the ``w // 2``
+    pixels left of it) and the full non-causal neighbourhood without its
+    centre. ``above | left`` is the footprint's part of :func:`causal_mask`.
+
+    Examples
+    --------
+    >>> above, left, full = causal_parts(3)
+    >>> int(above.sum()), int(left.sum()), int(full.sum())
+    (3, 1, 8)
+    """
+    h, w = patch_shape(patch_size)
+    foot = footprint((h, w), shape)
+    above = np.zeros((h, w), bool)
+    above[: h // 2] = True
+    left = causal_mask((h, w)) & ~above & foot
+    full = foot.copy()
+    full[h // 2, w // 2] = False
+    return above & foot, left, full
+
+
+def mask_offsets(mask):
+    """``(row, col)`` offsets from the centre ``(h // 2, w // 2)`` of the True pixels of a neighbourhood mask.
+
+    Examples
+    --------
+    >>> mask_offsets(causal_mask(3)).tolist()
+    [[-1, -1], [-1, 0], [-1, 1], [0, -1]]
+    """
+    mask = np.asarray(mask, dtype=bool)
+    h, w = mask.shape
+    return np.argwhere(mask) - [h // 2, w // 2]
+
+
+def wavefronts(height, width, step):
+    """Pixels (flat indices) grouped by wavefront ``j + step * i`` of the scanline order, and the groups' bounds.
+
+    With ``step = w // 2 + 1`` every causal neighbour of pixel ``(i, j)`` in
+    an ``(h, w)`` box (rows above within ``w // 2`` columns, pixels to its
+    left) lies on an earlier wavefront and every other pixel of its box on a
+    later one, so the pixels of one wavefront can be synthesised together
+    with the result of the scanline order. Wavefront ``t`` holds the pixels
+    ``order[bounds[t]:bounds[t + 1]]``.
+
+    Examples
+    --------
+    >>> order, bounds = wavefronts(2, 3, 2)
+    >>> [order[bounds[t]:bounds[t + 1]].tolist() for t in range(len(bounds) - 1)]
+    [[0], [1], [2, 3], [4], [5]]
+    """
+    t = (np.arange(width)[None, :] + step * np.arange(height)[:, None]).ravel()
+    order = np.argsort(t, kind="stable")
+    return order, np.searchsorted(t[order], np.arange(t.max() + 2))
+
+
+def multilevel_vectors(image, parent, centers, patch_size, parent_size, *, mode="wrap", mask=None, parent_mask=None):
     """Neighbourhood vectors that join this pyramid level with its parent.
 
     The vector of a pixel is its (optionally masked, e.g. causal) neighbourhood
-    at this level followed by the full neighbourhood of the corresponding
-    pixel ``center // 2`` at the next coarser level (Wei & Levoy 2000,
-    Section 3.2; Kwatra et al. 2005, Section 3.2).
+    at this level followed by the (optionally masked) neighbourhood of the
+    corresponding pixel ``center // 2`` at the next coarser level (Wei & Levoy
+    2000, Section 3.2; Kwatra et al. 2005, Section 3.2).
 
     Parameters
     ----------
     image, parent : numpy.ndarray
         ``(H, W, C)`` and ``(ceil(H/2), ceil(W/2), C)`` (or any coarser level
-        whose pixel ``(i // 2, j // 2)`` lies under ``(i, j)``).
+        whose pixel ``(i // 2, j // 2)`` lies under ``(i, j)``). ``parent``
+        None: this level's neighbourhood alone (the coarsest level).
     centers : array_like of int, shape (N, 2)
     patch_size, parent_size : int or (int, int)
     mode : {"wrap", "reflect", "valid"}
     mask : numpy.ndarray of bool, shape size, optional
         Which pixels of this level's neighbourhood to keep.
+    parent_mask : numpy.ndarray of bool, shape parent_size, optional
+        Which pixels of the parent's neighbourhood to keep (default all).
 
     Returns
     -------
@@ -650,6 +750,10 @@ def multilevel_vectors(image, parent, centers, patch_size, parent_size, *, mode=
     >>> v = multilevel_vectors(img, par, [[4, 4]], 5, 3, mask=causal_mask(5))
     >>> v.shape, float(v.sum())
     ((1, 21), 9.0)
+    >>> multilevel_vectors(img, par, [[4, 4]], 5, 3, mask=causal_mask(5), parent_mask=footprint(3, "disc")).shape
+    (1, 21)
+    >>> multilevel_vectors(img, None, [[4, 4]], 5, 3, mask=causal_mask(5)).shape
+    (1, 12)
     """
     centers = np.asarray(centers)
     here = extract(image, centers, patch_size, mode=mode)
@@ -658,5 +762,77 @@ def multilevel_vectors(image, parent, centers, patch_size, parent_size, *, mode=
         if mask.shape != patch_shape(patch_size):
             raise ValueError(f"mask must have shape {patch_shape(patch_size)}, got {mask.shape}")
         here = here[:, mask]
+    if parent is None:
+        return here.reshape(len(centers), -1)
     coarse = extract(parent, centers // 2, parent_size, mode=mode)
+    if parent_mask is not None:
+        parent_mask = np.asarray(parent_mask, dtype=bool)
+        if parent_mask.shape != patch_shape(parent_size):
+            raise ValueError(f"parent_mask must have shape {patch_shape(parent_size)}, got {parent_mask.shape}")
+        coarse = coarse[:, parent_mask]
     return np.concatenate([here.reshape(len(centers), -1), coarse.reshape(len(centers), -1)], axis=1)
+
+
+def plane_vectors(volume, parent, axis, patch_size, parent_size, *, mask=None, parent_mask=None):
+    """Multi-level neighbourhood vectors of every voxel of a volume, in the plane perpendicular to ``axis``.
+
+    The 3-D counterpart of :func:`multilevel_vectors` at every position,
+    toroidal: the neighbourhood of voxel ``v`` is the ``patch_size`` window
+    (its ``mask`` pixels) of the slice through ``v`` across ``axis``, joined
+    to the ``parent_size`` window (its ``parent_mask`` pixels) around the
+    voxel ``v // 2`` of ``parent`` in its slice across ``axis`` (Wei's solid
+    textures: the view along axis ``a`` constrains the slices across ``a``).
+    The slices are stacked as channels, so the 2-D extraction handles a few
+    of them at once.
+
+    Parameters
+    ----------
+    volume, parent : numpy.ndarray
+        ``(D, H, W, C)`` and its coarser level ``(ceil(D/2), ceil(H/2),
+        ceil(W/2), C)``, or None (this level alone).
+    axis : {0, 1, 2}
+        The axis across which the neighbourhoods lie: 0 takes the windows of
+        ``volume[d]`` (rows H, columns W), 1 those of ``volume[:, h]`` (rows
+        D, columns W), 2 those of ``volume[:, :, w]`` (rows D, columns H).
+    patch_size, parent_size : int or (int, int)
+    mask, parent_mask : numpy.ndarray of bool, optional
+        Which pixels of each window to keep (default all).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(D * H * W, n_here * C + n_parent * C)``, one row per voxel in C
+        order.
+
+    Examples
+    --------
+    >>> vol = np.arange(4 * 4 * 4, dtype=float).reshape(4, 4, 4, 1)
+    >>> v = plane_vectors(vol, None, 0, 3, 1)
+    >>> v.shape, bool(np.array_equal(v[5], vol[0, :3, :3, 0].ravel()))
+    ((64, 9), True)
+    """
+    size = patch_shape(patch_size)
+    mask = np.ones(size, bool) if mask is None else np.asarray(mask, dtype=bool)
+    vol = np.moveaxis(volume, axis, 2)  # (P0, P1, S, C): plane axes first
+    p0, p1, s, c = vol.shape
+    pvol = None
+    if parent is not None:  # parent voxel of (i, j, k) is (i//2, j//2, k//2)
+        pvol = np.repeat(np.moveaxis(parent, axis, 2), 2, axis=2)[:, :, :s]
+    centers = np.argwhere(np.ones((p0, p1), bool))
+    n_here = int(mask.sum())
+    result = None
+    for s0 in range(0, s, _SLICE_CHUNK):
+        chunk = slice(s0, min(s, s0 + _SLICE_CHUNK))
+        ns = chunk.stop - chunk.start
+        img = vol[:, :, chunk].reshape(p0, p1, ns * c)
+        pim = None if pvol is None else pvol[:, :, chunk].reshape(pvol.shape[0], pvol.shape[1], ns * c)
+        v = multilevel_vectors(img, pim, centers, size, parent_size, mode="wrap", mask=mask, parent_mask=parent_mask)
+        parts = [v[:, : n_here * ns * c].reshape(p0 * p1, n_here, ns, c)]
+        if pim is not None:
+            parts.append(v[:, n_here * ns * c :].reshape(p0 * p1, -1, ns, c))
+        # (P0*P1, ns, n, C) -> one row per voxel, vector = [here..., parent...]
+        v = np.concatenate([np.swapaxes(q, 1, 2).reshape(p0 * p1, ns, -1) for q in parts], axis=2)
+        if result is None:
+            result = np.empty((p0, p1, s, v.shape[-1]), dtype=volume.dtype)
+        result[:, :, chunk] = v.reshape(p0, p1, ns, -1)
+    return np.moveaxis(result, 2, axis).reshape(-1, result.shape[-1])

@@ -23,7 +23,7 @@ import numpy as np
 from ._validate import as_image, with_channels
 from .pyramid import periodic_smooth_decomposition
 
-__all__ = ["feature_scale", "octave_energy", "SCALE_ENERGY"]
+__all__ = ["feature_scale", "octave_energy", "scale_schedule", "SCALE_ENERGY"]
 
 #: Fraction of the energy below the feature scale (measured on the shared textures: 0.85 puts
 #: pebbles at about 20 px, paving cells at about 35 px, bricks at about 50 px of a 192 px photo).
@@ -92,3 +92,35 @@ def feature_scale(image):
     t = (SCALE_ENERGY - below) / max(shares[k], 1e-12)
     lam = wavelengths[k] * 2 ** (0.5 * (t - 1.0)) if k else wavelengths[0]
     return float(np.clip(lam, 4.0, limit))
+
+
+#: :func:`scale_schedule`: the largest neighbourhood for exemplars whose feature scale is above
+#: ``LARGE_FEATURES`` pixels (half of it otherwise), and the smaller side of the coarsest exemplar level.
+LARGE_SIZE = 64
+LARGE_FEATURES = 32.0
+COARSEST_SIDE = 32
+
+
+def scale_schedule(exemplar, shape):
+    """Neighbourhood sizes and levels of preset ``"default"``, from the exemplar and the output.
+
+    The largest neighbourhood is 64 pixels for an exemplar whose feature
+    scale (:func:`texsynth.core.scale.feature_scale`) is above 32 pixels and
+    32 otherwise, at most a quarter of the exemplar's smaller side; each
+    level uses it, half of it and a quarter of it (none below 4 pixels, none
+    above the output's smaller side). Levels: as many as keep the coarsest
+    exemplar at least 32 pixels on its smaller side. Texture optimization's preset ``"default"`` and
+    the completion functions use it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> scale_schedule(np.random.default_rng(0).random((256, 256, 1)), (512, 512))
+    ((32, 16, 8), 4)
+    """
+    side = min(exemplar.shape[:2])
+    largest = LARGE_SIZE if feature_scale(exemplar) > LARGE_FEATURES else LARGE_SIZE // 2
+    largest = max(4, min(largest, 2 ** int(np.log2(max(side // 4, 1)))))
+    sizes = tuple(w for w in (largest, largest // 2, largest // 4) if 4 <= w <= min(shape)) or (min(largest, *shape),)
+    levels = max(1, int(np.log2(side / COARSEST_SIDE)) + 1)
+    return sizes, levels

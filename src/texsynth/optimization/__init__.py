@@ -2,10 +2,19 @@
 
 - :func:`optimize_texture`, :func:`animate_texture`: Kwatra et al. 2005,
   texture optimization (constraints, hole filling) and flow-guided animation.
+  Their options come in groups: :class:`~texsynth.core.em.Schedule`,
+  :class:`~texsynth.core.em.Terms`, :class:`~texsynth.core.search.Search`,
+  :class:`~texsynth.core.em.Constraints`, :class:`~texsynth.core.em.Guides`,
+  :class:`~texsynth.core.em.Fields` (importable from here too) and
+  :class:`Animation`; their results are :class:`~texsynth.core.em.OptimizationInfo`
+  and :class:`~texsynth.core.em.AnimationInfo`.
 - :func:`interpolate_textures`: Ruiters et al. 2010, patch-based texture
   interpolation (with :func:`interpolate_neighborhoods`, the feature maps
   :func:`ridge_feature_map` and :func:`edge_feature_map`, the baseline
-  :func:`linear_blend` and :func:`transition_alpha_map`).
+  :func:`linear_blend` and :func:`transition_alpha_map`). Its options come
+  in groups: :class:`InterpolationSchedule`, :class:`Correspondences`,
+  :class:`NeighborhoodSet`, :class:`InterpolationUpdate`,
+  :class:`VaryingAlpha` and :class:`Search`.
 - :func:`inpaint`, :func:`uncrop`: image completion by texture optimization
   with hard constraints (hole filling with a sampling area; extending an
   image beyond its borders); :func:`make_tileable`: re-synthesise a band
@@ -13,20 +22,24 @@
 """
 
 from ..core._lazy import attach
-from ._kwatra import AnimationInfo, OptimizationInfo, StageInfo, animate_texture, optimize_texture
+from ..core.em import AnimationInfo, Constraints, Fields, Guides, OptimizationInfo, Schedule, StageInfo, Terms
+from ..core.search import Search
+from ._kwatra import Animation, animate_texture, optimize_texture
 from ._completion import inpaint, make_tileable, uncrop
 
 # Ruiters et al. load on first use: their module imports the statistical family (0.1 s), which
 # texture optimization does not need
 _RUITERS = ("interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
-            "linear_blend", "transition_alpha_map", "InterpolationInfo")
+            "linear_blend", "transition_alpha_map", "InterpolationInfo", "InterpolationSchedule", "Correspondences",
+            "NeighborhoodSet", "InterpolationUpdate", "VaryingAlpha")
 __getattr__ = attach(__name__, names={name: "._ruiters" for name in _RUITERS})[0]
 
 __all__ = [
-    "optimize_texture", "animate_texture", "OptimizationInfo", "StageInfo", "AnimationInfo", "inpaint", "uncrop",
+    "optimize_texture", "animate_texture", "Animation", "inpaint", "uncrop",
     "make_tileable",
     "interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
-    "linear_blend", "transition_alpha_map", "InterpolationInfo",
+    "linear_blend", "transition_alpha_map", "InterpolationInfo", "InterpolationSchedule", "Correspondences",
+    "NeighborhoodSet", "InterpolationUpdate", "VaryingAlpha",
 ]
 
 

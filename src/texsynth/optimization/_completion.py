@@ -85,12 +85,16 @@ import numpy as np
 from ..core._validate import as_image, as_size, check_memory, check_positive_int, with_channels
 from ..core.neighborhood import patches_within
 from ..core.seams import poisson_blend
-from ._kwatra import WEXLER_CONFIDENCE, check_mask, check_sizes, is_auto, optimize_texture, scale_schedule
+from ..core.em import WEXLER_CONFIDENCE, Constraints, Schedule, Terms, check_mask, check_sizes
+from ..core.search import Search, is_auto
+from ..core.scale import scale_schedule
+from ._kwatra import optimize_texture
 
 __all__ = ["inpaint", "uncrop", "make_tileable"]
 
-#: What the completion functions pass to :func:`~texsynth.optimize_texture` besides the user's options.
-_FIXED = dict(constraint_weight=np.inf, completeness_weight=0.0, copy_limit=None, histogram_matching=True)
+#: The terms the completion functions pass to :func:`~texsynth.optimize_texture`: the fill continues the known
+#: pixels (hard constraints), with neither the completeness term nor the copy limit, its histogram the image's.
+_TERMS = Terms(completeness_weight=0.0, copy_limit=None, histogram_matching=True)
 #: "auto" neighbourhood sizes end at this one (the default preset's end at a quarter of the largest, 16 for 64):
 #: on seven photographs (``benchmarks/bench_completion.py``, its four and ``--photos tiles_1 cobblestones_2
 #: bark_1``) the 8-px stage lowered the boundary seam of every fill whose schedule it changed, 11 of 14, by 6-24 %
@@ -142,15 +146,17 @@ def _check_sources(allowed, smallest, name):
         )
 
 
-def _complete(exemplar, target, known, allowed, sizes, levels, grey, return_info, tileable=False, origin=(0, 0),
-              blend_width=0, **options):
+def _complete(exemplar, target, known, allowed, sizes, levels, grey, return_info, *, max_iterations, method, rng,
+              progress, tileable=False, origin=(0, 0), blend_width=0, confidence=None):
     """Texture optimization with the ``known`` pixels of ``target`` as hard constraints; those pixels
     pasted back bit for bit, the fill within ``blend_width`` of them blended into them in the gradient
     domain, the exemplar's channel layout restored. The known pixels are the exemplar's own, placed at
     ``origin``: the source-coordinate map says so for them."""
-    out, info = optimize_texture(exemplar, known.shape, mask=known, target=target, exemplar_mask=allowed,
-                                 neighborhood_sizes=sizes, levels=levels, return_info=True,
-                                 **dict(_FIXED, tileable=tileable), **options)
+    hard = Constraints(mask=known, target=target, constraint_weight=np.inf, confidence=confidence,
+                       exemplar_mask=allowed)
+    out, info = optimize_texture(exemplar, known.shape, schedule=Schedule(sizes, levels, max_iterations=max_iterations),
+                                 terms=_TERMS, search=Search(method=method), constraints=hard, tileable=tileable,
+                                 rng=rng, progress=progress, return_info=True)
     out[known] = target[known]
     if blend_width:  # into the known pixels the fill may copy from (not a texture beside them)
         sources = np.zeros(known.shape, bool)

@@ -17,7 +17,9 @@
 
 from ._graphcut import GraphcutInfo, GraphcutMergeInfo, graphcut_merge, graphcut_texture
 from ._patch_sampling import PatchSamplingInfo, patch_sampling
-from ._patchwork import PatchworkInfo, patchwork, patchwork_transfer, patchwork_video, voronoi_weights
+from ._patchwork import PatchworkInfo, patchwork, voronoi_weights
+from ._patchwork_transfer import patchwork_transfer
+from ._patchwork_video import patchwork_video
 from ._quilting import QuiltInfo, QuiltTransferInfo, quilt, quilt_transfer
 from ._seam_carving import SeamCarvingInfo, carve_seams
 from ._wang_tiles import WangTileSet, WangTilesInfo, WangTilingInfo, wang_texture, wang_tiles, wang_tiling

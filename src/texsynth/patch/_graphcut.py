@@ -53,7 +53,7 @@ gradients in ``M'`` (here the finite difference along each arc, see
 :func:`~texsynth.core.seams.gradient_matching_cost`), the size of the error
 region and sub-patch (here half the block), how refinement regions are ranked
 (here seam cost per window, damped by how often a pixel was tried already),
-a default ``k`` (the paper varies it from 0.001 to 1), and the section
+a default ``k`` (the option ``temperature``; the paper varies it from 0.001 to 1), and the section
 numbers quoted (Section 3 patch fitting, Section 4 placement and refinement).
 """
 
@@ -79,7 +79,7 @@ from ..core._validate import (
     with_channels,
 )
 from ..core.seams import check_disjoint, gradient_matching_cost, graph_cut, matching_cost
-from ..core.search import TemplateSearch, WindowSearch
+from ..core.search import TemplateSearch, WindowSearch, is_auto
 
 __all__ = ["GraphcutInfo", "GraphcutMergeInfo", "graphcut_merge", "graphcut_texture"]
 
@@ -88,10 +88,11 @@ EDGE_COSTS = {"plain": matching_cost, "gradient": gradient_matching_cost}
 PRESETS = ("default", "paper")
 # preset "default": chosen by looking at 256 -> 512 px outputs of bricks, pebbles, text and water (see the docs)
 DEFAULTS = {
-    "default": {"placement": "entire", "block_fraction": 1 / 2, "k": 0.02, "edge_cost": "plain", "refine": 2},
+    "default": {"placement": "entire", "block_fraction": 1 / 2, "temperature": 0.02, "edge_cost": "plain", "refine": 2},
     # preset "paper": the whole input placed at output translations, entire patch matching, the plain cost M
     # of Section 3, one refinement pass (the paper's k and refinement length are not known here)
-    "paper": {"placement": "entire", "block_fraction": "whole", "k": 0.01, "edge_cost": "plain", "refine": 1},
+    "paper": {"placement": "entire", "block_fraction": "whole", "temperature": 0.01, "edge_cost": "plain",
+              "refine": 1},
 }
 OVERLAP_FRACTION = 1 / 3  # while covering, a new block overlaps what is filled by a third of its side
 REGION_FRACTION = 1 / 2  # the error region (and sub-patch) is half the block
@@ -221,13 +222,13 @@ def _check_block(block, exemplar_shape, fraction):
     if shortest < MIN_BLOCK:
         raise ValueError(f"exemplar is {exemplar_shape[0]}x{exemplar_shape[1]}; graph-cut textures need an "
                          f"exemplar of at least {MIN_BLOCK}x{MIN_BLOCK} pixels")
-    if block is None and fraction == "whole" or isinstance(block, str) and block == "whole":
+    if is_auto(block) and fraction == "whole" or isinstance(block, str) and block == "whole":
         return "whole"
-    if block is None:
+    if is_auto(block):
         return max(MIN_BLOCK, min(shortest, round(shortest * fraction)))
     if isinstance(block, str):
-        raise TypeError(f"block must be an integer >= {MIN_BLOCK} or 'whole' (the whole exemplar, the paper's "
-                        f"patch), got {block!r}")
+        raise TypeError(f"block must be an integer >= {MIN_BLOCK}, 'whole' (the whole exemplar, the paper's "
+                        f"patch) or 'auto' (the preset's), got {block!r}")
     b = check_positive_int(block, "block", minimum=MIN_BLOCK)
     if b > shortest:
         raise ValueError(f"block {b} is larger than the exemplar ({exemplar_shape[0]}x{exemplar_shape[1]}); pass "
@@ -238,7 +239,7 @@ def _check_block(block, exemplar_shape, fraction):
 
 def _check_overlap(overlap, block):
     """The covering overlap: 1 to ``block - 1`` (``block``: the patch's shorter side)."""
-    if overlap is None:
+    if is_auto(overlap):
         return max(1, round(block * OVERLAP_FRACTION))
     o = check_positive_int(overlap, "overlap", minimum=1)
     if o >= block:
@@ -410,12 +411,12 @@ class _Output:
 class _Placement:
     """Chooses the exemplar window for an output window: random, entire patch or sub-patch matching."""
 
-    def __init__(self, exemplar, output, placement, k, gen):
+    def __init__(self, exemplar, output, placement, temperature, gen):
         self.ex, self.out, self.placement, self.gen = exemplar, output, placement, gen
         self.search = WindowSearch(exemplar, (output.bh, output.bw)) if placement != "random" else None
         self.positions = (exemplar.shape[0] - output.bh + 1, exemplar.shape[1] - output.bw + 1)
         variance = float(exemplar.reshape(-1, exemplar.shape[2]).var(axis=0).sum())
-        self.temperature = k * (variance if variance > 0 else 1.0)  # k sigma^2
+        self.temperature = temperature * (variance if variance > 0 else 1.0)  # the paper's k sigma^2
         self.used = set()
 
     def _unused(self, r0, c0):
@@ -464,11 +465,11 @@ class _TranslationPlacement:
     those of the error region only (:class:`texsynth.core.search.TemplateSearch`, by FFT).
     """
 
-    def __init__(self, exemplar, output, placement, k, gen):
+    def __init__(self, exemplar, output, placement, temperature, gen):
         self.ex, self.out, self.placement, self.gen = exemplar, output, placement, gen
         self.search = TemplateSearch(exemplar)
         variance = float(exemplar.reshape(-1, exemplar.shape[2]).var(axis=0).sum())
-        self.temperature = k * (variance if variance > 0 else 1.0)  # k sigma^2
+        self.temperature = temperature * (variance if variance > 0 else 1.0)  # the paper's k sigma^2
         self.used = set()
 
     def choose(self, er, ec, eh, ew):
@@ -598,22 +599,25 @@ def _box_sums(image, eh, ew, wrap):
 # The method
 
 
-def _resolve(preset, exemplar_shape, placement, block, overlap, k, edge_cost, refine):
+def _resolve(preset, exemplar_shape, placement, block, overlap, temperature, edge_cost, refine):
+    """The options with every ``"auto"`` replaced by the preset's value, checked."""
     defaults = DEFAULTS[_check_choice(preset, "preset", PRESETS)]
-    placement = _check_choice(defaults["placement"] if placement is None else placement, "placement", PLACEMENTS)
+    placement = _check_choice(defaults["placement"] if is_auto(placement) else placement, "placement", PLACEMENTS)
     B = _check_block(block, exemplar_shape, defaults["block_fraction"])
     O = _check_overlap(overlap, min(exemplar_shape) if B == "whole" else B)
-    k = defaults["k"] if k is None else check_positive_float(k, "k", maximum=1e6)
-    edge_cost = _check_edge_cost(defaults["edge_cost"] if edge_cost is None else edge_cost)
-    refine = defaults["refine"] if refine is None else check_positive_int(refine, "refine", minimum=0)
+    temperature = (defaults["temperature"] if is_auto(temperature)
+                   else check_positive_float(temperature, "temperature", maximum=1e6))
+    edge_cost = _check_edge_cost(defaults["edge_cost"] if is_auto(edge_cost) else edge_cost)
+    refine = defaults["refine"] if is_auto(refine) else check_positive_int(refine, "refine", minimum=0)
     if refine > MAX_REFINE:
         raise ValueError(f"refine must be at most {MAX_REFINE} passes (later passes change next to nothing; the "
                          f"default is 2), got {refine}")
-    return placement, B, O, k, edge_cost, refine
+    return placement, B, O, temperature, edge_cost, refine
 
 
-def graphcut_texture(exemplar, size, *, preset="default", placement=None, block=None, overlap=None, k=None,
-                     edge_cost=None, refine=None, tileable=False, rng=None, return_info=False, progress=False):
+def graphcut_texture(exemplar, size, *, preset="default", placement="auto", block="auto", overlap="auto",
+                     temperature="auto", edge_cost="auto", refine="auto", tileable=False, rng=None, return_info=False,
+                     progress=False):
     """Synthesise a texture by graph-cut textures (Kwatra et al. 2003).
 
     Parameters
@@ -623,41 +627,42 @@ def graphcut_texture(exemplar, size, *, preset="default", placement=None, block=
     size : int or (int, int)
         Output size ``(height, width)``.
     preset : {"default", "paper"}
-        Where the options left at None come from. ``"default"``: half-exemplar
-        blocks, entire patch matching with ``k = 0.02``, the plain cost ``M``
+        Where the options left ``"auto"`` come from. ``"default"``: half-exemplar
+        blocks, entire patch matching with ``temperature=0.02``, the plain cost ``M``
         and two refinement passes (chosen by looking at 256 -> 512 px
         outputs). ``"paper"``: the paper's patch, the whole exemplar placed at
         output translations (``block="whole"``), entire patch matching,
-        ``k = 0.01``, ``M``, one refinement pass.
-    placement : {"entire", "subpatch", "random"}, optional
+        ``temperature=0.01``, ``M``, one refinement pass.
+    placement : {"entire", "subpatch", "random", "auto"}
         How a patch's exemplar window is chosen (Section 4): entire patch
         matching (the whole overlap compared), sub-patch matching (the error
         region only), or random placement.
-    block : int or "whole", optional
+    block : int, "whole" or "auto"
         Side of the square patches, at most the exemplar's shorter side
-        (default half of it), or ``"whole"``: the whole exemplar is the patch
+        (``"auto"``: half of it), or ``"whole"``: the whole exemplar is the patch
         and the search runs over the output translations that put it over
         the error region (the paper's placement; ``preset="paper"``).
-    overlap : int, optional
+    overlap : int or "auto"
         While the output is being covered, how far (pixels) each new patch
-        reaches back over what is filled, ``1 <= overlap < block``. Default a
-        third of the block.
-    k : float, optional
-        The ``k`` of ``P(t) ∝ exp(-C(t) / (k σ²))``: small values take the
-        best matches only, large ones approach random placement (the paper
-        varies it from 0.001 to 1). Default 0.02 (``"paper"``: 0.01).
-    edge_cost : {"plain", "gradient"} or callable, optional
+        reaches back over what is filled, ``1 <= overlap < block``.
+        ``"auto"``: a third of the block.
+    temperature : float or "auto"
+        The paper's ``k`` of ``P(t) ∝ exp(-C(t) / (k σ²))``, the temperature
+        of the draw relative to the exemplar's variance ``σ²``: small values
+        take the best matches only, large ones approach random placement (the
+        paper varies it from 0.001 to 1). ``"auto"``: 0.02 (``"paper"``: 0.01).
+    edge_cost : {"plain", "gradient", "auto"} or callable
         The cost of a seam between neighbours: the paper's ``M``
         (:func:`~texsynth.core.seams.matching_cost`, default),
         its gradient-normalised ``M'``
         (:func:`~texsynth.core.seams.gradient_matching_cost`), or any
         ``edge_cost(a_s, a_t, b_s, b_t)``.
-    refine : int, optional
+    refine : int or "auto"
         Refinement passes after the output is covered; each places as many
         patches as it takes to cover the output once on the block grid
         (``ceil(H / (block - overlap)) * ceil(W / (block - overlap))``), over
         the regions of highest seam cost.
-        Default 2 (``"paper"``: 1); 0 stops once the output is covered.
+        ``"auto"``: 2 (``"paper"``: 1); 0 stops once the output is covered.
     tileable : bool
         Make the output tile seamlessly: windows, seams and costs wrap round
         its border. Needs a size of at least the block plus 2 pixels.
@@ -684,7 +689,7 @@ def graphcut_texture(exemplar, size, *, preset="default", placement=None, block=
     ValueError, TypeError
         If ``block`` is larger than the exemplar (or below 4, or a word other
         than ``"whole"``), ``overlap >=
-        block``, ``k <= 0``, ``refine`` outside 0..100, an option is not one of its
+        block``, ``temperature <= 0``, ``refine`` outside 0..100, an option is not one of its
         choices, a tileable ``size`` is smaller than the block plus 2, or the
         output would not fit in memory.
 
@@ -759,8 +764,8 @@ def graphcut_texture(exemplar, size, *, preset="default", placement=None, block=
     image = as_image(exemplar, "exemplar")
     ex, grey = with_channels(image)
     size = as_size(size)
-    placement, B, O, k, cost_fn, refine = _resolve(preset, ex.shape[:2], placement, block, overlap, k, edge_cost,
-                                                   refine)
+    placement, B, O, temperature, cost_fn, refine = _resolve(preset, ex.shape[:2], placement, block, overlap,
+                                                             temperature, edge_cost, refine)
     tileable = check_bool(tileable, "tileable")
     whole = B == "whole"
     patch_shape = ex.shape[:2] if whole else (B, B)
@@ -773,7 +778,7 @@ def graphcut_texture(exemplar, size, *, preset="default", placement=None, block=
     check_memory(float(size[0]) * size[1] * (ex.shape[2] * 8 * 4 + 96), size, "size")
     exf = np.ascontiguousarray(ex, dtype=np.float64)
     output = _Output(exf, size, patch_shape, tileable, cost_fn, whole)
-    chooser = (_TranslationPlacement if whole else _Placement)(exf, output, placement, k, gen)
+    chooser = (_TranslationPlacement if whole else _Placement)(exf, output, placement, temperature, gen)
     step_h, step_w = patch_shape[0] - O, patch_shape[1] - O
     covers = size[0] > patch_shape[0] or size[1] > patch_shape[1]
     per_pass = math.ceil(size[0] / step_h) * math.ceil(size[1] / step_w) if covers else 1

@@ -39,7 +39,7 @@ import time
 import numpy as np
 
 from ..core._validate import as_image, as_rng, as_size, check_bool, with_channels
-from ..core.search._template import WindowSearch, within_radius
+from ..core.search import WindowSearch, within_radius
 from ._quilting import (
     Grid,
     QuiltInfo,
@@ -95,7 +95,7 @@ def feather_weights(known):
     return ramp(h, top, bottom)[:, None] * ramp(w, left, right)[None, :]
 
 
-def patch_sampling(exemplar, size, *, block=None, overlap=None, error_tolerance=EPSILON, tileable=False, rng=None,
+def patch_sampling(exemplar, size, *, block="auto", overlap="auto", error_tolerance=EPSILON, tileable=False, rng=None,
                    return_info=False, progress=False):
     """Synthesise a texture by patch-based sampling (Liang et al. 2001).
 
@@ -105,12 +105,12 @@ def patch_sampling(exemplar, size, *, block=None, overlap=None, error_tolerance=
         Input texture: ``(H, W)`` grey or ``(H, W, C)``; any accepted dtype.
     size : int or (int, int)
         Output size ``(height, width)``; any size.
-    block : int, optional
+    block : int or "auto"
         Patch side ``w_B`` in pixels, about the size of the texture's
-        elements. Default a quarter of the exemplar's shorter side; at most
+        elements. ``"auto"`` (default): a quarter of the exemplar's shorter side; at most
         the exemplar's shorter side.
-    overlap : int, optional
-        Width ``w_E`` of the boundary zone. Default ``w_B / 6``, rounded; must
+    overlap : int or "auto"
+        Width ``w_E`` of the boundary zone. ``"auto"`` (default): ``w_B / 6``, rounded; must
         be smaller than ``block``. 0 pastes random patches side by side.
     error_tolerance : float
         The relative matching error ``ε`` of ``d_max`` (default 0.2): a patch

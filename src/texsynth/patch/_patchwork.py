@@ -4,8 +4,13 @@ Harrison (2002) copies random patches of the exemplar into the output, one per
 cell of a Voronoi diagram over jittered grid points ``p_i``, and hides the
 joins by blending the patches with weights ``w_i(x) = d(x, p_i)^-f`` while
 controlling the standard deviation of every blended pixel (eq. 2). Section 4
-extends this to video (intermediate sequences, eqs. 3-6) and Section 5 to
-texture transfer (source points matched to a pattern image, eq. 7).
+extends this to video (intermediate sequences, eqs. 3-6:
+:mod:`texsynth.patch._patchwork_video`) and Section 5 to texture transfer
+(source points matched to a pattern image, eq. 7:
+:mod:`texsynth.patch._patchwork_transfer`). This module holds Sections 2-3,
+the image synthesis and the parts the other two share: the jittered grid
+(:class:`Geometry`), the weights of eq. 1 and the blend of eqs. 2 and 7
+(:func:`blend`).
 
 Symbols follow the paper (its Table 1):
 
@@ -60,7 +65,7 @@ leave out 6e-5 of ``sum w_i^2`` on average at ``f = 6`` (the plain cut
 measures both against the all-cells sum. With ``m = 2`` or 3 the block is
 too small for the ramp to miss the adjacent cells, and joins change shape a
 little (the plain cut showed strong seams there instead). The ``q_i`` are
-drawn as without the window (:meth:`_Geometry.influence` measures "near the
+drawn as without the window (:meth:`Geometry.influence` measures "near the
 cell" with the plain and the tapered weights and keeps the union; for
 ``m >= 4`` the tapered region lies inside the plain one).
 """
@@ -77,16 +82,14 @@ import numpy as np
 from ..core._progress import Progress
 from ..core._validate import (as_image, as_rng, as_size, check_bool, check_memory, check_positive_int,
                               restore_channels, with_channels)
-from ..core.neighborhood import extract
-from ..core.search import nearest_candidates
 
-__all__ = ["patchwork", "patchwork_video", "patchwork_transfer", "voronoi_weights", "PatchworkInfo"]
+__all__ = ["patchwork", "voronoi_weights", "PatchworkInfo"]
 
 _BAND_PIXELS = 1 << 16  # pixels per band: keeps the m*m weight arrays of a band in cache
 _NEAR = 0.01  # "near the cell": normalised weight above this must be sampled inside the input
 # cells kept per pixel in info.coordinates: those whose coefficient in eq. 2 is at least this (rendering
 # the exemplar through the map then reproduces the output to about 0.005, tests/test_coordinates.py)
-_SOURCE_MIN_WEIGHT = 1 / 512
+SOURCE_MIN_WEIGHT = 1 / 512
 _TAPER = 0.5  # the weights taper to 0 over the outer half grid spacing of each cell's reach
 
 
@@ -187,7 +190,7 @@ class PatchworkInfo:
 # Validation helpers
 
 
-def _check_sharpness(sharpness):
+def check_sharpness(sharpness):
     if not isinstance(sharpness, (int, float, np.integer, np.floating)) or isinstance(sharpness, bool):
         raise TypeError(f"sharpness f must be a positive number (paper: 6), got {sharpness!r}")
     if not np.isfinite(sharpness) or sharpness <= 0 or sharpness > 1000:
@@ -198,7 +201,7 @@ def _check_sharpness(sharpness):
     return float(sharpness)
 
 
-def _check_grid(grid_spacing, input_shape, sharpness, neighbors, name="exemplar"):
+def check_grid_spacing(grid_spacing, input_shape, sharpness, neighbors, name="exemplar"):
     """``grid_spacing`` checked, or ``"auto"`` resolved: the largest spacing up to the paper's 64
     pixels whose cells, "in or near" region included, fit inside the input (:func:`_fitting_grid`)."""
     if isinstance(grid_spacing, str) and grid_spacing == "auto":
@@ -215,7 +218,7 @@ def _check_grid(grid_spacing, input_shape, sharpness, neighbors, name="exemplar"
 
 def _reach(sharpness, neighbors):
     """Extent of a cell's "in or near" region in grid spacings (measured on a probe grid of spacing 64)."""
-    probe = _Geometry((512, 512), (4096, 4096), 64, sharpness, neighbors, False, np.random.default_rng(0),
+    probe = Geometry((512, 512), (4096, 4096), 64, sharpness, neighbors, False, np.random.default_rng(0),
                       choose_q=False)
     near_y, near_x = probe.influence()
     return max(float((near_y[1] - near_y[0] + 1).max()), float((near_x[1] - near_x[0] + 1).max())) / 64.0
@@ -227,7 +230,7 @@ def _fitting_grid(input_shape, sharpness, neighbors):
     return int(np.clip(min(input_shape) // _reach(sharpness, neighbors), 4, 64))
 
 
-def _warn_if_cells_leave(geom, s, input_shape, sharpness, neighbors, name="exemplar"):
+def warn_if_cells_leave(geom, s, input_shape, sharpness, neighbors, name="exemplar"):
     """Warn when cells reach beyond the input: their far parts are the mirrored input (symmetric motifs)."""
     if geom.cut:
         warnings.warn(
@@ -238,7 +241,7 @@ def _warn_if_cells_leave(geom, s, input_shape, sharpness, neighbors, name="exemp
         )
 
 
-def _check_neighbors(neighbors):
+def check_neighbors(neighbors):
     m = check_positive_int(neighbors, "neighbors", minimum=2)
     if m > 8:
         raise ValueError(f"neighbors must be an integer in 2..8 (default 4), got {m}")
@@ -325,7 +328,7 @@ def _source_bounds(p, n_in, near):
 
     ``near`` holds, per point, the offsets ``(lo, hi)`` of ``x - p_i`` "in or
     near" the cell: where its normalised weight exceeds ``_NEAR`` (measured
-    by :meth:`_Geometry.influence`). A window longer than the input is cut to
+    by :meth:`Geometry.influence`). A window longer than the input is cut to
     the input's length around ``p_i``. Samples of the cell outside the window
     (its far tails) are mirrored at the input border.
     Returns the first and last allowed source pixel per point.
@@ -339,7 +342,7 @@ def _source_bounds(p, n_in, near):
     return -wlo, n_in - 1 - whi
 
 
-def _draw(first, last, gen, k=None):
+def draw_sources(first, last, gen, k=None):
     """Uniform random integers in ``[first, last]``; ``k`` draws per entry if given."""
     if k is None:
         return first + np.floor(gen.random(first.shape) * (last - first + 1))
@@ -347,7 +350,7 @@ def _draw(first, last, gen, k=None):
     return first[..., None] + np.floor(gen.random(first.shape + (k,)) * span)
 
 
-class _Geometry:
+class Geometry:
     """The points ``p_i``, ``q_i`` and the per-band weights ``w_i(x)`` (eq. 1)."""
 
     def __init__(self, out_size, in_size, spacing, sharpness, m, tileable, gen, choose_q=True):
@@ -371,7 +374,7 @@ class _Geometry:
         # cells whose "in or near" region is longer than the input: cut, their far parts mirrored
         self.cut = bool(np.any(near_y[1] - near_y[0] + 1 > in_size[0]) or np.any(near_x[1] - near_x[0] + 1 > in_size[1]))
         if choose_q:  # Section 3: q_i at random
-            self.set_sources(_draw(*self.bounds_y, gen) + 0.5, _draw(*self.bounds_x, gen) + 0.5)
+            self.set_sources(draw_sources(*self.bounds_y, gen) + 0.5, draw_sources(*self.bounds_x, gen) + 0.5)
 
     def set_sources(self, qy, qx):
         self.qy, self.qx = qy, qx
@@ -547,7 +550,7 @@ def _power(ratio, exponent):
     return np.power(ratio, np.float32(exponent), dtype=np.float32)
 
 
-def _blend(parts, sample, channels, local_means=None):
+def blend(parts, sample, channels, local_means=None):
     """Eq. 2 (``local_means`` None: samples already have ``a`` subtracted) or eq. 7.
 
     ``sample(n, ids, flat)`` returns the input values ``I(x - p_i + q_i)`` of
@@ -582,15 +585,15 @@ def _mirror(index, n):
     return np.where(index >= n, 2 * n - 1 - index, index)
 
 
-def _band_sources(parts, pads, width, in_size, with_cells=False):
+def band_sources(parts, pads, width, in_size, with_cells=False):
     """The cells that weigh in eq. 2 at every pixel of a band, largest first: input coordinates
     ``(..., K, 2)`` and coefficients ``w_i / sqrt(sum_j w_j^2)`` ``(..., K)`` in the padded block
-    layout, ``K`` the most cells of coefficient ``>= _SOURCE_MIN_WEIGHT`` at any pixel of the band
+    layout, ``K`` the most cells of coefficient ``>= SOURCE_MIN_WEIGHT`` at any pixel of the band
     (``with_cells``: also the index ``i`` of each slot's cell, ``(..., K)``)."""
     weights = np.stack([w for _, w, *_ in parts], -1)  # (By, T, Bx, T, m*m)
     norm = np.sqrt(np.sum(weights.astype(np.float64) ** 2, -1, keepdims=True))
     weights = (weights / np.where(norm > 0, norm, 1)).astype(np.float32)
-    weights[weights < _SOURCE_MIN_WEIGHT] = 0
+    weights[weights < SOURCE_MIN_WEIGHT] = 0
     order = np.argsort(-weights, axis=-1, kind="stable")
     k = max(1, int(np.count_nonzero(weights, axis=-1).max()))
     order = order[..., :k]
@@ -604,13 +607,13 @@ def _band_sources(parts, pads, width, in_size, with_cells=False):
     return coords, w
 
 
-def _finish(out, dtype, was_grey):
+def finish_output(out, dtype, was_grey):
     clipped = float(np.mean((out < 0) | (out > 1)))
     np.clip(out, 0, 1, out=out)
     return restore_channels(out.astype(dtype, copy=False), was_grey), clipped
 
 
-def _info(geom, cells, clipped, start, matched=None, **extra):
+def patchwork_info(geom, cells, clipped, start, matched=None, **extra):
     """The info of a run that began at ``start`` (perf_counter) and chose its q_i by ``matched``."""
     end = time.perf_counter()
     stages = {"blending": end - (matched or start)}
@@ -633,7 +636,7 @@ def _info(geom, cells, clipped, start, matched=None, **extra):
     )
 
 
-def _check_memory(size, channels, spacing, frames=1, cells=False, pixels=True):
+def check_output_memory(size, channels, spacing, frames=1, cells=False, pixels=True):
     """Refuse an output that cannot fit: float32 while blending, the result in float64, the cell map,
     and about 100 bytes per grid point of the geometry (that alone without ``pixels``: chunks)."""
     h, w = size
@@ -643,7 +646,7 @@ def _check_memory(size, channels, spacing, frames=1, cells=False, pixels=True):
                  also={"n_frames": frames} if frames > 1 else None)
 
 
-def _padded_flat(image, pads):
+def padded_flat(image, pads):
     """The input padded by mirroring (only used where samples leave it) as ``(pixels, C)``."""
     top, bottom, left, right = pads
     if any(pads):
@@ -651,7 +654,7 @@ def _padded_flat(image, pads):
     return image.reshape(-1, image.shape[-1]), image.shape[1]
 
 
-def _run_bands(geom, width, pads, need_cells, compose, progress, desc):
+def run_bands(geom, width, pads, need_cells, compose, progress, desc):
     """Loop over bands: weights once per band, then ``compose(band, parts)``."""
     cells = np.zeros((geom.rows.n_out, geom.cols.n_out), np.intp) if need_cells else None
     bands = geom.bands()
@@ -711,11 +714,11 @@ def voronoi_weights(size, *, grid_spacing=64, sharpness=6, tileable=False, neigh
     True
     """
     H, W = as_size(size)
-    f = _check_sharpness(sharpness)
+    f = check_sharpness(sharpness)
     s = check_positive_int(grid_spacing, "grid_spacing")
-    m = _check_neighbors(neighbors)
-    _check_memory((H, W), 1, s, cells=True)
-    geom = _Geometry((H, W), (H, W), s, f, m, check_bool(tileable, "tileable"), as_rng(rng), choose_q=False)
+    m = check_neighbors(neighbors)
+    check_output_memory((H, W), 1, s, cells=True)
+    geom = Geometry((H, W), (H, W), s, f, m, check_bool(tileable, "tileable"), as_rng(rng), choose_q=False)
     largest = np.zeros((H, W), np.float64)
     cells = np.zeros((H, W), np.intp)
     for band in geom.bands():
@@ -875,20 +878,20 @@ def patchwork(
     image = as_image(exemplar, "exemplar")
     ex, grey = with_channels(image)
     H, W = as_size(size)
-    f = _check_sharpness(sharpness)
-    m = _check_neighbors(neighbors)
-    s = _check_grid(grid_spacing, ex.shape[:2], f, m)
+    f = check_sharpness(sharpness)
+    m = check_neighbors(neighbors)
+    s = check_grid_spacing(grid_spacing, ex.shape[:2], f, m)
     if chunks is not None and (return_info or progress):
         raise ValueError("return_info and progress are not available with chunks=; pass them as False")
-    _check_memory((H, W), ex.shape[-1], s, cells=return_info, pixels=chunks is None)
-    geom = _Geometry((H, W), ex.shape[:2], s, f, m, check_bool(tileable, "tileable"), as_rng(rng))
-    _warn_if_cells_leave(geom, s, ex.shape[:2], f, m)
+    check_output_memory((H, W), ex.shape[-1], s, cells=return_info, pixels=chunks is None)
+    geom = Geometry((H, W), ex.shape[:2], s, f, m, check_bool(tileable, "tileable"), as_rng(rng))
+    warn_if_cells_leave(geom, s, ex.shape[:2], f, m)
 
     C = ex.shape[-1]
     src = ex.astype(np.float32)
     a = src.reshape(-1, C).mean(0, dtype=np.float64).astype(np.float32)  # average colour a (eq. 2)
     pads = geom.pad()
-    table, width = _padded_flat(src - a, pads)
+    table, width = padded_flat(src - a, pads)
 
     def sample(n, ids, flat):
         return table.take(flat, axis=0)
@@ -899,14 +902,14 @@ def patchwork(
         def window(rows, cols):  # the pixels rows x cols, tile by tile, as compose() below computes them
             out = np.empty((rows.stop - rows.start, cols.stop - cols.start, C), np.float32)
             for band, cband in geom.tiles(rows, cols):
-                r, c, values = geom.to_output(band, _blend(geom.band_weights(band, width, pads, cband=cband)[0],
+                r, c, values = geom.to_output(band, blend(geom.band_weights(band, width, pads, cband=cband)[0],
                                                            sample, C), cband)
                 # r and c are runs of rows and columns: the part inside the block, by slices
                 r0, r1 = max(r[0], rows.start), min(r[-1] + 1, rows.stop)
                 c0, c1 = max(c[0], cols.start), min(c[-1] + 1, cols.stop)
                 out[r0 - rows.start : r1 - rows.start, c0 - cols.start : c1 - cols.start] = (
                     values[r0 - r[0] : r1 - r[0], c0 - c[0] : c1 - c[0]] + a)
-            return _finish(out, image.dtype, grey)[0]
+            return finish_output(out, image.dtype, grey)[0]
 
         # blending works in float32 on m*m weights of a tile's pixels; the block itself and its result
         return chunked_image((H, W), None if grey else C, image.dtype, chunks, window,
@@ -916,15 +919,15 @@ def patchwork(
 
     def compose(band, parts):
         if return_info:
-            c, w = _band_sources(parts, pads, width, ex.shape[:2])
+            c, w = band_sources(parts, pads, width, ex.shape[:2])
             idx, rows = geom.to_output(band, c)
             sources.append((idx, rows, geom.to_output(band, w)[1]))
-        blended = _blend(parts, sample, C)
+        blended = blend(parts, sample, C)
         idx, rows = geom.to_output(band, blended)
         out[idx] = rows + a  # eq. 2: ... + a
 
-    cells = _run_bands(geom, width, pads, return_info, compose, progress, "patchwork")
-    result, clipped = _finish(out, image.dtype, grey)
+    cells = run_bands(geom, width, pads, return_info, compose, progress, "patchwork")
+    result, clipped = finish_output(out, image.dtype, grey)
     if return_info:
         from ..core.coordinates import compact_slots
 
@@ -933,542 +936,5 @@ def patchwork(
         for idx, c, w in sources:
             coordinates[idx, :, : w.shape[-1]], weights[idx, :, : w.shape[-1]] = c, w
         coordinates, weights = compact_slots(coordinates, weights)
-        return result, _info(geom, cells, clipped, start, coordinates=coordinates, weights=weights)
-    return result
-
-
-# --------------------------------------------------------------------------
-# Section 4: video
-
-
-class _Intermediate:
-    """The intermediate sequences ``N_i(x, t)`` of every cell (eqs. 3-6), evaluated lazily.
-
-    Each cell has key frames ``p_{i,k}`` evenly spaced over the output loop
-    (with a random phase per cell, so cells change source at different times)
-    and source frames ``q_{i,k}`` chosen so that ``t - p_{i,k} + q_{i,k}``
-    stays inside the input for the two intervals around ``p_{i,k}``. The last
-    interval wraps to the first key plus ``n_frames``: the loop is seamless.
-    """
-
-    def __init__(self, n_cells, n_frames, n_input, spacing, gen):
-        self.N = n_frames
-        nk = max(1, math.ceil(n_frames / spacing))
-        step = n_frames / nk
-        phase = gen.random((n_cells, 1)) * step
-        keys = np.floor(phase + np.arange(nk) * step).astype(np.intp)  # p_{i,k}
-        self.keys = np.concatenate([keys, keys[:, :1] + n_frames], 1)  # ... and p_{i,nk} = p_{i,0} + N
-        length = np.diff(self.keys, axis=1)  # L_k = p_{k+1} - p_k
-        before = np.roll(length, 1, axis=1)  # L_{k-1}
-        # t - p_k ranges over (-L_{k-1}, L_k) where frame k has nonzero weight
-        first, last = before - 1, n_input - length
-        q = first + np.floor(gen.random(first.shape) * (last - first + 1)).astype(np.intp)
-        self.sources = np.concatenate([q, q[:, :1]], 1)  # q_{i,nk} = q_{i,0}
-
-    def at(self, t):
-        """Per-cell source frames and coefficients of eq. 6 at output frame ``t``."""
-        p0 = self.keys[:, 0]
-        tt = p0 + np.mod(t - p0, self.N)  # t in [p_0, p_0 + N)
-        k = np.sum(self.keys[:, :-1] <= tt[:, None], axis=1) - 1
-        rows = np.arange(len(tt))
-        pk, pk1 = self.keys[rows, k], self.keys[rows, k + 1]
-        u = (tt - pk) / (pk1 - pk)  # eq. 5
-        w1 = 0.5 + 0.5 * np.cos(np.pi * u)  # eq. 3
-        w2 = 0.5 - 0.5 * np.cos(np.pi * u)  # eq. 4
-        tau1 = tt - pk + self.sources[rows, k]
-        tau2 = tt - pk1 + self.sources[rows, k + 1]
-        norm = np.sqrt(w1**2 + w2**2)
-        # eq. 6: N = (w1 I1 + w2 I2 - A) / sqrt(w1^2 + w2^2) + A = c1 I1 + c2 I2 + cA A
-        coef = np.stack([w1 / norm, w2 / norm, 1 - 1 / norm], 1).astype(np.float32)
-        return tau1, tau2, coef
-
-
-def _check_video(frames, name="frames"):
-    video = as_image(frames, name, spatial_dims=3)
-    if video.shape[0] < 2:
-        raise ValueError(
-            f"{name} must hold at least 2 frames (T, H, W[, C]), got {video.shape[0]}; "
-            "for a single image use patchwork()"
-        )
-    return video
-
-
-def _frame_spacing(frame_spacing, n_input, n_frames):
-    """Spacing of the key frames: longest allowed by default (two intervals must fit in the input)."""
-    longest = (n_input + 1) // 2
-    if frame_spacing is None:  # a third of the input: long transitions, and varied source frames q_i
-        return max(1, min((n_input + 2) // 3, n_frames))
-    d = check_positive_int(frame_spacing, "frame_spacing")
-    if 2 * d - 1 > n_input:
-        raise ValueError(
-            f"frame_spacing {d} needs at least {2 * d - 1} input frames, got {n_input}; "
-            f"pass frame_spacing <= {longest}"
-        )
-    return d
-
-
-def _frame_slots(coords, omega, slot_cells, tau1, tau2, coef):
-    """One output frame's source-coordinate map (eqs. 2 and 6): every cell's slot (its input pixel
-    ``coords``, coefficient ``omega`` of eq. 2, cell ``slot_cells``) split into its three terms of eq.
-    6, ``c1 I(tau1) + c2 I(tau2) + cA A``: input frames ``tau1``, ``tau2`` and -1 (the average frame
-    ``A``), weights ``omega * c``; slots of weight below ``_SOURCE_MIN_WEIGHT`` dropped."""
-    from ..core.coordinates import compact_slots
-
-    shape = omega.shape[:-1] + (3 * omega.shape[-1],)
-    frames = np.stack([tau1[slot_cells], tau2[slot_cells], np.full_like(slot_cells, -1)], -1).reshape(shape)
-    weights = (omega[..., None] * coef[slot_cells]).reshape(shape)
-    weights[np.abs(weights) < _SOURCE_MIN_WEIGHT] = 0  # as patchwork: terms below 1/512 left out
-    coords = np.repeat(coords, 3, axis=-2)
-    return compact_slots(coords, weights, frames)
-
-
-def _video_map(pieces, n_frames, H, W):
-    """The per-frame maps ``(rows, (coordinates, weights, frames) per frame)`` of the bands assembled into
-    ``(n_frames, H, W, K, 2)``, ``(n_frames, H, W, K)`` and ``(n_frames, H, W, K)`` arrays."""
-    from ..core.coordinates import compact_slots
-
-    k = max(w.shape[-1] for _, frames in pieces for _, w, _ in frames)
-    check_memory(float(n_frames) * H * W * k * (16 + 4 + 8), (H, W), what="the source-coordinate map",
-                 also={"n_frames": n_frames})
-    coordinates = np.zeros((n_frames, H, W, k, 2), np.int64)
-    weights = np.zeros((n_frames, H, W, k), np.float32)
-    sources = np.zeros((n_frames, H, W, k), np.intp)
-    for idx, frames in pieces:
-        for t, (c, w, f) in enumerate(frames):
-            n = w.shape[-1]
-            coordinates[t, idx, :, :n], weights[t, idx, :, :n], sources[t, idx, :, :n] = c, w, f
-    flat = compact_slots(coordinates.reshape(n_frames * H, W, k, 2), weights.reshape(n_frames * H, W, k),
-                         sources.reshape(n_frames * H, W, k))
-    return tuple(a.reshape((n_frames, H) + a.shape[1:]) for a in flat)
-
-
-def _synthesize_video(geom, vid, n_frames, spacing, gen, local_means, progress, desc, record=False):
-    """Output frames: eq. 2 (or 7) over the intermediate sequences' frames, one Voronoi arrangement.
-
-    ``record`` (eq. 2 only): also return the source-coordinate map of every frame (:func:`_video_map`),
-    else None."""
-    T, Hin, Win, C = vid.shape
-    H, W = geom.rows.n_out, geom.cols.n_out
-    n_cells = geom.grid_shape[0] * geom.grid_shape[1]
-    seq = _Intermediate(n_cells, n_frames, T, spacing, gen)
-    src = vid.astype(np.float32)
-    A = src.mean(0)  # A(x), the per-pixel average over time (eq. 6)
-    a = None
-    if local_means is None:
-        a = src.reshape(-1, C).mean(0, dtype=np.float64).astype(np.float32)  # a, eq. 2
-        src = src - a
-        A = A - a
-    pads = geom.pad()
-    top, bottom, left, right = pads
-    if any(pads):
-        src = np.pad(src, ((0, 0), (top, bottom), (left, right), (0, 0)), mode="symmetric")
-    A_flat, width = _padded_flat(A, pads)
-    frame_size = A_flat.shape[0]
-    video = src.reshape(-1, C)
-    out = np.empty((n_frames, H, W, C), np.float32)
-    bands = geom.bands()
-    bar = Progress(progress, len(bands) * n_frames, desc)
-    cells = np.zeros((H, W), np.intp)
-    pieces = []  # record: per band, its rows and each frame's map (bookkeeping beside the blend)
-    for band in bands:
-        parts, cell_blocks = geom.band_weights(band, width, pads, need_cells=True)
-        idx, block_cells = geom.to_output(band, cell_blocks[..., None])
-        cells[idx] = block_cells[..., 0]
-        if record:
-            band_map = [geom.to_output(band, x)[1] for x in _band_sources(parts, pads, width, (Hin, Win), True)]
-            pieces.append((idx, []))
-        for t in range(n_frames):
-            tau1, tau2, coef = seq.at(t)
-            if record:
-                pieces[-1][1].append(_frame_slots(*band_map, tau1, tau2, coef))
-
-            def sample(n, ids, flat, tau1=tau1, tau2=tau2, coef=coef):
-                c = coef[ids][:, None, :, None, :, None]  # (By, 1, Bx, 1, 3, 1)
-                o1 = (tau1[ids] * frame_size)[:, None, :, None]
-                o2 = (tau2[ids] * frame_size)[:, None, :, None]
-                return (
-                    c[..., 0, :] * video.take(flat + o1, axis=0)
-                    + c[..., 1, :] * video.take(flat + o2, axis=0)
-                    + c[..., 2, :] * A_flat.take(flat, axis=0)
-                )
-
-            blended = _blend(parts, sample, C, local_means)
-            _, rows = geom.to_output(band, blended)
-            out[t, idx] = rows if a is None else rows + a
-            bar.advance({"band": band.start, "frame": t})
-    bar.close()
-    return out, cells, seq, _video_map(pieces, n_frames, H, W) if record else None
-
-
-def patchwork_video(
-    frames,
-    size,
-    n_frames,
-    *,
-    grid_spacing="auto",
-    sharpness=6,
-    frame_spacing=None,
-    tileable=False,
-    neighbors=4,
-    rng=None,
-    return_info=False,
-    progress=False,
-):
-    """Synthesise a looping video texture (Harrison 2002, Section 4).
-
-    Patches are fixed in space; each cell plays its own *intermediate
-    sequence*, a chain of input clips joined by cosine transitions (eqs. 3-6),
-    and every output frame pieces the cells' frames together with eq. 2.
-    Static parts of the input stay static. The output loops seamlessly: its
-    last frame leads into its first as smoothly as any two consecutive frames.
-    Intermediate pixels are computed only where and when needed, so memory
-    is proportional to the input plus the output.
-
-    Parameters
-    ----------
-    frames : array_like
-        Input video ``(T, H, W)`` or ``(T, H, W, C)`` with ``T >= 2``.
-    size : int or (int, int)
-        Output frame size ``(height, width)``.
-    n_frames : int
-        Number of output frames (the loop length).
-    grid_spacing, sharpness, tileable, neighbors : see :func:`patchwork`
-        Spatial patches (paper: 64 and ``f = 6``).
-    frame_spacing : int, optional
-        Spacing of the key frames ``p_i`` of the intermediate sequences (the
-        length of one transition). The paper gives no value; the default is
-        ``(T + 2) // 3`` (at most ``n_frames``), which leaves about ``T / 3``
-        choices for each source frame ``q_i``. At most ``(T + 1) // 2``: the
-        two intervals around a key frame must fit in the input.
-    rng : None, int or numpy.random.Generator
-        Random source.
-    return_info : bool
-        Also return a :class:`PatchworkInfo` (``frame_keys``,
-        ``frame_sources`` hold the temporal ``p_i``, ``q_i``), with the
-        source-coordinate map of every output frame (``coordinates``,
-        ``weights``, ``source_index``: which input frame, -1 for the
-        average frame ``A``), which :func:`texsynth.apply_coordinates`
-        renders another channel sequence through (see Notes). The map
-        takes 28 bytes a slot, and ``K`` (the most slots any pixel of any
-        frame uses) is 2-3 times :func:`patchwork`'s: 33 for a 128 px
-        output at ``grid_spacing=32`` (8.5 used on average), 0.9 kB per
-        pixel and frame.
-    progress : bool or callable
-        Report progress per output frame.
-
-    Returns
-    -------
-    video : numpy.ndarray
-        ``(n_frames, height, width[, C])``.
-    info : PatchworkInfo
-        Only with ``return_info=True``.
-
-    Raises
-    ------
-    ValueError
-        For fewer than 2 input frames, a ``grid_spacing`` larger than the
-        frames, ``sharpness <= 0`` or a ``frame_spacing`` the input is too
-        short for.
-
-    Notes
-    -----
-    With ``u = (t - p_i) / (p_{i+1} - p_i)`` (eq. 5), the transition weights
-    are ``w_1 = 1/2 + cos(pi u)/2`` (eq. 3) and ``w_2 = 1/2 - cos(pi u)/2``
-    (eq. 4), and the intermediate sequence is (eq. 6)
-
-    .. math:: N(x, t) = \\frac{w_1 I(x, t - p_i + q_i) + w_2 I(x, t - p_{i+1}
-              + q_{i+1}) - A(x)}{\\sqrt{w_1^2 + w_2^2}} + A(x)
-
-    where ``A(x)`` is the average of the input over time. Since
-    ``w_1 + w_2 = 1`` this equals ``(w_1 (I_1 - A) + w_2 (I_2 - A)) /
-    sqrt(w_1^2 + w_2^2) + A``: the temporal variation about ``A`` keeps its
-    standard deviation through a transition.
-
-    Eq. 6 is linear in the input, ``N = c_1 I_1 + c_2 I_2 + c_A A``, so eq. 2
-    over the cells' ``N_i`` is a weighted sum of input pixels, each in some
-    input frame, plus the mean ``a``: ``info.coordinates`` records it per
-    output frame, three slots per cell (frames ``tau_1``, ``tau_2`` and the
-    average frame ``A``, source -1), and rendering the input frames through
-    it (``apply_coordinates(list(frames), info)``) reproduces the video up
-    to the cells of coefficient below 1/512 and the clipping to [0, 1]
-    (``tests/test_coordinates.py``). Another channel of the same clip (a
-    height or normal sequence, one image per input frame) then animates
-    exactly as the colour did.
-
-    References
-    ----------
-    .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
-       Monash University, 2002, Section 4.
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> metal = data.load("metal")[:64, :64]
-    >>> clip = np.stack([np.roll(metal, t, axis=1) for t in range(6)])  # drifting texture
-    >>> loop = patchwork_video(clip, 48, 8, grid_spacing=16, rng=0)
-    >>> loop.shape
-    (8, 48, 48)
-    >>> loop, info = patchwork_video(clip, 48, 8, grid_spacing=16, rng=0, return_info=True)
-    >>> from texsynth import apply_coordinates
-    >>> bool(np.abs(np.clip(apply_coordinates(list(clip), info), 0, 1) - loop).max() < 0.01)
-    True
-    """
-    start = time.perf_counter()
-    video = _check_video(frames)
-    vid, grey = with_channels(video, spatial_dims=3)
-    H, W = as_size(size)
-    N = check_positive_int(n_frames, "n_frames")
-    f = _check_sharpness(sharpness)
-    m = _check_neighbors(neighbors)
-    s = _check_grid(grid_spacing, vid.shape[1:3], f, m, "frames")
-    spacing = _frame_spacing(frame_spacing, vid.shape[0], N)
-    gen = as_rng(rng)
-    _check_memory((H, W), vid.shape[-1], s, frames=N, cells=return_info)
-    if return_info:  # the map holds at least the 3 terms of eq. 6 of one cell per pixel and frame (typically 15-20)
-        check_memory(float(N) * H * W * 3 * (16 + 4 + 8), (H, W), what="the source-coordinate map of return_info",
-                     also={"n_frames": N})
-    geom = _Geometry((H, W), vid.shape[1:3], s, f, m, check_bool(tileable, "tileable"), gen)
-    _warn_if_cells_leave(geom, s, vid.shape[1:3], f, m, "frames")
-    out, cells, seq, sources = _synthesize_video(geom, vid, N, spacing, gen, None, progress, "patchwork_video",
-                                                 record=return_info)
-    result, clipped = _finish(out, video.dtype, grey)
-    if return_info:
-        coordinates, weights, frame_index = sources
-        info = _info(geom, cells, clipped, start, frame_keys=seq.keys[:, :-1], frame_sources=seq.sources[:, :-1],
-                     coordinates=coordinates, weights=weights, source_index=frame_index)
-        return result, info
-    return result
-
-
-# --------------------------------------------------------------------------
-# Section 5: texture transfer
-
-
-def prescale_pattern(pattern, texture):
-    """Rescale the pattern to the texture's mean colour and colour range (the paper's pre-processing)."""
-    axes = tuple(range(pattern.ndim - 1))
-    p_mean, t_mean = pattern.mean(axes), texture.mean(axes)
-    p_range = pattern.max(axes) - pattern.min(axes)
-    t_range = texture.max(axes) - texture.min(axes)
-    gain = np.where(p_range > 0, t_range / np.where(p_range > 0, p_range, 1), 1.0)
-    return (pattern - p_mean) * gain + t_mean
-
-
-def _match_sources(geom, pattern, texture, candidates, patch, gen, progress):
-    """Section 5: each q_i minimises the SSD between the pattern around p_i and the texture around q_i.
-
-    Only ``candidates`` random positions (inside the allowed range of
-    :func:`_source_bounds`) are tried per point. Returns ``q`` (rows, cols)
-    and the local averages ``a_i`` of the chosen texture patches.
-    """
-    ny, nx = geom.grid_shape
-    n = ny * nx
-    cy = _draw(*geom.bounds_y, gen, candidates).reshape(n, candidates).astype(np.intp)
-    cx = _draw(*geom.bounds_x, gen, candidates).reshape(n, candidates).astype(np.intp)
-    centers = np.stack([(geom.py - 0.5).ravel(), (geom.px - 0.5).ravel()], 1).astype(np.intp)
-    target = extract(pattern, centers, patch, mode="reflect").reshape(n, -1)
-    values = target.shape[1]
-    chunk = max(1, (1 << 22) // (candidates * values))  # about 16 MB of candidate patches at a time
-    best = np.empty(n, np.intp)
-    means = np.empty((n, texture.shape[-1]), np.float64)
-    steps = range(0, n, chunk)
-    bar = Progress(progress, len(steps), "patchwork_transfer: matching")
-    for start in steps:
-        sl = slice(start, min(n, start + chunk))
-        k = sl.stop - sl.start
-        cand = np.stack([cy[sl].ravel(), cx[sl].ravel()], 1)
-        patches = extract(texture, cand, patch, mode="reflect").reshape(k, candidates, -1)
-        choice, _ = nearest_candidates(target[sl], patches)  # the SSD of eq. 7's matching
-        best[sl] = choice
-        chosen = patches[np.arange(k), choice].reshape(k, -1, texture.shape[-1])
-        means[sl] = chosen.mean(1)  # local average a_i of the patch
-        bar.advance({"points": sl.stop})
-    bar.close()
-    rows = np.arange(n)
-    qy = cy[rows, best].reshape(ny, nx) + 0.5
-    qx = cx[rows, best].reshape(ny, nx) + 0.5
-    return qy, qx, means.astype(np.float32)
-
-
-def patchwork_transfer(
-    texture,
-    pattern,
-    *,
-    grid_spacing=16,
-    sharpness=2,
-    candidates=64,
-    neighborhood_size=None,
-    prescale=True,
-    n_frames=None,
-    frame_spacing=None,
-    neighbors=4,
-    rng=None,
-    return_info=False,
-    progress=False,
-):
-    """Texture transfer: render a pattern image in a texture (Harrison 2002, Section 5).
-
-    The output has the pattern's size. Its Voronoi cells copy texture patches
-    chosen, among ``candidates`` random positions per cell, to best match the
-    pattern around each ``p_i`` (sum of squared differences), and are joined
-    with eq. 7, which blends the local patch averages ``a_i`` so the output
-    follows the pattern's light and dark regions.
-
-    Parameters
-    ----------
-    texture : array_like
-        Texture ``I``: an image ``(H, W[, C])``, or with ``n_frames`` a video
-        ``(T, H, W[, C])`` (the pattern is then matched against the average
-        frame ``A(x)`` and the video method of Section 4 animates the result).
-    pattern : array_like
-        Pattern ``P`` ``(h, w[, C])`` with the same number of channels as the
-        texture (for a grey pattern and a colour texture, repeat it:
-        ``np.repeat(pattern[..., None], 3, axis=-1)``).
-    grid_spacing : int
-        Spacing of the points ``p_i`` (paper, Figure 8: 16).
-    sharpness : float
-        ``f`` of eq. 1 (paper, Figure 8: 2).
-    candidates : int
-        Size of the random subset of texture positions tried for each ``q_i``
-        (the paper's remedy against one texture area repeated everywhere; it
-        gives no number).
-    neighborhood_size : int, optional
-        Side of the square patches compared around ``p_i`` and ``q_i`` and
-        averaged for ``a_i``; default ``grid_spacing``.
-    prescale : bool
-        Rescale the pattern to the texture's mean colour and colour range
-        before matching (the paper's pre-processing; default True).
-    n_frames : int, optional
-        Output a video of this many frames (``texture`` is then a video).
-    frame_spacing : int, optional
-        Video only, see :func:`patchwork_video`.
-    neighbors : int
-        Block size of the neighbour bound, see :func:`patchwork`.
-    rng : None, int or numpy.random.Generator
-        Random source.
-    return_info : bool
-        Also return a :class:`PatchworkInfo` (with ``local_means`` = ``a_i``).
-    progress : bool or callable
-        Report progress of the matching.
-
-    Returns
-    -------
-    image : numpy.ndarray
-        ``(h, w[, C])``, or ``(n_frames, h, w[, C])`` for video.
-    info : PatchworkInfo
-        Only with ``return_info=True``.
-
-    Raises
-    ------
-    ValueError
-        If the texture and the pattern have different numbers of channels,
-        ``grid_spacing`` or ``neighborhood_size`` exceed the texture, ``sharpness <=
-        0``, or a video texture has fewer than 2 frames.
-
-    Notes
-    -----
-    Eq. 7:
-
-    .. math:: O(x) = \\frac{\\sum_i (I(x - p_i + q_i) - a_i) w_i(x)}
-              {\\sqrt{\\sum_i w_i(x)^2}} + \\frac{\\sum_i a_i w_i(x)}{\\sum_i w_i(x)}
-
-    As in :func:`patchwork`, the sums run over the ``m x m`` block of cells
-    around ``x`` with each ``w_i(x)`` multiplied by the window ``phi_i(x)``
-    that tapers it to 0 at the edge of that block (a departure from the
-    paper's plain omission of small terms, see the module notes). Transfer
-    needs it most: at its default ``f = 2`` the weights fall off slowly and
-    the second term uses their first power, so the plain cut left faint
-    straight seams every ``grid_spacing`` pixels in flat areas. The ``q_i``
-    are chosen exactly as without it.
-
-    No source-coordinate map (``info.coordinates`` is None): the local
-    means ``a_i`` of eq. 7 are averages over each cell's whole
-    ``neighborhood_size`` square of texture, so rendering another channel
-    exactly would need every pixel of those squares in every output pixel's
-    map (256 slots per cell at the default 16, with eq. 7's two
-    normalisations), not the few pixels per output pixel of a map; a map of
-    the ``x - p_i + q_i`` alone with the channel's global mean in place of
-    ``a_i`` would not follow the pattern. To carry other channels through a
-    transfer, stack them as extra channels of ``texture`` (and of
-    ``pattern``, e.g. the pattern itself or a constant, which then also
-    weighs in the matching).
-
-    References
-    ----------
-    .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
-       Monash University, 2002, Section 5.
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> metal = data.load("metal")
-    >>> pattern = np.zeros((48, 48)); pattern[12:36, 12:36] = 1.0  # a bright square
-    >>> out = patchwork_transfer(metal, pattern, grid_spacing=8, candidates=16, rng=0)
-    >>> out.shape, bool(out[16:32, 16:32].mean() > out[:8].mean())
-    ((48, 48), True)
-    """
-    start = time.perf_counter()
-    is_video = n_frames is not None
-    if is_video:
-        source = _check_video(texture, "texture")
-        tex, grey = with_channels(source, spatial_dims=3)
-        N = check_positive_int(n_frames, "n_frames")
-        spacing = _frame_spacing(frame_spacing, tex.shape[0], N)
-        reference = tex.astype(np.float32).mean(0)  # A(x): the pattern is matched against the average frame
-    else:
-        source = as_image(texture, "texture")
-        tex, grey = with_channels(source)
-        reference = tex.astype(np.float32)
-    pat, pat_grey = with_channels(as_image(pattern, "pattern"))
-    if pat.shape[-1] != reference.shape[-1]:
-        hint = " (repeat a grey pattern: np.repeat(pattern[..., None], 3, axis=-1))" if pat.shape[-1] == 1 else ""
-        if is_video:
-            hint += f"; with n_frames={n_frames}, texture is read as a video (T, H, W[, C])"
-        raise ValueError(
-            f"pattern has {pat.shape[-1]} channel(s) but texture has {reference.shape[-1]}; "
-            f"pass images with the same number of channels{hint}"
-        )
-    f = _check_sharpness(sharpness)
-    m = _check_neighbors(neighbors)
-    s = _check_grid(grid_spacing, reference.shape[:2], f, m, "texture")
-    K = check_positive_int(candidates, "candidates")
-    # the candidates of a chunk of grid points are compared at once; every point keeps its K positions
-    check_memory(8.0 * K * (pat.shape[0] / s + 2) * (pat.shape[1] / s + 2) * 3, K, "candidates",
-                 "the candidate positions")
-    patch = s if neighborhood_size is None else check_positive_int(neighborhood_size, "neighborhood_size")
-    if patch > min(reference.shape[:2]) or patch > min(pat.shape[:2]):
-        raise ValueError(
-            f"patch_size {patch} is larger than the texture {reference.shape[:2]} or the pattern "
-            f"{pat.shape[:2]}; pass a smaller neighborhood_size"
-        )
-    gen = as_rng(rng)
-    H, W = pat.shape[:2]
-    _check_memory((H, W), reference.shape[-1], s, frames=N if is_video else 1, cells=return_info)
-    geom = _Geometry((H, W), reference.shape[:2], s, f, m, False, gen, choose_q=False)
-    target = pat.astype(np.float32)
-    if check_bool(prescale, "prescale"):
-        target = prescale_pattern(target, reference)
-    qy, qx, local = _match_sources(geom, target, reference, K, patch, gen, progress)
-    matched = time.perf_counter()
-    geom.set_sources(qy, qx)
-
-    if is_video:
-        out, cells, seq, _ = _synthesize_video(geom, tex, N, spacing, gen, local, False, "patchwork_transfer")
-        extra = {"frame_keys": seq.keys[:, :-1], "frame_sources": seq.sources[:, :-1]}
-    else:
-        C = reference.shape[-1]
-        pads = geom.pad()
-        table, width = _padded_flat(reference, pads)
-        out = np.empty((H, W, C), np.float32)
-
-        def compose(band, parts):
-            blended = _blend(parts, lambda n, ids, flat: table.take(flat, axis=0), C, local)
-            idx, rows = geom.to_output(band, blended)
-            out[idx] = rows
-
-        cells = _run_bands(geom, width, pads, return_info, compose, False, "patchwork_transfer")
-        extra = {}
-    result, clipped = _finish(out, source.dtype, grey)
-    if return_info:
-        return result, _info(geom, cells, clipped, start, matched, local_means=local, **extra)
+        return result, patchwork_info(geom, cells, clipped, start, coordinates=coordinates, weights=weights)
     return result

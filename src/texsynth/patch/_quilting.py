@@ -61,8 +61,8 @@ from ..core._validate import (
     with_channels,
 )
 from ..core.seams import minimum_error_boundary, seam_mask
-from ..core.search._template import WindowSearch, within_tolerance
-from ._patchwork import prescale_pattern
+from ..core.search import WindowSearch, is_auto, within_tolerance
+from ._patchwork_transfer import prescale_pattern
 
 __all__ = ["QuiltInfo", "QuiltTransferInfo", "quilt", "quilt_transfer"]
 
@@ -161,9 +161,9 @@ class QuiltTransferInfo:
 
 
 def check_block(block, exemplar_shape, name="exemplar"):
-    """The block side: the default is a quarter of the exemplar's shorter side; never larger than the exemplar."""
+    """The block side: ``"auto"`` is a quarter of the exemplar's shorter side; never larger than the exemplar."""
     shortest = min(exemplar_shape)
-    if block is None:
+    if is_auto(block):
         return max(2, min(shortest, round(shortest * BLOCK_FRACTION)))
     b = check_positive_int(block, "block", minimum=2)
     if b > shortest:
@@ -176,8 +176,8 @@ def check_block(block, exemplar_shape, name="exemplar"):
 
 
 def check_overlap(overlap, block):
-    """The overlap width: the default is a sixth of the block (the paper's); it must be smaller than the block."""
-    if overlap is None:
+    """The overlap width: ``"auto"`` is a sixth of the block (the paper's); it must be smaller than the block."""
+    if is_auto(overlap):
         return max(1, round(block * OVERLAP_FRACTION))
     o = check_positive_int(overlap, "overlap", minimum=0)
     if o >= block:
@@ -430,7 +430,7 @@ def finish(canvas, size, dtype, was_grey):
     return restore_channels(out.astype(dtype, copy=False), was_grey)
 
 
-def quilt(exemplar, size, *, block=None, overlap=None, error_tolerance=ERROR_TOLERANCE, cut=True, tileable=False,
+def quilt(exemplar, size, *, block="auto", overlap="auto", error_tolerance=ERROR_TOLERANCE, cut=True, tileable=False,
           rng=None, return_info=False, progress=False):
     """Synthesise a texture by image quilting (Efros & Freeman 2001, Section 2).
 
@@ -440,15 +440,15 @@ def quilt(exemplar, size, *, block=None, overlap=None, error_tolerance=ERROR_TOL
         Input texture: ``(H, W)`` grey or ``(H, W, C)``; any accepted dtype.
     size : int or (int, int)
         Output size ``(height, width)``; any size.
-    block : int, optional
+    block : int or "auto"
         Side ``B`` of the square blocks, in pixels: "big enough to capture the
         relevant structures in the texture, but small enough so that the
         interaction between these structures is left up to the algorithm"
-        (the paper). Default a quarter of the exemplar's shorter side; at
+        (the paper). ``"auto"`` (default): a quarter of the exemplar's shorter side; at
         most the exemplar's shorter side.
-    overlap : int, optional
-        Width ``O`` of the overlap between neighbouring blocks. Default
-        ``B / 6`` (the paper's), rounded; 0 places blocks side by side with
+    overlap : int or "auto"
+        Width ``O`` of the overlap between neighbouring blocks. ``"auto"``
+        (default): ``B / 6`` (the paper's), rounded; 0 places blocks side by side with
         nothing to match (random blocks, the paper's Figure 1a). Must be
         smaller than ``block``.
     error_tolerance : float
@@ -604,7 +604,7 @@ def _correspondence_maps(correspondence, texture, pattern):
 
 def _alphas(alpha, iterations):
     """The weight of the overlap error in each pass: the paper's schedule, or one value for every pass."""
-    if alpha is None:
+    if is_auto(alpha):
         if iterations == 1:
             return np.array([0.1])
         return 0.8 * np.arange(iterations) / (iterations - 1) + 0.1  # alpha_i = 0.8 (i-1)/(N-1) + 0.1
@@ -617,7 +617,7 @@ def _pad_to(image, shape):
     return np.pad(image, pads, mode="symmetric")
 
 
-def quilt_transfer(texture, pattern, *, block=None, overlap=None, iterations=TRANSFER_ITERATIONS, alpha=None,
+def quilt_transfer(texture, pattern, *, block="auto", overlap="auto", iterations=TRANSFER_ITERATIONS, alpha="auto",
                    error_tolerance=ERROR_TOLERANCE, correspondence="luminance", prescale=True, rng=None,
                    return_info=False, progress=False):
     """Render a pattern image in a texture by image quilting (Efros & Freeman 2001, Section 3).
@@ -629,17 +629,18 @@ def quilt_transfer(texture, pattern, *, block=None, overlap=None, iterations=TRA
     pattern : array_like
         The target image whose appearance the output follows (grey or
         colour); the output has its size and the texture's channels.
-    block : int, optional
+    block : int or "auto"
         Block side of the first pass; each later pass's is a third smaller.
-        Default a quarter of the texture's shorter side.
-    overlap : int, optional
-        Overlap of the first pass, shrinking with the block. Default ``B / 6``.
+        ``"auto"`` (default): a quarter of the texture's shorter side.
+    overlap : int or "auto"
+        Overlap of the first pass, shrinking with the block. ``"auto"``
+        (default): ``B / 6``.
     iterations : int
         Number of passes ``N`` (default 3; the paper's ``N`` is not known here).
-    alpha : float, optional
+    alpha : float or "auto"
         Weight of the overlap (texture) error against the correspondence
-        error, in [0, 1]; 0 follows the pattern only, 1 ignores it. Default
-        None: the paper's schedule ``alpha_i = 0.8 (i - 1) / (N - 1) + 0.1``
+        error, in [0, 1]; 0 follows the pattern only, 1 ignores it.
+        ``"auto"`` (default): the paper's schedule ``alpha_i = 0.8 (i - 1) / (N - 1) + 0.1``
         (0.1 in the first pass, 0.9 in the last).
     error_tolerance : float
         As :func:`quilt`: blocks within ``(1 + error_tolerance)`` of the best

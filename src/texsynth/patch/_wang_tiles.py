@@ -65,6 +65,7 @@ from ..core._validate import (
     check_positive_int,
     with_channels,
 )
+from ..core.search import is_auto
 from ..core.seams import minimum_error_boundary
 
 __all__ = ["WangTileSet", "WangTilesInfo", "WangTilingInfo", "wang_texture", "wang_tiles", "wang_tiling"]
@@ -128,7 +129,7 @@ class WangTilesInfo:
         anti-diagonal), the sum of squared differences of the two diamonds
         on the cut's pixels.
     set_costs : numpy.ndarray
-        ``(candidates,)``: the total cut error of every set of samples
+        ``(n_candidates,)``: the total cut error of every set of samples
         tried; the kept set has the least.
     overlap : int
         Width of the band around each diagonal in which the cuts may run.
@@ -320,7 +321,7 @@ def _choose_samples(exf, T, a, m, k, error_tolerance, gen, searches=None):
     samples of its own direction. Every pair of colours meets in the set (all four ways), so all four bands
     count.
     """
-    from ..core.search._template import within_tolerance
+    from ..core.search import within_tolerance
 
     H, W = exf.shape[:2]
     shapes = ((2 * a, T), (T, 2 * a))  # horizontal-edge (north/south) samples, vertical-edge (east/west) ones
@@ -372,7 +373,7 @@ def _choose_samples(exf, T, a, m, k, error_tolerance, gen, searches=None):
 
 def _check_tile(tile, shape):
     shortest = min(shape)
-    if tile is None:
+    if is_auto(tile):
         if shortest < 8:
             raise ValueError(f"exemplar is {shape[0]}x{shape[1]}; Wang tiles need an exemplar of at least 8 x 8 "
                              "pixels (tiles of 4 and their samples)")
@@ -385,7 +386,7 @@ def _check_tile(tile, shape):
 
 
 def _check_overlap(overlap, T, shape):
-    if overlap is None:
+    if is_auto(overlap):
         overlap = max(2, round(T * OVERLAP_FRACTION))
         overlap = min(overlap, T // 2, min(shape) - T - 3)
         return max(0, overlap)
@@ -412,7 +413,8 @@ def _check_colors(colors):
 _MAX_CANDIDATES = 1000
 
 
-def wang_tiles(exemplar, tile=None, *, colors=2, overlap=None, error_tolerance=ERROR_TOLERANCE, candidates=CANDIDATES,
+def wang_tiles(exemplar, tile="auto", *, colors=2, overlap="auto", error_tolerance=ERROR_TOLERANCE,
+               n_candidates=CANDIDATES,
                cut=True, rng=None, return_info=False, progress=False):
     """Make a set of Wang tiles from an exemplar by quilting with diamonds (Cohen et al. 2003).
 
@@ -420,16 +422,16 @@ def wang_tiles(exemplar, tile=None, *, colors=2, overlap=None, error_tolerance=E
     ----------
     exemplar : array_like
         Input texture: ``(H, W)`` grey or ``(H, W, C)``; any accepted dtype.
-    tile : int, optional
+    tile : int or "auto"
         Side ``T`` of the square tiles, in pixels (at least 4). Each colour's
-        sample needs ``T + overlap + 2`` pixels of the exemplar. Default about
-        half the exemplar's shorter side.
+        sample needs ``T + overlap + 2`` pixels of the exemplar. ``"auto"``
+        (default): about half the exemplar's shorter side.
     colors : int
         Edge colours per direction ``K`` (at least 2). The set has ``2 K^2``
         tiles: the paper's minimal complete set of 8 for ``K = 2``.
-    overlap : int, optional
+    overlap : int or "auto"
         Width of the band around each diagonal in which the diamonds overlap
-        and the cut may run. Default a third of the tile (a sixth, quilting's
+        and the cut may run. ``"auto"`` (default): a third of the tile (a sixth, quilting's
         ``B / 6``, left brick courses broken along the diagonals on the
         photographs tried); 0 joins the diamonds along the straight diagonals.
     error_tolerance : float or None
@@ -440,7 +442,7 @@ def wang_tiles(exemplar, tile=None, *, colors=2, overlap=None, error_tolerance=E
         and value, 0.1), away from the samples of the same direction. None:
         all uniformly at random (the paper's description as far as it could
         be checked; structured textures then break along the cuts).
-    candidates : int
+    n_candidates : int
         Sets of samples drawn (each as ``error_tolerance`` says); the set
         whose tiles' cuts have the least total error is kept. Default 8
         (about 0.05 s a set for 128 px tiles); 1 keeps the first draw.
@@ -521,9 +523,9 @@ def wang_tiles(exemplar, tile=None, *, colors=2, overlap=None, error_tolerance=E
     k = _check_colors(colors)
     o = _check_overlap(overlap, T, ex.shape[:2])
     cut = check_bool(cut, "cut")
-    n_sets = check_positive_int(candidates, "candidates")
+    n_sets = check_positive_int(n_candidates, "n_candidates")
     if n_sets > _MAX_CANDIDATES:  # each set makes every tile once: more buys nothing visible and takes hours
-        raise ValueError(f"candidates must be at most {_MAX_CANDIDATES} (each set of samples makes all the tiles "
+        raise ValueError(f"n_candidates must be at most {_MAX_CANDIDATES} (each set of samples makes all the tiles "
                          f"once), got {n_sets}; the default is {CANDIDATES}")
     tolerance = None if error_tolerance is None else check_positive_float(error_tolerance, "error_tolerance",
                                                                           allow_zero=True, maximum=1e6)
@@ -537,7 +539,7 @@ def wang_tiles(exemplar, tile=None, *, colors=2, overlap=None, error_tolerance=E
     edges = tile_edges(k)
     searches = None
     if tolerance is not None:  # every exemplar position scored at once by FFT correlation (quilting's search)
-        from ..core.search._template import WindowSearch
+        from ..core.search import WindowSearch
 
         searches = [WindowSearch(exf, shape) for shape in ((2 * a, T), (T, 2 * a))]
     t_samples = t_tiles = 0.0
@@ -728,8 +730,8 @@ def wang_tiling(tiles, size, *, tileable=False, rng=None, return_info=False):
                                coordinates=coordinates)
 
 
-def wang_texture(exemplar, size, *, tile=None, colors=2, overlap=None, error_tolerance=ERROR_TOLERANCE,
-                 candidates=CANDIDATES, cut=True, tileable=False, rng=None, return_info=False, progress=False):
+def wang_texture(exemplar, size, *, tile="auto", colors=2, overlap="auto", error_tolerance=ERROR_TOLERANCE,
+                 n_candidates=CANDIDATES, cut=True, tileable=False, rng=None, return_info=False, progress=False):
     """Synthesise a texture of any size with Wang tiles: a tile set, then a random tiling (Cohen et al. 2003).
 
     The same as ``wang_tiling(wang_tiles(exemplar, tile, ...), size)`` with one random source for both
@@ -741,7 +743,7 @@ def wang_texture(exemplar, size, *, tile=None, colors=2, overlap=None, error_tol
         Input texture: ``(H, W)`` grey or ``(H, W, C)``; any accepted dtype.
     size : int or (int, int)
         Output size ``(height, width)``.
-    tile, colors, overlap, error_tolerance, candidates, cut :
+    tile, colors, overlap, error_tolerance, n_candidates, cut :
         As in :func:`wang_tiles`.
     tileable : bool
         Output that tiles seamlessly (a toroidal tiling, see
@@ -787,7 +789,7 @@ def wang_texture(exemplar, size, *, tile=None, colors=2, overlap=None, error_tol
                          "cannot always close around the torus (see wang_tiling's Notes)")
     gen = as_rng(rng)
     tiles = wang_tiles(exemplar, tile, colors=colors, overlap=overlap, error_tolerance=error_tolerance,
-                       candidates=candidates, cut=cut, rng=gen, progress=progress)
+                       n_candidates=n_candidates, cut=cut, rng=gen, progress=progress)
     t_tiles = time.perf_counter() - started
     out, info = wang_tiling(tiles, size, tileable=tileable, rng=gen, return_info=True)
     if not return_info:

@@ -36,8 +36,9 @@ pixel at a time, in the pass's order: a pixel goes into the batch after the
 latest earlier pixel of the pass that lies in its window, so it sees exactly
 the pixels that were filled before it in the sequential order (and none
 after). A pixel that knows a whole half-window (or quadrant) of its window
-compares it on its own, at half the cost; ``method="pca"`` compares it in a
-truncated PCA basis, the acceleration of the IPOL implementation [3]_.
+compares it on its own, at half the cost; ``search=Search(method="pca")``
+compares it in a truncated PCA basis, the acceleration of the IPOL
+implementation [3]_.
 
 References
 ----------
@@ -68,15 +69,16 @@ from ..core._validate import (
     as_rng,
     as_size,
     check_bool,
+    check_group,
     check_memory,
     check_positive_float,
     restore_channels,
     with_channels,
 )
 from ..core.neighborhood import all_patches, gaussian_falloff, patches_within
-from ..core.search import MASKED_METHODS, MaskedIndex
+from ..core.search import MASKED_METHODS, MaskedIndex, Search, is_auto
 
-__all__ = ["EfrosLeungInfo", "efros_leung"]
+__all__ = ["EfrosLeungInfo", "Sampling", "efros_leung"]
 
 #: sigma of the Gaussian weights is the window width over this (the pseudo-code's constants; IPOL too)
 _SIGMA_DIVISOR = 6.4
@@ -101,7 +103,7 @@ class EfrosLeungInfo:
     error : numpy.ndarray, shape (H, W)
         The normalised error ``d(p, q)`` of the window each pixel was copied
         from; NaN for the seed and given pixels.
-    candidates : numpy.ndarray of int, shape (H, W)
+    n_candidates : numpy.ndarray of int, shape (H, W)
         Size of each pixel's candidate set ``{q : d <= (1 + ε) d_min}``
         (0 for the seed and given pixels): 1 means a forced choice.
     layer : numpy.ndarray of int, shape (H, W)
@@ -127,7 +129,7 @@ class EfrosLeungInfo:
 
     source: np.ndarray = field(default_factory=lambda: np.zeros((0, 0, 2), int))
     error: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    candidates: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), int))
+    n_candidates: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), int))
     layer: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), int))
     passes: int = 0
     batches: int = 0
@@ -149,6 +151,54 @@ class EfrosLeungInfo:
     def weights(self):
         """None: every pixel is a copy."""
         return None
+
+
+@dataclass(frozen=True)
+class Sampling:
+    """How Efros & Leung sample a pixel from the windows that match its own (their Sec. 2.1 and pseudo-code).
+
+    The Gaussian weighting of the window distance, the tolerance that makes
+    the candidate set, and the error a pick must stay below. An option
+    group of :func:`efros_leung` (``sampling=Sampling(...)``); on the
+    command line its fields are the flags ``--error-tolerance``,
+    ``--max-error`` and ``--sigma``.
+
+    Parameters
+    ----------
+    error_tolerance : float
+        The paper's ``ε >= 0``: the candidates are the windows with
+        ``d <= (1 + ε) d_min`` (default 0.1, the paper's). 0 keeps only the
+        best match (and exact ties).
+    max_error : float or None
+        The pseudo-code's MaxErrThreshold (default 0.3): a pick whose error
+        ``d`` (per value, intensities in [0, 1]) is not below it is left
+        unfilled for a later pass; when a whole pass fills nothing the
+        threshold rises by 10 %. None accepts every pick (the IPOL
+        implementation).
+    sigma : float or "auto"
+        Width in pixels of the Gaussian weights ``G_σ``. ``"auto"``
+        (default): ``w / 6.4`` for the window width ``w``.
+
+    Examples
+    --------
+    >>> from texsynth.pixel import Sampling
+    >>> Sampling(error_tolerance=0.2)
+    Sampling(error_tolerance=0.2, max_error=0.3, sigma='auto')
+    >>> Sampling(error_tolerance=-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: error_tolerance must be a finite number >= 0, got -1.0
+    """
+
+    error_tolerance: float = 0.1
+    max_error: object = 0.3
+    sigma: object = "auto"
+
+    def __post_init__(self):
+        check_positive_float(self.error_tolerance, "error_tolerance", allow_zero=True, maximum=1e6)
+        _check_max_error(self.max_error)
+        if not is_auto(self.sigma):
+            check_positive_float(self.sigma, "sigma")
 
 
 # --------------------------------------------------------------------------- #
@@ -193,14 +243,14 @@ def _check_constraints(target, mask, size, channels, seed_center):
     known = _check_map(mask, size, "mask")
     if not known.any():
         raise ValueError("mask marks no known pixel; pass mask=None (and no target) to grow the output from a seed")
-    if seed_center is not None:
+    if not is_auto(seed_center):
         raise ValueError("seed_center is for synthesis from a seed; with mask, the known pixels are the seed: "
-                         "pass seed_center=None")
+                         "leave seed_center='auto'")
     return values, known
 
 
 def _check_seed_center(seed_center, size):
-    if seed_center is None:
+    if is_auto(seed_center):
         return size[0] // 2, size[1] // 2
     try:
         r, c = seed_center
@@ -299,7 +349,7 @@ class _Canvas:
         self.known_windows = all_patches(self.known[..., None], w)
         self.source = np.full((h, wd, 2), -1, np.int64)
         self.error = np.full((h, wd), np.nan)
-        self.candidates = np.zeros((h, wd), np.int64)
+        self.n_candidates = np.zeros((h, wd), np.int64)
         self.layer = np.zeros((h, wd), np.int64)
 
     def set(self, rows, cols, values):
@@ -348,7 +398,7 @@ def _fill(canvas, search, rows, cols, u, threshold, layer):
     canvas.set(rows, cols, search.exemplar[src[:, 0], src[:, 1]])
     canvas.source[rows, cols] = src
     canvas.error[rows, cols] = error[ok]
-    canvas.candidates[rows, cols] = count[ok]
+    canvas.n_candidates[rows, cols] = count[ok]
     canvas.layer[rows, cols] = layer
     return rows.size
 
@@ -407,8 +457,8 @@ def _check_memory(ex_shape, channels, itemsize, w, size):
 # --------------------------------------------------------------------------- #
 # public
 # --------------------------------------------------------------------------- #
-def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, max_error=0.3, sigma=None, seed_center=None,
-                mask=None, target=None, exemplar_mask=None, method="exact", tileable=False, rng=None, progress=False,
+def efros_leung(exemplar, size, *, neighborhood_size=11, sampling=Sampling(), seed_center="auto", mask=None,
+                target=None, exemplar_mask=None, search=Search(), tileable=False, rng=None, progress=False,
                 return_info=False):
     """Efros-Leung texture synthesis by non-parametric sampling: grow the output pixel by pixel.
 
@@ -423,21 +473,15 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
         scale of the largest regular feature" of the texture. Small windows
         give random outputs that keep only small-scale structure; large ones
         copy bigger regions (the paper's Figure 2: 5, 11, 15, 23). Default 11.
-    error_tolerance : float
-        The paper's ``ε >= 0``: the candidates are the windows with
-        ``d <= (1 + ε) d_min`` (default 0.1, the paper's). 0 keeps only the best match (and exact ties).
-    max_error : float or None
-        The pseudo-code's MaxErrThreshold (default 0.3): a pick whose error
-        ``d`` (per value, intensities in [0, 1]) is not below it is left
-        unfilled for a later pass; when a whole pass fills nothing the
-        threshold rises by 10 %. None accepts every pick (the IPOL
-        implementation [3]_).
-    sigma : float, optional
-        Width in pixels of the Gaussian weights ``G_σ``. Default ``w / 6.4``.
-    seed_center : (int, int), optional
+    sampling : Sampling
+        How a pixel is sampled from the matching windows (:class:`Sampling`):
+        the candidates within ``error_tolerance`` (ε = 0.1) of the best, the
+        MaxErrThreshold ``max_error`` (0.3) and the Gaussian ``sigma``
+        (``w / 6.4``), the paper's and its pseudo-code's values.
+    seed_center : (int, int) or "auto"
         Output pixel ``(row, col)`` at which the 3x3 seed is placed (clipped
-        to the output at its borders). Default the centre, as in the paper.
-        Not with ``mask``: then the known pixels are the seed.
+        to the output at its borders). ``"auto"`` (default): the centre, as
+        in the paper. Not with ``mask``: then the known pixels are the seed.
     mask : array_like of bool, optional
         ``(H, W)`` hole filling: True where ``target`` is known (kept
         unchanged), False in the hole (synthesised). Requires ``target``.
@@ -447,12 +491,15 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
         ``(h, w)`` exemplar pixels that may be copied: windows touching a
         False pixel are never used (e.g. the hole, when the exemplar is the
         image being filled).
-    method : {"auto", "exact", "pca"}
-        ``"exact"`` (and ``"auto"``): every masked distance computed in full
-        (:class:`texsynth.core.search.MaskedIndex`). ``"pca"``: a pixel that
-        knows a whole half-window (or quadrant) compares it in a PCA basis
-        keeping 99 % of its variance, the rest exactly: the IPOL
-        acceleration [3]_, 1.6x faster, visually alike (see Notes).
+    search : Search
+        The masked search (:class:`~texsynth.core.search.Search`), whose
+        ``method`` is :class:`~texsynth.core.search.MaskedIndex`'s:
+        ``"exact"`` (and ``"auto"``, default): every masked distance
+        computed in full. ``"pca"``: a pixel that knows a whole half-window
+        (or quadrant) compares it in a PCA basis keeping 99 % of its
+        variance, the rest exactly: the IPOL acceleration [3]_, 1.6x faster,
+        visually alike (see Notes). Every exemplar window is a candidate
+        (``candidates`` ``"all"`` or ``"auto"``; ``k`` is not used).
     tileable : bool
         Toroidal output: a window that crosses the output's border continues
         on the opposite side (the known pixels there count, the growth front
@@ -527,7 +574,7 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
     --------
     >>> from texsynth.data import load
     >>> ex = load("bread")[:20, :20]
-    >>> out = efros_leung(ex, 16, neighborhood_size=5, rng=0)
+    >>> out = efros_leung(ex, 16, neighborhood_size=5, sampling=Sampling(error_tolerance=0.1), rng=0)
     >>> out.shape, out.dtype
     ((16, 16, 3), dtype('float64'))
     >>> bool(np.array_equal(out, efros_leung(ex, 16, neighborhood_size=5, rng=0)))
@@ -547,11 +594,17 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
     ex, grey = with_channels(as_image(exemplar, "exemplar"))
     size = as_size(size)
     w = _check_window(neighborhood_size, ex.shape[:2])
-    error_tolerance = check_positive_float(error_tolerance, "error_tolerance", allow_zero=True, maximum=1e6)
-    max_error = _check_max_error(max_error)
-    sigma = w / _SIGMA_DIVISOR if sigma is None else check_positive_float(sigma, "sigma")
+    sampling = check_group(sampling, Sampling, "sampling")
+    error_tolerance, max_error = sampling.error_tolerance, _check_max_error(sampling.max_error)
+    sigma = w / _SIGMA_DIVISOR if is_auto(sampling.sigma) else check_positive_float(sampling.sigma, "sigma")
+    search = check_group(search, Search, "search")
+    method = search.method
     if not isinstance(method, str) or method not in MASKED_METHODS:
         raise ValueError(f"method must be one of {', '.join(map(repr, MASKED_METHODS))}, got {method!r}")
+    if search.resolved_candidates("all") != "all" or not is_auto(search.k):
+        raise ValueError(f"efros_leung compares every exemplar window (its candidates are those within "
+                         f"error_tolerance of the best); pass search=Search(method=...) with candidates='all' and "
+                         f"k='auto', got candidates={search.candidates!r}, k={search.k!r}")
     method = "exact" if method == "auto" else method
     channels = ex.shape[-1]
     values, known = _check_constraints(target, mask, size, channels, seed_center)
@@ -572,7 +625,7 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
         gauss = gaussian_falloff(w, sigma).astype(ex.dtype)
         index = MaskedIndex(vectors, weights=np.repeat(gauss.ravel(), channels), method=method,
                             blocks=_blocks(w, channels), rng=rng)
-        search = _Search(index, ex, centers, gauss, error_tolerance)
+        windows = _Search(index, ex, centers, gauss, error_tolerance)
         t_index = time.perf_counter()
         canvas = _Canvas(size, channels, ex.dtype, w, tileable)
         if known is None:
@@ -582,12 +635,12 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, error_tolerance=0.1, ma
             canvas.set(rows, cols, values[rows, cols])
         todo = int(size[0] * size[1] - canvas.known.sum())
         with Progress(progress, todo, "Efros-Leung") as bar:
-            threshold, passes, batches = _grow(canvas, search, max_error, rng, bar)
+            threshold, passes, batches = _grow(canvas, windows, max_error, rng, bar)
     out = restore_channels(canvas.image[canvas.inner].copy(), grey)
     if not return_info:
         return out
     now = time.perf_counter()
-    info = EfrosLeungInfo(source=canvas.source, error=canvas.error, candidates=canvas.candidates,
+    info = EfrosLeungInfo(source=canvas.source, error=canvas.error, n_candidates=canvas.n_candidates,
                           layer=canvas.layer, passes=passes, batches=batches, max_error=threshold,
                           neighborhood_size=w, sigma=sigma, method=method, n_components=index.n_components,
                           seconds=now - start, stage_seconds={"index": t_index - start, "growth": now - t_index})

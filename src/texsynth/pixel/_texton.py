@@ -65,17 +65,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core import search
 from ..core._progress import Progress
-from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_size, check_memory, check_positive_float,
-                              check_positive_int, restore_channels, with_channels)
+from ..core._validate import (as_array, as_float_array, as_image, as_rng, as_size, check_choice, check_group,
+                              check_memory,
+                              check_positive_float, check_positive_int, restore_channels, with_channels)
 from ..core.fields import as_field as _field, bilinear as _bilinear, frames as _frames, level_field as _level_field
 from ..core.fields import taps as _taps
-from ..core.neighborhood import patch_shape
+from ..core.neighborhood import SHAPES, causal_parts, footprint, mask_offsets, patch_shape, wavefronts
 from ..core.pyramid import gaussian_pyramid, level_shapes
-from ..core.search import KCoherence, nearest_candidates
-from ._wei_levoy import (SHAPES, Source, candidate_pixels, check_choice, check_fits, check_levels, check_output_levels,
-                         default_parent_size, exemplar_vectors, footprint, neighborhood_masks, offsets, wavefronts)
+from ..core.search import KCoherence, Search, check_method, is_auto, nearest_candidates, resolve
+from ._wei_levoy import (Neighborhood, Source, candidate_pixels, check_fits, check_output_levels,
+                         default_parent_size)
 
 __all__ = ["synthesize_controlled", "find_textons", "ControlledSynthesisInfo"]
 
@@ -140,7 +140,7 @@ class ControlledSynthesisInfo:
 # --------------------------------------------------------------------------- #
 # the texton mask
 # --------------------------------------------------------------------------- #
-def find_textons(exemplar, *, sigma=1.0, threshold=None):
+def find_textons(exemplar, *, sigma=1.0, threshold="auto"):
     """A binary texton mask of an exemplar: its blurred luminance, thresholded.
 
     What ``texton_mask="auto"`` of :func:`synthesize_controlled` uses; call
@@ -154,10 +154,10 @@ def find_textons(exemplar, *, sigma=1.0, threshold=None):
         Width in pixels of the Gaussian blur before thresholding (default 1:
         removes pixel noise, keeps thin mortar lines and strokes). 0 is no
         blur.
-    threshold : float, optional
-        Luminance in [0, 1] that separates the two phases. Default: Otsu's
-        threshold of the blurred luminance (the two-cluster split that
-        minimises the within-class variance, i.e. 1-D two-means).
+    threshold : float or "auto"
+        Luminance in [0, 1] that separates the two phases. ``"auto"``
+        (default): Otsu's threshold of the blurred luminance (the two-cluster
+        split that minimises the within-class variance, i.e. 1-D two-means).
 
     Returns
     -------
@@ -199,10 +199,10 @@ def find_textons(exemplar, *, sigma=1.0, threshold=None):
     luminance = image[..., : min(3, image.shape[-1])].mean(axis=-1).astype(np.float64)
     if sigma > 0:
         luminance = gaussian_filter(luminance, sigma, mode="reflect")
-    if threshold is None:
+    if is_auto(threshold):
         threshold = float(threshold_otsu(luminance)) if np.ptp(luminance) > 0 else float(luminance.max())
     elif not isinstance(threshold, numbers.Real) or isinstance(threshold, bool):
-        raise TypeError(f"threshold must be a number in [0, 1] or None (Otsu), got {threshold!r}")
+        raise TypeError(f"threshold must be a number in [0, 1] or 'auto' (Otsu), got {threshold!r}")
     elif not 0.0 <= float(threshold) <= 1.0:
         raise ValueError(f"threshold must lie in [0, 1] (a luminance), got {threshold}")
     mask = luminance > threshold
@@ -263,7 +263,7 @@ class _Grids:
 
 
 def _level_grids(sources, level, levels, k, method, seed):
-    full = neighborhood_masks(sources[0].size, sources[0].shape)[2]
+    full = causal_parts(sources[0].size, sources[0].shape)[2]
     similar = full.copy()
     similar[sources[0].size[0] // 2, sources[0].size[1] // 2] = True
     vectors, sets, coords, which, origin, shape, base = [], [], [], [], [], [], []
@@ -272,11 +272,11 @@ def _level_grids(sources, level, levels, k, method, seed):
     for e, src in enumerate(sources):
         cen = candidate_pixels(src, level, levels)
         grid = tuple(int(v) for v in cen[-1] - cen[0] + 1)
-        sim = exemplar_vectors(src, level, levels, cen, similar) if k > 1 else None
+        sim = src.vectors(level, levels, cen, similar) if k > 1 else None
         kc = KCoherence(sim, grid, min(k, len(cen)), method=method, profile="default",
                         rng=np.random.default_rng([seed, level, 3, e]))
         used = kc.method or used
-        vectors.append(exemplar_vectors(src, level, levels, cen, full))
+        vectors.append(src.vectors(level, levels, cen, full))
         members = kc.sets + start
         if members.shape[1] < k:  # a tiny exemplar: repeat its own position
             members = np.concatenate([members, np.repeat(members[:, :1], k - members.shape[1], 1)], 1)
@@ -359,16 +359,17 @@ def _controlled_level(lv_out, lv_parent, grids, src, fields, state, channels, rn
     a, inverse, blend, factor = fields
     enlarged = factor > 1.0
     spread = np.maximum(factor - 1.0, 0.0) / 2.0 if enlarged.any() else None
-    above, left, full = neighborhood_masks(src.size, src.shape)
+    above, left, full = causal_parts(src.size, src.shape)
     causal = above | left
     similar = full.copy()
     similar[src.size[0] // 2, src.size[1] // 2] = True
-    d_full = offsets(full).astype(np.float64)
+    d_full = mask_offsets(full).astype(np.float64)
     pmask = footprint(src.parent_size, src.shape)
-    d_par = offsets(pmask).astype(np.float64)
+    d_par = mask_offsets(pmask).astype(np.float64)
     # the neighbours whose copies are continued: the causal ones, and below the coarsest level all of the
-    # footprint (their copies are the parent's prediction until they are synthesised), as in _coherent_level
-    e_cand = offsets(causal) if lv_parent is None else np.concatenate([offsets(causal), offsets(similar & ~causal)])
+    # footprint (their copies are the parent's prediction until they are synthesised), as in texsynth.pixel._kcoherent
+    e_cand = (mask_offsets(causal) if lv_parent is None
+              else np.concatenate([mask_offsets(causal), mask_offsets(similar & ~causal)]))
     flat = lv_out.reshape(-1, cw)
     flat[:, :channels] = _sample_exemplars(grids, state.pos, state.exemplar, channels)
     done = np.zeros(height * width, bool)
@@ -468,12 +469,8 @@ def synthesize_controlled(
     exemplar_b=None,
     blend=None,
     blend_weight=1.0,
-    neighborhood_size=5,
-    neighborhood_shape="square",
-    parent_size=None,
-    levels=3,
-    k=1,
-    method="auto",
+    neighborhood=Neighborhood(),
+    search=Search(candidates="k-coherent"),
     rng=None,
     progress=False,
     return_info=False,
@@ -522,14 +519,16 @@ def synthesize_controlled(
         ``w_F``: weight of the transition channel (default 1). Larger: the
         output follows the dithered ``blend`` more closely; smaller: the
         elements decide more where one exemplar gives way to the other.
-    neighborhood_size, neighborhood_shape, parent_size, levels
-        As in :func:`~texsynth.synthesize_pixels` (5x5, square, 3x3 parent,
-        3 levels).
-    k : int
-        Size of the k-coherence sets (1, default: Ashikhmin's candidates, the
-        continuations of the neighbours' copies).
-    method : {"auto", "exact", "kdtree", "tsvq"}
-        Search backend that finds the k-coherence sets (``k > 1``).
+    neighborhood : Neighborhood
+        As in :func:`~texsynth.synthesize_pixels`
+        (:class:`~texsynth.pixel.Neighborhood`: 5x5, square, 3x3 parent, 3
+        levels).
+    search : Search
+        The k-coherent search (:class:`~texsynth.core.search.Search`):
+        ``k`` the size of the k-coherence sets (``"auto"``: 1, Ashikhmin's
+        candidates, the continuations of the neighbours' copies), ``method``
+        the backend that finds them (``k > 1``). ``candidates`` is
+        ``"k-coherent"`` (default) or ``"auto"``: the only kind here.
     rng, progress
         As in :func:`~texsynth.synthesize_pixels` (``rng`` seeds the initial
         positions and the restarts; the bar advances once per level).
@@ -599,9 +598,13 @@ def synthesize_controlled(
     --------
     >>> from texsynth.data import load
     >>> ex = load("brick")[:32, :32]
-    >>> out, info = synthesize_controlled(ex, 24, orientation=np.pi / 2, levels=2, rng=0, return_info=True)
+    >>> from texsynth.core.search import Search
+    >>> out, info = synthesize_controlled(ex, 24, orientation=np.pi / 2, neighborhood=Neighborhood(levels=2), rng=0,
+    ...                                   return_info=True)
     >>> out.shape, info.texton_mask.shape
     ((24, 24, 3), (24, 24))
+    >>> two = Search(candidates="k-coherent", k=2)  # k-coherence sets of 2
+    >>> out = synthesize_controlled(ex, 24, neighborhood=Neighborhood(levels=2), search=two, rng=0)
     >>> synthesize_controlled(ex, 24, scale=0.0)
     Traceback (most recent call last):
     ...
@@ -609,12 +612,15 @@ def synthesize_controlled(
     """
     start = time.perf_counter()
     size = as_size(size)
-    levels = check_levels(levels)
-    k = check_positive_int(k, "k")
-    search.check_method(method)
+    nb = check_group(neighborhood, Neighborhood, "neighborhood")
+    search = check_group(search, Search, "search")
+    if search.resolved_candidates("k-coherent") != "k-coherent":
+        raise ValueError(f"synthesize_controlled searches k-coherent candidates only; pass "
+                         f"search=Search(candidates='k-coherent'), got candidates={search.candidates!r}")
+    levels, k, method = nb.levels, check_positive_int(search.resolved_k(1), "k"), check_method(search.method)
     texton_weight = check_positive_float(texton_weight, "texton_weight", allow_zero=True, maximum=1e6)
     blend_weight = check_positive_float(blend_weight, "blend_weight", allow_zero=True, maximum=1e6)
-    shape = check_choice(neighborhood_shape, SHAPES, "neighborhood_shape")
+    shape = check_choice(nb.neighborhood_shape, "neighborhood_shape", SHAPES)
     rng = as_rng(rng)
     image, grey = with_channels(as_image(exemplar, "exemplar"))
     if k > image.shape[0] * image.shape[1]:
@@ -651,13 +657,14 @@ def synthesize_controlled(
         masks = [_as_texton_mask(texton_mask, img, "texton_mask") for img in images]
     else:
         raise ValueError("with exemplar_b, texton_mask must be 'auto', None or a pair (mask, mask_b)")
-    size_n = patch_shape(neighborhood_size, "neighborhood_size")
-    psize = default_parent_size(size_n) if parent_size is None else patch_shape(parent_size, "parent_size")
+    size_n = patch_shape(nb.neighborhood_size, "neighborhood_size")
+    auto_parent = is_auto(nb.parent_size)
+    psize = default_parent_size(size_n) if auto_parent else patch_shape(nb.parent_size, "parent_size")
     sources = []
     for e, (img, mask) in enumerate(zip(images, masks)):
         name = "exemplar" if e == 0 else "exemplar_b"
         check_fits(img, size_n, name, "neighborhood_size")
-        check_fits(img, psize, name, "parent_size" if parent_size is not None else "neighborhood_size")
+        check_fits(img, psize, name, "neighborhood_size" if auto_parent else "parent_size")
         work = _work_image(img.astype(np.float64), mask, texton_weight, float(e) if len(images) == 2 else None,
                            blend_weight)
         pyramid = [np.asarray(level, _WORK_DTYPE) for level in gaussian_pyramid(work, levels)]
@@ -675,7 +682,7 @@ def synthesize_controlled(
                                   mode="wrap")
         for lvl in range(levels):
             out_pyr[lvl][..., -1] = np.sqrt(blend_weight) * target[lvl]
-    used = search.resolve(method, max(len(candidate_pixels(s, 0, levels)) for s in sources),
+    used = resolve(method, max(len(candidate_pixels(s, 0, levels)) for s in sources),
                           int(footprint(size_n, shape).sum()) * cw, profile="default", queries=1)
     info = ControlledSynthesisInfo(method=used)
     state = None

@@ -36,7 +36,7 @@ import numbers
 
 import numpy as np
 
-from ..core._validate import check_positive_int
+from ..core._validate import check_positive_int, is_auto
 from ._noise import (
     MAX_COORDINATE,
     band_limit,
@@ -88,9 +88,9 @@ WOOD_COLORS = [
 
 
 def _check_octaves(octaves, size, frequency, lacunarity, points):
-    if octaves is None:
+    if is_auto(octaves):
         if points is not None:
-            raise ValueError("octaves=None (up to the band limit) needs a grid; with points, pass octaves=k, "
+            raise ValueError("octaves='auto' (up to the band limit) needs a grid; with points, pass octaves=k, "
                              "e.g. octaves=6")
         return band_limit(size, frequency, lacunarity)
     return check_positive_int(octaves, "octaves")
@@ -221,7 +221,7 @@ def _accumulate(total, layer, amp, absolute, dt):
     return total
 
 
-def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None, offset=None,
+def turbulence(size=None, *, frequency=8, octaves="auto", points=None, period=None, offset=None,
                fade="quintic", rng=None, dtype=np.float64, chunks=None):
     """Perlin's turbulence: the sum of absolute noise octaves, band-limited.
 
@@ -232,8 +232,8 @@ def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None
         image); or give ``points``.
     frequency : float, default 8
         Lattice cells of the first octave across the longest axis.
-    octaves : int, optional
-        Number of terms ``k + 1``. None sums up to the band limit: the last
+    octaves : int or "auto"
+        Number of terms ``k + 1``. ``"auto"`` (default) sums up to the band limit: the last
         octave is the one whose lattice spacing is still at least one pixel
         (:func:`band_limit_octaves`); required with ``points``.
     points : array_like (N, 2) or (N, 3), optional
@@ -263,7 +263,7 @@ def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None
     ------
     ValueError
         Non-positive size or frequency, ``octaves < 1``, a period that is
-        not a positive integer, ``octaves=None`` with ``points``, octaves so
+        not a positive integer, ``octaves="auto"`` with ``points``, octaves so
         many (or a frequency so low that the band limit needs so many) that
         the finest one's lattice coordinates pass 2**52, or an output larger
         than this machine's memory.
@@ -307,7 +307,7 @@ def turbulence(size=None, *, frequency=8, octaves=None, points=None, period=None
     return total
 
 
-def fbm(size=None, *, frequency=8, octaves=None, lacunarity=2.0, gain=0.5, points=None, period=None,
+def fbm(size=None, *, frequency=8, octaves="auto", lacunarity=2.0, gain=0.5, points=None, period=None,
         offset=None, fade="quintic", rng=None, dtype=np.float64, chunks=None):
     """Fractional Brownian motion: the signed, normalised sum of noise octaves.
 
@@ -315,8 +315,8 @@ def fbm(size=None, *, frequency=8, octaves=None, lacunarity=2.0, gain=0.5, point
     ----------
     size, frequency, points, period, offset, fade, rng, dtype, chunks
         As in :func:`turbulence`.
-    octaves : int, optional
-        Number of octaves; None sums up to the band limit (the last octave
+    octaves : int or "auto"
+        Number of octaves; ``"auto"`` (default) sums up to the band limit (the last octave
         whose lattice spacing is at least one pixel).
     lacunarity : float, default 2.0
         Frequency ratio between octaves (> 1; an integer if ``period`` is
@@ -594,7 +594,7 @@ def _sine_transfer(turb, strength, base_phase, colormap, default, return_info):
     return (image, field) if return_info else image
 
 
-def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None, colormap=None, period=None,
+def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves="auto", colormap=None, period=None,
            fade="quintic", rng=None, dtype=np.float64, return_info=False, chunks=None):
     """Marble: layers ``sin(x)`` bent by turbulence, through a colour transfer function.
 
@@ -611,8 +611,8 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None,
     turbulence_strength : float, default 6.0
         Radians of phase per unit of turbulence: 0 gives straight layers,
         larger values fold them more.
-    octaves : int, optional
-        Turbulence octaves; None goes to the band limit.
+    octaves : int or "auto"
+        Turbulence octaves; ``"auto"`` (default) goes to the band limit.
     colormap : None, list of colours, list of (position, colour), callable or str
         The transfer function ``marble_color`` from ``t = (1 + sin) / 2`` in
         [0, 1] to RGB (see :func:`apply_colormap`). None: white marble with
@@ -681,7 +681,7 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves=None,
                                 rng=rng, dtype=dtype)
 
 
-def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, center=None, colormap=None,
+def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves="auto", center=None, colormap=None,
          fade="quintic", rng=None, dtype=np.float64, return_info=False, chunks=None):
     """Wood: concentric rings ``sin(radius)`` around a trunk axis, bent by turbulence.
 
@@ -697,8 +697,8 @@ def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves=None, 
         Rings per unit distance (the longest axis is one unit).
     turbulence_strength : float, default 2.0
         Radians of ring phase per unit of turbulence.
-    octaves : int, optional
-        Turbulence octaves; None goes to the band limit.
+    octaves : int or "auto"
+        Turbulence octaves; ``"auto"`` (default) goes to the band limit.
     center : (float, float), optional
         Trunk centre ``(row, col)`` as fractions of the height and width
         (finite; outside [0, 1] puts the trunk outside the image); default

@@ -31,6 +31,10 @@ model (Pearson 1993), the common modern alternative, is
     (3)  du/dt = D_u lap(u) - u v^2 + F (1 - u)
     (4)  dv/dt = D_v lap(v) + u v^2 - (F + k) v
 
+(Pearson's feed rate ``F`` and kill rate ``k`` are the options ``feed`` and
+``kill`` of :class:`GrayScottRates`; in texsynth ``k`` always counts
+neighbours.)
+
 Both are integrated with the explicit (forward Euler) scheme on a periodic
 grid (the texture tiles) with the 5-point Laplacian. For pure diffusion that
 scheme is stable only if ``4 D dt / h^2 <= 1`` (h = 1 pixel; von Neumann
@@ -60,6 +64,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 from dataclasses import dataclass, field
@@ -67,7 +72,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core._progress import Progress
-from ..core._validate import as_rng, as_size, check_positive_int
+from ..core._validate import as_rng, as_size, check_group, check_positive_int, is_auto
 from ._noise import check_dtype, check_fits, check_float
 from ._patterns import apply_colormap, colormap_function
 
@@ -75,25 +80,128 @@ __all__ = [
     "reaction_diffusion",
     "gray_scott",
     "meinhardt_stripes",
+    "TurkRates",
+    "GrayScottRates",
     "TURK_PRESETS",
     "GRAY_SCOTT_PRESETS",
     "ReactionDiffusionInfo",
     "stability_limit",
 ]
 
+def _check_auto_rate(value, name):
+    """A rate of a group: ``"auto"`` (the preset's) or a finite number >= 0."""
+    return value if is_auto(value) else check_float(value, name, allow_zero=True)
+
+
+class _Rates:
+    """The behaviour shared by :class:`TurkRates` and :class:`GrayScottRates`."""
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            _check_auto_rate(getattr(self, f.name), f.name)
+
+    def resolved(self, preset):
+        """These rates with every ``"auto"`` field taken from ``preset`` (an instance of the same class)."""
+        return dataclasses.replace(preset, **{f.name: getattr(self, f.name) for f in dataclasses.fields(self)
+                                              if not is_auto(getattr(self, f.name))})
+
+
+@dataclass(frozen=True)
+class TurkRates(_Rates):
+    """The rates of Turk's two-chemical system (eqs. 1-2 of :func:`reaction_diffusion`).
+
+    One group of options, passed as ``rates=TurkRates(...)``; every field
+    left ``"auto"`` (the default) takes its value from the ``preset``
+    (:data:`TURK_PRESETS`, whose values are instances of this class). On the
+    command line its fields are the flags ``--s``, ``--Da``, ``--Db``,
+    ``--beta`` and ``--beta-spread``. The symbols are Turk's (1991).
+
+    Parameters
+    ----------
+    s : float or "auto"
+        Reaction rate; it sets the pattern scale (larger s, smaller spots or
+        narrower stripes). Turk's spots: 1/80.
+    Da, Db : float or "auto"
+        Diffusion rates ``D_a``, ``D_b`` of a and b (per step, grid spacing
+        1). The ratio decides the pattern: 4 (Turk's spots, 1/8 and 1/32) is
+        the linear Turing threshold, spots appear near it, labyrinthine
+        stripes from about 10 on.
+    beta : float or "auto"
+        Mean of the random substrate ``beta_ij`` (12 in Turk's system).
+    beta_spread : float or "auto"
+        ``beta_ij`` is uniform in ``beta +- beta_spread`` (Turk: 0.1).
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a rate that is negative, not finite or not a number.
+
+    Examples
+    --------
+    >>> from texsynth.procedural import TURK_PRESETS, TurkRates
+    >>> TurkRates(s=1 / 40).resolved(TURK_PRESETS["spots"]) == TURK_PRESETS["small-spots"]
+    True
+    """
+
+    s: object = "auto"
+    Da: object = "auto"
+    Db: object = "auto"
+    beta: object = "auto"
+    beta_spread: object = "auto"
+
+
+@dataclass(frozen=True)
+class GrayScottRates(_Rates):
+    """The rates of the Gray-Scott model (eqs. 3-4 of :func:`gray_scott`, Pearson 1993).
+
+    One group of options, passed as ``rates=GrayScottRates(...)``; every
+    field left ``"auto"`` (the default) takes its value from the ``preset``
+    (:data:`GRAY_SCOTT_PRESETS`, whose values are instances of this class).
+    On the command line its fields are the flags ``--feed``, ``--kill``,
+    ``--Du`` and ``--Dv``.
+
+    Parameters
+    ----------
+    feed : float or "auto"
+        Feed rate ``F`` of u (Pearson's ``F``).
+    kill : float or "auto"
+        Kill rate of v (Pearson's ``k``: v decays at ``F + k``).
+    Du, Dv : float or "auto"
+        Diffusion rates ``D_u``, ``D_v`` (grid spacing 1); every preset has
+        Pearson's 0.16 and 0.08 (his ``2 x 10^-5`` and ``10^-5`` on a
+        2.5 x 2.5 domain of 256 cells).
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a rate that is negative, not finite or not a number.
+
+    Examples
+    --------
+    >>> from texsynth.procedural import GRAY_SCOTT_PRESETS, GrayScottRates
+    >>> GrayScottRates(kill=0.06).resolved(GRAY_SCOTT_PRESETS["spots"])
+    GrayScottRates(feed=0.035, kill=0.06, Du=0.16, Dv=0.08)
+    """
+
+    feed: object = "auto"
+    kill: object = "auto"
+    Du: object = "auto"
+    Dv: object = "auto"
+
+
 TURK_PRESETS = {
     # Turk's spot parameters (his code as ported: D_a = 1/8, D_b = 1/32,
     # s = 1/80 sets the spot size; beta = 12 +- 0.1; b clamped at 0).
-    "spots": dict(s=1 / 80, Da=1 / 8, Db=1 / 32, beta=12.0, beta_spread=0.1),
+    "spots": TurkRates(s=1 / 80, Da=1 / 8, Db=1 / 32, beta=12.0, beta_spread=0.1),
     # Smaller, denser spots: a larger reaction rate s (s scales the pattern).
-    "small-spots": dict(s=1 / 40, Da=1 / 8, Db=1 / 32, beta=12.0, beta_spread=0.1),
+    "small-spots": TurkRates(s=1 / 40, Da=1 / 8, Db=1 / 32, beta=12.0, beta_spread=0.1),
     # Larger spots: faster diffusion, same ratio D_a / D_b = 4 as Turk's 1-D
     # code (D_a = 0.25, D_b = 0.0625, scaled by 0.8 to stay inside the 2-D
     # stability bound 4 D dt <= 1).
-    "large-spots": dict(s=1 / 80, Da=0.2, Db=0.05, beta=12.0, beta_spread=0.1),
+    "large-spots": TurkRates(s=1 / 80, Da=0.2, Db=0.05, beta=12.0, beta_spread=0.1),
     # A wide substrate spread (beta = 12 +- 2): spots of varied size, some
     # fused into short worms (measured on this implementation, 96^2, 8000 steps).
-    "irregular": dict(s=1 / 80, Da=1 / 8, Db=1 / 32, beta=12.0, beta_spread=2.0),
+    "irregular": TurkRates(s=1 / 80, Da=1 / 8, Db=1 / 32, beta=12.0, beta_spread=2.0),
     # Labyrinthine stripes: the same equations far above the Turing threshold
     # D_a / D_b = 4. D_a = 0.15, D_b = 0.01 (ratio 15) are Malheiros et al.'s
     # labyrinth rates (GI 2017); s = 1/200 instead of their 1/100 widens the
@@ -101,9 +209,9 @@ TURK_PRESETS = {
     # Our sweep (128^2, Turk's start a = b = 4, beta = 12 +- 0.1): ratio 4
     # spots, 6-8 spots and worms, >= 10 labyrinths; without the clamp b >= 0
     # every run diverged.
-    "stripes": dict(s=1 / 200, Da=0.15, Db=0.01, beta=12.0, beta_spread=0.1),
+    "stripes": TurkRates(s=1 / 200, Da=0.15, Db=0.01, beta=12.0, beta_spread=0.1),
 }
-"""Named parameter sets of :func:`reaction_diffusion` (Turk's system).
+"""Named rates of :func:`reaction_diffusion` (Turk's system), as :class:`TurkRates`.
 
 ``"stripes"`` gives labyrinthine stripes of the two-chemical system; Turk's
 own stripes came from Meinhardt's five-chemical system,
@@ -112,14 +220,14 @@ own stripes came from Meinhardt's five-chemical system,
 
 GRAY_SCOTT_PRESETS = {
     # (F, k) of Pearson's classification with D_u = 0.16, D_v = 0.08, dt = 1.
-    "spots": dict(F=0.035, k=0.065),
-    "mitosis": dict(F=0.0367, k=0.0649),
-    "stripes": dict(F=0.022, k=0.051),
-    "mazes": dict(F=0.029, k=0.057),
-    "coral": dict(F=0.0545, k=0.062),
-    "holes": dict(F=0.039, k=0.058),
+    "spots": GrayScottRates(feed=0.035, kill=0.065, Du=0.16, Dv=0.08),
+    "mitosis": GrayScottRates(feed=0.0367, kill=0.0649, Du=0.16, Dv=0.08),
+    "stripes": GrayScottRates(feed=0.022, kill=0.051, Du=0.16, Dv=0.08),
+    "mazes": GrayScottRates(feed=0.029, kill=0.057, Du=0.16, Dv=0.08),
+    "coral": GrayScottRates(feed=0.0545, kill=0.062, Du=0.16, Dv=0.08),
+    "holes": GrayScottRates(feed=0.039, kill=0.058, Du=0.16, Dv=0.08),
 }
-"""Named (F, k) pairs of :func:`gray_scott` (diffusion D_u = 0.16, D_v = 0.08)."""
+"""Named rates of :func:`gray_scott`, as :class:`GrayScottRates`: Pearson's (F, k) with D_u = 0.16, D_v = 0.08."""
 
 RD_COLORS = [(0.00, (0.96, 0.90, 0.76)), (0.45, (0.83, 0.62, 0.33)), (1.00, (0.22, 0.12, 0.05))]
 """Default colours: cream background, dark-brown pattern (high b or v)."""
@@ -314,9 +422,8 @@ def _check_record(record_every):
     return check_positive_int(record_every, "record_every")
 
 
-def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db=None, beta=None,
-                       beta_spread=None, dt=1.0, cascade=None, colormap=None, record_every=None, rng=None,
-                       dtype=np.float32, progress=False, return_info=False):
+def reaction_diffusion(size, *, steps=10000, preset="spots", rates=TurkRates(), dt=1.0, cascade=None, colormap=None,
+                       record_every=None, rng=None, dtype=np.float32, progress=False, return_info=False):
     """Turk's reaction-diffusion texture: spots or stripes from Turing's two-chemical system.
 
     Parameters
@@ -330,20 +437,13 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db
         into a labyrinth after about 3,000-6,000 steps and then slowly
         straightens (measured at 128^2, ``examples/plot_reaction_diffusion.py``).
     preset : {"spots", "small-spots", "large-spots", "irregular", "stripes"}, default "spots"
-        Preset of :data:`TURK_PRESETS` supplying the parameters not given.
+        Preset of :data:`TURK_PRESETS` supplying the rates left ``"auto"``.
         "stripes" (``D_a / D_b = 15``) gives labyrinthine stripes; Turk's own
         stripes used Meinhardt's system, :func:`meinhardt_stripes`.
-    s : float, optional
-        Reaction rate; it sets the pattern scale (larger s, smaller spots or
-        narrower stripes).
-    Da, Db : float, optional
-        Diffusion rates of a and b (per step, grid spacing 1). The ratio
-        decides the pattern: 4 (Turk's spots) is the linear Turing threshold,
-        spots appear near it, labyrinthine stripes from about 10 on.
-    beta : float, optional
-        Mean of the random substrate ``beta_ij`` (12 in Turk's system).
-    beta_spread : float, optional
-        ``beta_ij`` is uniform in ``beta +- beta_spread``.
+    rates : TurkRates
+        The reaction rate ``s``, the diffusion rates ``Da``, ``Db`` and the
+        substrate ``beta +- beta_spread``; a field left ``"auto"`` (the
+        default: all of them) is the preset's. See :class:`TurkRates`.
     dt : float, default 1.0
         Time step; Turk's equations (1)-(2) are the increments for dt = 1.
         Must satisfy ``4 max(Da, Db) dt <= 1``.
@@ -421,7 +521,7 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db
     >>> img, info = reaction_diffusion((24, 24), steps=200, rng=0, return_info=True)
     >>> img.shape, sorted(info.concentrations)
     ((24, 24, 3), ['a', 'b'])
-    >>> reaction_diffusion((8, 8), steps=1, Da=0.5)
+    >>> reaction_diffusion((8, 8), steps=1, rates=TurkRates(Da=0.5))
     Traceback (most recent call last):
     ...
     ValueError: Da=0.5 with dt=1 is unstable: the explicit scheme with the 5-point Laplacian needs 4 * Da * dt / h^2 <= 1 (h = 1 pixel), here 2; use dt <= 0.5 or a smaller Da
@@ -429,10 +529,7 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", s=None, Da=None, Db
     size = _check_grid(size)
     steps = check_positive_int(steps, "steps")
     _check_choice(preset, TURK_PRESETS, "preset")
-    params = dict(TURK_PRESETS[preset])
-    for name, value in dict(s=s, Da=Da, Db=Db, beta=beta, beta_spread=beta_spread).items():
-        if value is not None:
-            params[name] = value
+    params = dataclasses.asdict(check_group(rates, TurkRates, "rates").resolved(TURK_PRESETS[preset]))
     for name in ("s", "Da", "Db", "beta", "beta_spread"):
         params[name] = _check_rate(params[name], name)
     dt = check_float(dt, "dt")
@@ -647,9 +744,9 @@ def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.00
     return image, info
 
 
-def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0, steps=10000, seeds=None,
-               colormap=None, record_every=None, rng=None, dtype=np.float32, progress=False, return_info=False):
-    """Gray-Scott reaction-diffusion: spots, stripes, mazes, coral... from (F, k).
+def gray_scott(size, *, preset="spots", rates=GrayScottRates(), dt=1.0, steps=10000, seeds="auto", colormap=None,
+               record_every=None, rng=None, dtype=np.float32, progress=False, return_info=False):
+    """Gray-Scott reaction-diffusion: spots, stripes, mazes, coral... from the feed and kill rates.
 
     Parameters
     ----------
@@ -657,19 +754,20 @@ def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0
         Grid size ``(H, W)`` (an int means a square); periodic boundary (the
         result tiles).
     preset : str, default "spots"
-        A name of :data:`GRAY_SCOTT_PRESETS` supplying F and k when not given.
-    F, k : float, optional
-        Feed rate of u and kill rate of v.
-    Du, Dv : float, default 0.16, 0.08
-        Diffusion rates (grid spacing 1).
+        A name of :data:`GRAY_SCOTT_PRESETS` supplying the rates left ``"auto"``.
+    rates : GrayScottRates
+        The feed rate ``feed`` (Pearson's F) of u, the kill rate ``kill``
+        (his k) of v and the diffusion rates ``Du``, ``Dv`` (0.16, 0.08 in
+        every preset); a field left ``"auto"`` (the default: all of them) is
+        the preset's. See :class:`GrayScottRates`.
     dt : float, default 1.0
         Time step; must satisfy ``4 max(Du, Dv) dt <= 1``.
     steps : int, default 10000
         Time steps.
-    seeds : int, optional
+    seeds : int or "auto"
         Number of random square seeds of ``v = 0.5`` (``u = 0.25``) in the
-        trivial state ``u = 1, v = 0``; default one per 1000 pixels (at least
-        1), at most one per pixel.
+        trivial state ``u = 1, v = 0``; ``"auto"`` (default): one per 1000
+        pixels (at least 1). At most one per pixel.
     colormap, record_every, rng, dtype, progress, return_info
         As in :func:`reaction_diffusion` (the pattern chemical is ``v``).
 
@@ -709,21 +807,17 @@ def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0
     size = _check_grid(size)
     steps = check_positive_int(steps, "steps")
     _check_choice(preset, GRAY_SCOTT_PRESETS, "preset")
-    params = dict(GRAY_SCOTT_PRESETS[preset])
-    if F is not None:
-        params["F"] = F
-    if k is not None:
-        params["k"] = k
-    params["F"] = _check_rate(params["F"], "F")
-    params["k"] = _check_rate(params["k"], "k")
-    Du = _check_rate(Du, "Du")
-    Dv = _check_rate(Dv, "Dv")
+    params = dataclasses.asdict(check_group(rates, GrayScottRates, "rates").resolved(GRAY_SCOTT_PRESETS[preset]))
+    params["feed"] = _check_rate(params["feed"], "feed")
+    params["kill"] = _check_rate(params["kill"], "kill")
+    Du = _check_rate(params.pop("Du"), "Du")
+    Dv = _check_rate(params.pop("Dv"), "Dv")
     dt = check_float(dt, "dt")
     _check_stable(dt, {"Du": Du, "Dv": Dv})
     record_every = _check_record(record_every)
     dt_ = check_dtype(dtype)
     h, w = size
-    if seeds is None:
+    if is_auto(seeds):
         seeds = max(1, (h * w) // 1000)
     seeds = check_positive_int(seeds, "seeds")
     if seeds > h * w:
@@ -749,9 +843,10 @@ def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0
         grid = _PeriodicGrid([u, v], dt_)
         uu, vv = grid.inner[0], grid.inner[1]
         diffusion = np.array([Du, Dv], dtype=dt_).reshape(2, 1, 1) * dt_.type(dt)
-        # linear terms: -4 Du u - F u ; -4 Dv v - (F + k) v    constant: + F (for u)
-        decay = (4 * diffusion + np.array([params["F"], params["F"] + params["k"]]).reshape(2, 1, 1) * dt).astype(dt_)
-        feed = dt_.type(params["F"] * dt)
+        # linear terms: -4 Du u - F u ; -4 Dv v - (F + k) v    constant: + F (for u)   (F: feed, k: kill)
+        decay = (4 * diffusion + np.array([params["feed"], params["feed"] + params["kill"]]).reshape(2, 1, 1)
+                 * dt).astype(dt_)
+        feed = dt_.type(params["feed"] * dt)
         step_dt = dt_.type(dt)
 
         def step():
@@ -766,7 +861,7 @@ def gray_scott(size, *, preset="spots", F=None, k=None, Du=0.16, Dv=0.08, dt=1.0
             grid.inner += lap
 
         frames = _run(grid, step, steps, progress, "gray-scott", record_every, 1,
-                      {"F": params["F"], "k": params["k"], "Du": Du, "Dv": Dv, "dt": dt})
+                      {"feed": params["feed"], "kill": params["kill"], "Du": Du, "Dv": Dv, "dt": dt})
     image = _colour(vv, colormap)
     if not return_info:
         return image

@@ -11,17 +11,8 @@
 """
 
 from ._heeger_bergen import PERIODIC_EXEMPLAR, HeegerBergenInfo, heeger_bergen, match_histogram
-from ._portilla_simoncelli import (
-    SNR_CAP,
-    SNR_GROUPS,
-    PSInfo,
-    PSStatistics,
-    interpolate_statistics,
-    portilla_simoncelli,
-    ps_statistics,
-    ps_step,
-    statistics_snr,
-)
+from ._portilla_simoncelli import PSInfo, portilla_simoncelli, ps_step
+from ._ps_statistics import SNR_CAP, SNR_GROUPS, PSStatistics, interpolate_statistics, ps_statistics, statistics_snr
 from ._random_phase import RandomPhaseInfo, random_phase_noise
 from ._tiling_blending import TileBlendInfo, tile_and_blend, tile_and_blend_at
 

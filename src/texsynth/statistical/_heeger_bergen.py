@@ -49,6 +49,7 @@ from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_image, as_rng, as_size, check_memory, check_positive_int, max_threads,
                               restore_channels, with_channels)
+from ..core.color import color_pca
 from ..core.histogram import match_histogram, match_to_targets, quantile_targets
 from ..core.pyramid import SteerablePyramid, max_scales, periodic_smooth_decomposition
 
@@ -246,9 +247,7 @@ def heeger_bergen(exemplar, size=None, *, scales=4, orientations=4, iterations=5
     # Colour decorrelation by PCA of the exemplar's colours (Briand et al. 2014, sec. 3.3).
     channels = ex.shape[-1]
     pixels = ex.reshape(-1, channels)
-    mean = pixels.mean(axis=0)
-    _, basis = np.linalg.eigh((pixels - mean).T @ (pixels - mean) / pixels.shape[0])
-    basis = basis[:, ::-1]  # principal component first
+    mean, basis = color_pca(pixels)  # principal component first
     components = (basis.T @ (pixels - mean).T).reshape((channels,) + ex.shape[:2])  # (C, H, W), contiguous
 
     analysis_shape = _analysis_image(components[0], periodic_exemplar).shape

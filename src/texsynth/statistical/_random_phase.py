@@ -62,8 +62,8 @@ from ..core.pyramid import periodic_smooth_decomposition
 
 __all__ = ["random_phase_noise", "RandomPhaseInfo"]
 
-#: Values of ``method``.
-METHODS = ("rpn", "adsn")
+#: Values of ``process``: the random processes of Galerne et al.
+PROCESSES = ("rpn", "adsn")
 #: Values of ``periodic_exemplar`` (the vocabulary of :func:`~texsynth.statistical.heeger_bergen`).
 PERIODIC_EXEMPLAR = ("periodic+smooth", "none")
 
@@ -74,7 +74,7 @@ class RandomPhaseInfo:
 
     Attributes
     ----------
-    method : str
+    process : str
         ``"rpn"`` or ``"adsn"``.
     periodic_exemplar : str
         ``"periodic+smooth"`` or ``"none"``.
@@ -93,7 +93,7 @@ class RandomPhaseInfo:
         ``"synthesis"`` (inverse FFT, mean, clip).
     """
 
-    method: str
+    process: str
     periodic_exemplar: str
     mean: np.ndarray
     synthesis_shape: tuple
@@ -102,7 +102,7 @@ class RandomPhaseInfo:
     stage_seconds: dict = field(default_factory=dict)
 
 
-def random_phase_noise(exemplar, size=None, *, method="rpn", periodic_exemplar="periodic+smooth", rng=None,
+def random_phase_noise(exemplar, size=None, *, process="rpn", periodic_exemplar="periodic+smooth", rng=None,
                        return_info=False):
     """Synthesise a micro-texture by phase randomisation (Galerne, Gousseau & Morel 2011).
 
@@ -116,8 +116,8 @@ def random_phase_noise(exemplar, size=None, *, method="rpn", periodic_exemplar="
         Output ``(height, width)``; default the exemplar's size. Any size:
         larger outputs use the paper's spot extension, smaller ones are crops
         of a synthesis at the exemplar's size.
-    method : {"rpn", "adsn"}
-        ``"rpn"`` (default): random phase noise, the exemplar's Fourier
+    process : {"rpn", "adsn"}
+        The random process. ``"rpn"`` (default): random phase noise, the exemplar's Fourier
         modulus with a uniform random phase added. ``"adsn"``: asymptotic
         discrete spot noise, the normalised spot convolved with Gaussian
         white noise (a Gaussian field with the exemplar's autocorrelation).
@@ -144,7 +144,7 @@ def random_phase_noise(exemplar, size=None, *, method="rpn", periodic_exemplar="
     Raises
     ------
     ValueError
-        For an unknown ``method`` or ``periodic_exemplar``, a bad ``size``, an
+        For an unknown ``process`` or ``periodic_exemplar``, a bad ``size``, an
         exemplar with NaN/inf values or of the wrong shape, or a size that
         does not fit in memory (refused before anything is allocated).
     TypeError
@@ -197,7 +197,7 @@ def random_phase_noise(exemplar, size=None, *, method="rpn", periodic_exemplar="
     dtype = ex.dtype
     ex, grey = with_channels(ex.astype(np.float64, copy=False))
     shape = ex.shape[:2] if size is None else as_size(size)
-    for value, name, allowed in ((method, "method", METHODS),
+    for value, name, allowed in ((process, "process", PROCESSES),
                                  (periodic_exemplar, "periodic_exemplar", PERIODIC_EXEMPLAR)):
         if not isinstance(value, str) or value not in allowed:
             raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
@@ -229,7 +229,7 @@ def random_phase_noise(exemplar, size=None, *, method="rpn", periodic_exemplar="
     # The noise: one real white noise for every channel, so its spectrum is Hermitian-symmetric.
     t = time.perf_counter()
     noise = sfft.rfft2(gen.standard_normal(full, dtype=np.float32), workers=workers, overwrite_x=True)
-    if method == "rpn":
+    if process == "rpn":
         # e^{iθ} = Ŵ / |Ŵ| times sqrt(|Ω|): the phase of a white noise, uniform and odd-symmetric, and
         # real (0 or π) at the self-conjugate frequencies (DC, Nyquist) where the FFT of a real noise is real.
         modulus = np.abs(noise)
@@ -258,6 +258,6 @@ def random_phase_noise(exemplar, size=None, *, method="rpn", periodic_exemplar="
     image = restore_channels(image, grey)
     if not return_info:
         return image
-    info = RandomPhaseInfo(method, periodic_exemplar, mean, full, clipped / image.size,
+    info = RandomPhaseInfo(process, periodic_exemplar, mean, full, clipped / image.size,
                            seconds=time.perf_counter() - t_start, stage_seconds=stages)
     return image, info

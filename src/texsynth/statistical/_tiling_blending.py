@@ -77,6 +77,7 @@ from scipy.special import ndtr, ndtri
 from ..core._parallel import parallel_for
 from ..core._validate import (as_array, as_image, as_rng, as_size, check_in_range, check_memory, max_threads,
                               restore_channels, with_channels)
+from ..core.color import color_pca
 from ..core.convolve import fft_convolve
 
 __all__ = ["tile_and_blend", "tile_and_blend_at", "TileBlendInfo"]
@@ -183,11 +184,8 @@ def _prepare(ex, tile_scale):
     """
     h, w, channels = ex.shape
     pixels = ex.reshape(-1, channels)
-    mean = pixels.mean(axis=0)
-    centred = pixels - mean
-    _, basis = np.linalg.eigh(centred.T @ centred / pixels.shape[0])
-    basis = basis[:, ::-1]  # principal component first
-    components = centred @ basis
+    mean, basis = color_pca(pixels)  # principal component first
+    components = (pixels - mean) @ basis
     edge = tile_scale * min(h, w)
     low = int(np.ceil(edge)) + 1  # a tile's centre this far from the border keeps its hexagon inside
     density = _sampling_density((h, w), edge, low).ravel()

@@ -10,7 +10,8 @@
 - :func:`retile`: Turk's evenly spaced retiling; :func:`tangent_field`:
   the orientation (user, random or relaxed, 2-/4-fold symmetric).
 - :func:`synthesize_surface`: vertex synthesis over a mesh hierarchy
-  (Turk 2001; Wei & Levoy 2001); :func:`lapped_textures`: Praun et al.'s
+  (Turk 2001; Wei & Levoy 2001), its options grouped in
+  :class:`SurfaceSchedule` and :class:`~texsynth.core.search.Search`; :func:`lapped_textures`: Praun et al.'s
   pasted splotches, baked into a texture atlas.
 """
 
@@ -20,9 +21,9 @@ from ._render import PROJECTIONS, render_mesh
 from ._shapes import SCANNED_MESHES, bumpy, scanned_mesh, sphere, torus
 from ._retile import retile
 from ._field import tangent_field
-from ._vertex_synthesis import SurfaceSynthesisInfo, synthesize_surface
+from ._vertex_synthesis import SurfaceSchedule, SurfaceSynthesisInfo, synthesize_surface
 from ._lapped import LappedInfo, default_splotch, lapped_textures
 
 __all__ = ["Mesh", "as_mesh", "read_mesh", "write_mesh", "render_mesh", "PROJECTIONS", "sphere", "torus", "bumpy",
-           "scanned_mesh", "SCANNED_MESHES", "retile", "tangent_field", "synthesize_surface", "SurfaceSynthesisInfo",
+           "scanned_mesh", "SCANNED_MESHES", "retile", "tangent_field", "synthesize_surface", "SurfaceSchedule", "SurfaceSynthesisInfo",
            "lapped_textures", "LappedInfo", "default_splotch"]

@@ -107,21 +107,22 @@ import scipy.sparse.csgraph
 import scipy.sparse.linalg
 
 from ..core._progress import Progress
-from ..core._validate import as_image, as_rng, check_memory, check_positive_int, with_channels
+from ..core._validate import as_image, as_rng, check_group, check_memory, check_positive_int, with_channels
 from ..core.neighborhood import extract, gaussian_falloff, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import KCoherence, MaskedIndex, PatchIndex, check_method, nearest_candidates, point_tree
+from ..core.search import (KCoherence, MaskedIndex, PatchIndex, Search, check_method, is_auto, nearest_candidates,
+                           point_tree)
 from ._field import check_field, field_vectors
 from ._meshio import as_mesh
 from ._retile import lattice_spacing, mesh_hierarchy, resolve_count
 
-__all__ = ["synthesize_surface", "SurfaceSynthesisInfo", "CANDIDATES", "ORDERS", "PRESETS"]
+__all__ = ["synthesize_surface", "SurfaceSchedule", "SurfaceSynthesisInfo", "CANDIDATES", "ORDERS", "PRESETS"]
 
 #: How a vertex's candidates are found.
 CANDIDATES = ("k-coherent", "all")
 #: How a level's vertices are visited: all at once per pass, or one at a time along Turk's sweep.
 ORDERS = ("independent", "sweep")
-#: Named defaults: ``"default"`` and ``"paper"`` (see :func:`synthesize_surface`).
+#: Named defaults: what ``"auto"`` means under ``"default"`` and ``"paper"`` (see :func:`synthesize_surface`).
 #: ``falloff`` (the Gaussian weights' sigma as a fraction of the neighbourhood's side) is not an option, only the
 #: presets' choice (see the module notes).
 PRESETS = {
@@ -177,6 +178,49 @@ class SurfaceSynthesisInfo:
     order: str = ""
     seconds: float = 0.0
     stage_seconds: dict = dataclass_field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class SurfaceSchedule:
+    """The levels of a surface synthesis and how each is visited (Turk 2001; Wei & Levoy 2001).
+
+    An option group of :func:`~texsynth.synthesize_surface`
+    (``schedule=SurfaceSchedule(...)``); on the command line its fields are
+    flags (``--levels``, ``--order``, ...). ``"auto"``: the value of the
+    function's ``preset`` (:data:`PRESETS`).
+
+    Parameters
+    ----------
+    neighborhood_size : int, (int, int) or "auto"
+        Neighbourhood at each level, in exemplar pixels. ``"auto"``: 9 (on a
+        brick photograph with bricks 20 x 45 pixels, 5 x 5 lost the bricks'
+        outlines over 3 levels and 9 x 9 kept them), 5 with ``preset="paper"``.
+    parent_size : int, (int, int) or "auto"
+        Neighbourhood at the parent level. ``"auto"``: 5 (3 with
+        ``preset="paper"``).
+    levels : int or "auto"
+        Levels of the mesh hierarchy and exemplar pyramid. ``"auto"``: 3.
+    order : {"independent", "sweep", "auto"}
+        How a level's vertices are visited: all at once from the previous
+        pass's colours, ``passes`` times (``"independent"``, the default's),
+        or one at a time in Turk's sweep order with causal neighbourhoods
+        (``"sweep"``, ``preset="paper"``'s; a second pass sees every vertex).
+        See the notes of :mod:`texsynth.surface._vertex_synthesis`.
+    passes : int or "auto"
+        Matching passes per level. ``"auto"``: 2 (1 with ``preset="paper"``).
+
+    Examples
+    --------
+    >>> from texsynth.surface import SurfaceSchedule
+    >>> SurfaceSchedule(levels=2, order="sweep")
+    SurfaceSchedule(neighborhood_size='auto', parent_size='auto', levels=2, order='sweep', passes='auto')
+    """
+
+    neighborhood_size: object = "auto"
+    parent_size: object = "auto"
+    levels: object = "auto"
+    order: str = "auto"
+    passes: object = "auto"
 
 
 def _grid_offsets(size):
@@ -280,14 +324,8 @@ def synthesize_surface(
     pixel_size=None,
     field="smooth",
     symmetry=1,
-    neighborhood_size=None,
-    parent_size=None,
-    levels=None,
-    order=None,
-    passes=None,
-    candidates=None,
-    k=None,
-    method=None,
+    schedule=SurfaceSchedule(),
+    search=Search(candidates="auto"),
     preset="default",
     rng=None,
     progress=False,
@@ -315,35 +353,23 @@ def synthesize_surface(
         positions ``(P, 3) -> (P, 3)``.
     symmetry : {1, 2, 4}
         Rotational symmetry of the texture, used by the relaxed field.
-    neighborhood_size : int or (int, int)
-        Neighbourhood at each level, in exemplar pixels. Default 9: on a
-        brick photograph with bricks 20 x 45 pixels, 5 x 5 lost the bricks'
-        outlines over 3 levels and 9 x 9 kept them (5 with ``preset="paper"``).
-    parent_size : int or (int, int)
-        Neighbourhood at the parent level. Default 5 (3 with ``preset="paper"``).
-    levels : int
-        Levels of the mesh hierarchy and exemplar pyramid. Default 3.
-    order : {"independent", "sweep"}
-        How a level's vertices are visited: all at once from the previous
-        pass's colours, ``passes`` times (default), or one at a time in
-        Turk's sweep order with causal neighbourhoods (``preset="paper"``;
-        a second pass sees every vertex). See the module notes.
-    passes : int
-        Matching passes per level. Default 2 (1 with ``preset="paper"``).
-    candidates : {"k-coherent", "all"}
-        Search below the coarsest level (see the module notes). Default
-        ``"k-coherent"``.
-    k : int
-        Size of the k-coherence sets. Default 2.
-    method : {"auto", "exact", "kdtree", "tsvq"}
-        Backend of the global searches and of the k-coherence sets (the
-        sweep's global search is always exact: module notes).
+    schedule : SurfaceSchedule
+        The ``neighborhood_size`` and ``parent_size``, the ``levels``, and
+        the ``order`` and number of ``passes`` in which each level's vertices
+        are matched (:class:`SurfaceSchedule`; ``"auto"``: the preset's).
+    search : texsynth.core.search.Search
+        ``candidates``: the search below the coarsest level, ``"k-coherent"``
+        or ``"all"`` (module notes); ``k``: the size of the k-coherence sets;
+        ``method``: the backend of the global searches and of the
+        k-coherence sets (the sweep's global search is always exact: module
+        notes). ``"auto"``: the preset's (``"k-coherent"``, 2 and the search
+        layer's choice; ``"all"``, 1 and ``"tsvq"`` with ``preset="paper"``).
     preset : {"default", "paper"}
-        The defaults of the options left at None: ``"default"`` as above
-        (with a fall-off of sigma half the neighbourhood's side);
-        ``"paper"``: Turk's sweep order, global search, one pass per level,
-        5 x 5 and 3 x 3 neighbourhoods, fall-off of sigma a quarter of the
-        side (module notes).
+        What the options left at ``"auto"`` mean (:data:`PRESETS`):
+        ``"default"`` as above (with a fall-off of sigma half the
+        neighbourhood's side); ``"paper"``: Turk's sweep order, global
+        search, one pass per level, 5 x 5 and 3 x 3 neighbourhoods, fall-off
+        of sigma a quarter of the side (module notes).
     rng : None, int or numpy.random.Generator
         Seeds the retiling, the field and the initial colours. Same seed,
         same result.
@@ -363,7 +389,8 @@ def synthesize_surface(
     Raises
     ------
     ValueError, TypeError
-        For an invalid mesh, exemplar, field (wrong length, NaN), option,
+        For an invalid mesh, exemplar, field (wrong length, NaN), option
+        (or option group of the wrong type),
         a neighbourhood larger than the exemplar's coarsest level, a density
         (``n_vertices`` or ``pixel_size``) needing more memory than is available,
         or too few vertices for ``levels``.
@@ -372,7 +399,8 @@ def synthesize_surface(
     --------
     >>> from texsynth.data import load
     >>> from texsynth.surface import sphere
-    >>> out = synthesize_surface(sphere(3), load("bread")[:48, :48], n_vertices=600, levels=2, rng=0)
+    >>> out = synthesize_surface(sphere(3), load("bread")[:48, :48], n_vertices=600,
+    ...                          schedule=SurfaceSchedule(levels=2), rng=0)
     >>> out.colors.shape[1], bool(0 <= out.colors.min() and out.colors.max() <= 1)
     (3, True)
     """
@@ -380,10 +408,13 @@ def synthesize_surface(
     mesh = as_mesh(mesh)
     if not isinstance(preset, str) or preset not in PRESETS:
         raise ValueError(f"preset must be one of {', '.join(map(repr, PRESETS))}, got {preset!r}")
+    schedule = check_group(schedule, SurfaceSchedule, "schedule")
+    search = check_group(search, Search, "search")
     chosen = dict(PRESETS[preset])
-    for name, value in dict(neighborhood_size=neighborhood_size, parent_size=parent_size, levels=levels,
-                            order=order, passes=passes, candidates=candidates, k=k, method=method).items():
-        if value is not None:
+    for name, value in dict(neighborhood_size=schedule.neighborhood_size, parent_size=schedule.parent_size,
+                            levels=schedule.levels, order=schedule.order, passes=schedule.passes,
+                            candidates=search.candidates, k=search.k, method=search.method).items():
+        if not is_auto(value):
             chosen[name] = value
     size = patch_shape(chosen["neighborhood_size"], "neighborhood_size")
     psize = patch_shape(chosen["parent_size"], "parent_size")
@@ -458,19 +489,19 @@ def synthesize_surface(
                 predicted = _predict(frame, parent, parent_centers, ex, rng)
             sources = predicted
             if candidates == "k-coherent":
-                search = _Coherent(frame, ex, k, method, predicted, rng)
+                searcher = _Coherent(frame, ex, k, method, predicted, rng)
             elif order == "sweep":
-                search = _Causal(ex)
+                searcher = _Causal(ex)
             else:
-                search = _Global(ex, method, len(frame.points), rng)
+                searcher = _Global(ex, method, len(frame.points), rng)
             if order == "sweep":
-                sources, d2 = _sweep_level(ex, vertex, fixed_part, query_weights, sources, search, passes,
+                sources, d2 = _sweep_level(ex, vertex, fixed_part, query_weights, sources, searcher, passes,
                                            _sweep_distance(frame, symmetry), rng, bar, level)
             else:
                 sources, d2 = _match_level(frame, ex, _matrix(vertex, valid[:, :len(offsets)], len(frame.points)),
-                                           fixed_part, query_weights, sources, search, passes, _SUBPASSES, rng, bar,
+                                           fixed_part, query_weights, sources, searcher, passes, _SUBPASSES, rng, bar,
                                            level)
-            info.method = search.method
+            info.method = searcher.method
             colors = ex.colors[sources]
             parent_centers = ex.centers[sources]
             info.energy.append(float(np.mean(d2)))

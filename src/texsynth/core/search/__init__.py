@@ -10,10 +10,17 @@ neighbourhood is closest to this one?*, and asks it here:
 :class:`SequentialExact`
     Exact search for queries whose vectors become known in parts (scanline
     synthesis: the rows above first, the pixels to the left one at a time).
+:class:`SubsetExact`
+    Exact search over the dimensions a query knows, when few such subsets
+    recur (a tileable scanline synthesis's wrapped windows).
 :func:`nearest_candidates`
     The nearest of each query's own candidate list (coherent candidates,
     random subsets); :func:`candidate_sq_distances` the distances to all of
     them, for a choice that weighs other terms too (a mixture's eq. 1).
+:func:`lowest_cost`
+    The choice among each query's candidates by a cost the method computed
+    (distance plus another energy term: constrained re-ranking, wrap search,
+    a mixture's alternation), ties broken as asked.
 :func:`sq_distances`
     Weighted squared distances of given pairs (a query and its match).
 :class:`MaskedIndex`
@@ -38,6 +45,9 @@ neighbourhood is closest to this one?*, and asks it here:
 :func:`nearest_field`
     The same question of any backend: ``method="exact"``, ``"kdtree"``,
     ``"tsvq"`` or ``"patchmatch"``.
+:class:`Search`
+    The options of a synthesis's search, one group (``search=Search(method=...,
+    candidates=..., k=...)``); :func:`is_auto` tells the preset's ``"auto"``.
 :class:`KCoherence`
     k-coherent candidates (Ashikhmin 2001, Tong et al. 2002): where the
     neighbours' copies continue, and what resembles those positions;
@@ -65,7 +75,7 @@ measured tuning; :func:`use` makes ``"auto"`` mean one backend everywhere.
 
 from . import _exact, _kdtree, _tsvq  # noqa: F401  (each registers its backend)
 from ._common import sq_distances
-from ._exact import SequentialExact, candidate_sq_distances, exact_chunk_rows, nearest_candidates
+from ._exact import SequentialExact, SubsetExact, candidate_sq_distances, exact_chunk_rows, nearest_candidates
 from ._index import PatchIndex, nearest
 from ._kdtree import point_tree
 from ._masked import MASKED_METHODS, MaskedIndex, masked_sq_distances
@@ -81,6 +91,8 @@ from ._patchmatch import (
     project_patches,
     resolve_field,
 )
+from ._options import Search, is_auto
+from ._rescore import lowest_cost
 from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
 from ._registry import methods as _methods
 
@@ -88,8 +100,8 @@ from ._registry import methods as _methods
 METHODS = _methods()
 
 __all__ = [
-    "PatchIndex", "nearest", "point_tree", "SequentialExact", "nearest_candidates", "candidate_sq_distances", "sq_distances",
+    "PatchIndex", "nearest", "point_tree", "SequentialExact", "SubsetExact", "nearest_candidates", "candidate_sq_distances", "sq_distances",
     "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "TemplateSearch", "within_tolerance", "within_radius",
     "KCoherence", "neighbor_sources", "coherence_sets", "check_candidates", "COHERENT_MODES", "CANDIDATES", "patchmatch", "patchmatch_features", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
-    "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
+    "Search", "is_auto", "lowest_cost", "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]

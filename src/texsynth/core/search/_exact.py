@@ -6,8 +6,10 @@ of the k-th best is re-scored by direct differences, so the answer is the true
 k nearest with ties broken by the lowest index.
 
 Also here: :class:`SequentialExact`, exact search for queries whose vector
-becomes known in parts (scanline synthesis), and :func:`nearest_candidates`,
-the nearest of each query's own candidate list.
+becomes known in parts (scanline synthesis), :class:`SubsetExact`, for queries
+known on a few recurring subsets of their dimensions (a tileable scanline
+synthesis's wrapped windows), and :func:`nearest_candidates`, the nearest of
+each query's own candidate list.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ import numpy as np
 from ._common import best_k_of_pairs, pair_sq_distances
 from ._registry import register
 
-__all__ = ["exact_chunk_rows", "SequentialExact", "nearest_candidates", "candidate_sq_distances"]
+__all__ = ["exact_chunk_rows", "SequentialExact", "SubsetExact", "nearest_candidates", "candidate_sq_distances"]
 
 # preferred size of one brute-force distance block (bytes), and fewest query rows
 _CACHE_BLOCK = 16 * 2**20
@@ -150,8 +152,9 @@ class SequentialExact:
     >>> index = SequentialExact(first, second)
     >>> q = np.concatenate([first[7], second[7]]) + 0.01
     >>> index.start(q[None, :6])
-    >>> int(np.argmin(index.distances(0, q[6:])))
-    7
+    >>> k, d2 = index.nearest(0, q[6:])
+    >>> int(k), bool(np.isclose(d2, 8 * 0.01**2))
+    (7, True)
     """
 
     def __init__(self, *parts):
@@ -173,21 +176,80 @@ class SequentialExact:
         """Squared distances of batch query ``j``, completed by its second part ``query``, to every vector."""
         return self._base[j] - 2.0 * (query @ self._t[1]) + query @ query
 
+    def nearest(self, j, query):
+        """The nearest vector to batch query ``j`` completed by ``query``: ``(index, squared distance)``
+        (ties: the lowest index)."""
+        d = self.distances(j, query)
+        k = d.argmin()
+        return k, d[k]
+
     def nearest_with(self, distances, part, query):
         """Index minimising ``distances + ||query - parts[part]||^2`` (ties: the lowest index)."""
         return int(((distances + self._sq[part]) - 2.0 * (query @ self._t[part])).argmin())
 
 
-def nearest_candidates(queries, candidates, *, vectors=None, weights=None):
+class SubsetExact:
+    """Exact nearest neighbours of queries known on a subset of their dimensions, where few subsets recur.
+
+    A pixel of a tileable scanline synthesis whose window wraps around the
+    output knows only the window pixels synthesised before it (and the
+    parent level): its query is known on a subset ``S`` of the dimensions,
+    and the same few subsets recur along the wrap. The distance over ``S``,
+
+    .. math:: \\|v_S - q_S\\|^2 = \\|v_S\\|^2 - 2 v \\cdot q_S + \\|q_S\\|^2,
+
+    costs one matrix-vector product per query; ``||v_S||^2`` of every
+    vector is computed once per subset and kept. (Weighted distances, or
+    many different subsets in one batch: :class:`MaskedIndex`.)
+
+    Parameters
+    ----------
+    vectors : numpy.ndarray
+        ``(N, D)`` the indexed vectors.
+
+    Examples
+    --------
+    >>> v = np.array([[0.0, 5.0], [1.0, 0.0], [3.0, 3.0]])
+    >>> search = SubsetExact(v)
+    >>> known = np.array([True, False])  # the second value of the query is unknown
+    >>> k, d2 = search.nearest(np.array([0.9, 123.0]), known)
+    >>> int(k), round(float(d2), 6)
+    (1, 0.01)
+    """
+
+    def __init__(self, vectors):
+        self.vectors = vectors
+        self._squares = vectors**2
+        self._norms = {}  # subset (as bytes) -> ||v_S||^2 of every vector
+
+    def sq_distances(self, query, known):
+        """``(N,)`` squared distances from ``query`` ``(D,)`` to every vector over the dimensions where the boolean
+        ``known`` ``(D,)`` is True."""
+        key = known.tobytes()
+        norms = self._norms.get(key)
+        if norms is None:
+            norms = self._norms[key] = self._squares @ known
+        q = query * known
+        return norms - 2 * (self.vectors @ q) + q @ q
+
+    def nearest(self, query, known):
+        """The nearest vector over the ``known`` dimensions: ``(index, squared distance)`` (ties: the lowest
+        index)."""
+        d = self.sq_distances(query, known)
+        k = int(d.argmin())
+        return k, d[k]
+
+
+def nearest_candidates(queries, pool, *, vectors=None, weights=None):
     """The nearest of each query's own candidates.
 
     Parameters
     ----------
     queries : numpy.ndarray
         ``(M, D)``.
-    candidates : numpy.ndarray
-        ``(M, K)`` integer rows of ``vectors``, or ``(M, K, D)`` candidate
-        vectors themselves.
+    pool : numpy.ndarray
+        Each query's own ``K`` candidates: ``(M, K)`` integer rows of
+        ``vectors``, or ``(M, K, D)`` candidate vectors themselves.
     vectors : numpy.ndarray, optional
         ``(N, D)``, for integer candidates.
     weights : numpy.ndarray, optional
@@ -215,20 +277,20 @@ def nearest_candidates(queries, candidates, *, vectors=None, weights=None):
     >>> nearest_candidates(np.array([[4.0], [0.2]]), np.array([[0, 2], [2, 1]]), vectors=v)
     (array([1, 1]), array([1.  , 0.64]))
     """
-    candidates = np.asarray(candidates)
+    pool = np.asarray(pool)
     rows = np.arange(queries.shape[0])
-    if candidates.ndim == 3:
-        c = candidates if weights is None else candidates * np.sqrt(weights)
+    if pool.ndim == 3:
+        c = pool if weights is None else pool * np.sqrt(weights)
         q = queries if weights is None else queries * np.sqrt(weights)
         score = np.einsum("nkd,nkd->nk", c, c) - 2 * np.einsum("nkd,nd->nk", c, q)
         choice = np.argmin(score, axis=1)
         return choice, score[rows, choice] + np.einsum("nd,nd->n", q, q)
-    scores = candidate_sq_distances(queries, candidates, vectors, weights)
+    scores = candidate_sq_distances(queries, pool, vectors, weights)
     choice = np.argmin(scores, axis=1)
     return choice, scores[rows, choice]
 
 
-def candidate_sq_distances(queries, candidates, vectors, weights=None):
+def candidate_sq_distances(queries, pool, vectors, weights=None):
     """Weighted squared distances ``(M, K)`` from each query to each of its own candidates (rows of
     ``vectors``); a candidate repeated in its row is scored once, its repeats ``inf``.
 
@@ -242,25 +304,25 @@ def candidate_sq_distances(queries, candidates, vectors, weights=None):
     >>> candidate_sq_distances(np.array([[4.0]]), np.array([[0, 2, 0]]), v)
     array([[16.,  1., inf]])
     """
-    candidates = np.asarray(candidates)
+    pool = np.asarray(pool)
     dims = vectors.shape[1]
     w = np.ones(dims, vectors.dtype) if weights is None else weights
     spec = "ij,ij,ij->i" if w.ndim == 2 else "ij,ij,j->i"
-    scores = np.full(candidates.shape, np.inf, dtype=np.result_type(vectors, queries, w))
+    scores = np.full(pool.shape, np.inf, dtype=np.result_type(vectors, queries, w))
     rows = np.arange(queries.shape[0])
-    if candidates.size * dims <= _SMALL_CANDIDATE_VALUES:  # few queries (one at a time): all columns at once
-        order = np.argsort(candidates, axis=1, kind="stable")
-        ranked = np.take_along_axis(candidates, order, axis=1)
-        first = np.ones(candidates.shape, dtype=bool)
+    if pool.size * dims <= _SMALL_CANDIDATE_VALUES:  # few queries (one at a time): all columns at once
+        order = np.argsort(pool, axis=1, kind="stable")
+        ranked = np.take_along_axis(pool, order, axis=1)
+        first = np.ones(pool.shape, dtype=bool)
         np.put_along_axis(first, order[:, 1:], ranked[:, 1:] != ranked[:, :-1], axis=1)
         r, j = np.nonzero(first)
-        d = vectors[candidates[r, j]] - queries[r]
+        d = vectors[pool[r, j]] - queries[r]
         scores[r, j] = np.einsum(spec, d, d, w if w.ndim == 1 else w[r])
         return scores
-    for j in range(candidates.shape[1]):
+    for j in range(pool.shape[1]):
         # a candidate repeated in its row (coherent candidates often agree) is scored once
-        r = rows if j == 0 else np.flatnonzero(np.all(candidates[:, j, None] != candidates[:, :j], axis=1))
-        d = vectors[candidates[r, j]] - queries[r]
+        r = rows if j == 0 else np.flatnonzero(np.all(pool[:, j, None] != pool[:, :j], axis=1))
+        d = vectors[pool[r, j]] - queries[r]
         scores[r, j] = np.einsum(spec, d, d, w if w.ndim == 1 else w[r])
     return scores
 

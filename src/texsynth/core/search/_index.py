@@ -61,7 +61,7 @@ class PatchIndex:
         Same seed, same index, same answers.
     **options
         Tuning of the backend, over the profile's: ``n_components``,
-        ``leaf_size``, ``candidates``, ``eps`` (kd-tree); ``leaf_size``,
+        ``leaf_size``, ``n_candidates``, ``eps`` (kd-tree); ``leaf_size``,
         ``branching``, ``beams`` (TSVQ). Options of other backends are
         ignored, so one call can name the tuning of several.
 

@@ -8,7 +8,7 @@ gives each query's candidates in the PCA space.
 
 Options: ``n_components`` (PCA dimension; default the fewest components that
 explain 98 % of the variance, within [8, 24]), ``leaf_size`` (default 16),
-``candidates`` (re-ranked exactly; default ``max(2 k, 16)``), ``eps`` (the
+``n_candidates`` (how many are re-ranked exactly; default ``max(2 k, 16)``), ``eps`` (the
 tree search's approximation factor, default 1).
 """
 
@@ -48,22 +48,22 @@ class _KDTree:
     name = "kdtree"
 
     @classmethod
-    def build(cls, vectors, *, memory_budget, rng, n_components=None, leaf_size=None, candidates=None, eps=None):
+    def build(cls, vectors, *, memory_budget, rng, n_components=None, leaf_size=None, n_candidates=None, eps=None):
         if n_components is not None and n_components > vectors.shape[1]:
             raise ValueError(
                 f"n_components={n_components} exceeds the vector dimension "
                 f"{vectors.shape[1]} (after dropping zero weights); pass n_components <= {vectors.shape[1]}"
             )
-        return cls(vectors, n_components, leaf_size or 16, candidates, _KD_EPS if eps is None else eps,
+        return cls(vectors, n_components, leaf_size or 16, n_candidates, _KD_EPS if eps is None else eps,
                    memory_budget, rng)
 
-    def __init__(self, vectors, n_components, leaf_size, candidates, eps, memory_budget, rng):
+    def __init__(self, vectors, n_components, leaf_size, n_candidates, eps, memory_budget, rng):
         from scipy.spatial import cKDTree
 
         self.eps = eps
         self.vectors = vectors
         self.memory_budget = memory_budget
-        self.candidates = candidates
+        self.n_candidates = n_candidates
         n, dim = vectors.shape
         # PCA on a subsample (seeded) for large N
         sample = vectors
@@ -83,7 +83,7 @@ class _KDTree:
 
     def query(self, queries, k):
         n = self.vectors.shape[0]
-        kk = min(n, self.candidates if self.candidates is not None else max(2 * k, _KD_CANDIDATES))
+        kk = min(n, self.n_candidates if self.n_candidates is not None else max(2 * k, _KD_CANDIDATES))
         kk = max(kk, k)
         # (1 + eps)-approximate tree search (Arya et al. 1998) in the PCA space
         _, cand = self.tree.query(self._project(queries), k=kk, eps=self.eps)
@@ -162,7 +162,7 @@ def _default_components(singular_values, dim, total=None):
     return int(min(dim, max(min(_PCA_MIN, dim), min(m, _PCA_MAX))))
 
 
-register("kdtree", _KDTree.build, options=("n_components", "leaf_size", "candidates", "eps"),
+register("kdtree", _KDTree.build, options=("n_components", "leaf_size", "n_candidates", "eps"),
          summary="PCA-reduced kd-tree candidates, re-ranked by exact distance")
 
 

@@ -990,7 +990,7 @@ def _run(problem, init, iterations, rng, distances=False):
 
 def patchmatch_features(image, exemplar, patch_size, *, centers=None, k=1, iterations=5, init=None,
                         exemplar_mask=None, pixel_weights=None, mode="valid", penalty=None, rng=None, sets=None,
-                        workspace=None, distances=False):
+                        workspace=None):
     """:func:`patchmatch` of feature arrays: float ``(H, W, C)`` arrays the caller has checked.
 
     The search of :func:`patchmatch`, for the M-step of an EM loop that asks
@@ -1015,10 +1015,6 @@ def patchmatch_features(image, exemplar, patch_size, *, centers=None, k=1, itera
         Kept by the caller across searches of the same size (one EM stage)
         and never shared between searches running at once; the query patches
         are copied into the memory it holds.
-    distances : bool
-        Also return the held patches' distances without the ``penalty``
-        (``k = 1``), so a caller that ranks by distance plus penalty needs no
-        second pass for the distances.
 
     Returns
     -------
@@ -1027,13 +1023,14 @@ def patchmatch_features(image, exemplar, patch_size, *, centers=None, k=1, itera
     sq_distances : numpy.ndarray, shape (N, k)
         As :func:`patchmatch` returns it (with a ``penalty``: plus the penalty).
     plain_distances : numpy.ndarray, shape (N, k)
-        Only with ``distances=True``: the distances without the penalty
-        (None if a penalty ranked ``k > 1`` patches).
+        The distances without the ``penalty`` (``sq_distances`` itself
+        without one; None if a penalty ranked ``k > 1`` patches), so a caller
+        that ranks by distance plus penalty needs no second pass for them.
     """
     problem = _Problem(image, exemplar, patch_size, centers, k, exemplar_mask, pixel_weights, mode, penalty,
                        checked=True, workspace=workspace)
     problem.sets = sets
-    return _run(problem, init, check_positive_int(iterations, "iterations", 0), as_rng(rng), distances)
+    return _run(problem, init, check_positive_int(iterations, "iterations", 0), as_rng(rng), distances=True)
 
 
 #: :func:`resolve_field`: problems up to this much work (exemplar patches times queries times the

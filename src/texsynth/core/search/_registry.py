@@ -116,11 +116,11 @@ PROFILES = {p.name: p for p in (
     # at 0.78 of the CPU time. 8 candidates were faster still (0.66) but +1.3 % (up to +19 % on text).
     # Not with the gradient energy (its 3x longer vectors: eps = 2 costs +7 %): use "default" there.
     Profile("stage", "texture optimization's M-step: kd-tree with 16 candidates, eps = 2",
-            options={"kdtree": {"candidates": 16, "eps": 2.0}}),
+            options={"kdtree": {"n_candidates": 16, "eps": 2.0}}),
     # Animation frames also rank coherent candidates, so the tree only has to offer one fresh
     # candidate per neighbourhood: 4 re-ranked candidates and eps = 2 cost a third of the defaults.
     Profile("frame", "animation frames: kd-tree with 4 candidates, eps = 2",
-            options={"kdtree": {"candidates": 4, "eps": 2.0}}),
+            options={"kdtree": {"n_candidates": 4, "eps": 2.0}}),
     Profile("pixels", "order-independent pixel synthesis: exact while queries x vectors <= 2e8, kd-tree above",
             auto=_by_pairs),
     # Scanline synthesis: exact search one scanline at a time (SequentialExact) is the fastest.
@@ -129,7 +129,7 @@ PROFILES = {p.name: p for p in (
     # energy within +-5 % of 16 candidates and of exact search, 1.7x faster. Not for 2-D mixtures:
     # there 4 candidates raise the energy by 25-35 % (brick/gravel ramp).
     Profile("solid", "solid textures: as 'pixels', kd-tree with 4 candidates", auto=_by_pairs,
-            options={"kdtree": {"candidates": 4}}),
+            options={"kdtree": {"n_candidates": 4}}),
     Profile("correspondence", "texture interpolation's correspondences: exact up to 20000 vectors, kd-tree above",
             auto=_by_size),
 )}
