@@ -30,7 +30,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_production import load  # noqa: E402
+from bench_kwatra_production import load  # noqa: E402
 
 
 def main():

@@ -20,10 +20,10 @@ three outputs' top-left 256x256, side by side. ``--mix`` also times Wei's mixtur
 candidates and with k-coherent ones. ``--optimize PHOTO ...`` instead times texture
 optimization 256² -> 1024² of each photograph with its defaults (``candidates="all"``: PatchMatch
 M-steps) and with ``candidates="k-coherent"``, ``k=1`` and ``k=4``, scored on a 512² part as
-``quality_study.py`` scores (completeness over a random-block mosaic's, largest copy, large-scale
+``bench_kwatra_quality.py`` scores (completeness over a random-block mosaic's, largest copy, large-scale
 spectrum distance and the mosaic's); the outputs go to ``benchmarks/output/kcoherent_opt_*.png``, and
 with ``--figure`` the middle 256² of each output of the photographs whose licence allows it
-(``quality_study.FIGURE``) to ``docs/_static/kcoherent_optimize.png``, one row per photograph.
+(``bench_kwatra_quality.FIGURE``) to ``docs/_static/kcoherent_optimize.png``, one row per photograph.
 """
 
 import argparse
@@ -85,7 +85,7 @@ def optimization(photos, figure=False):
     import texsynth
 
     sys.path.insert(0, str(HERE))
-    from quality_study import FIGURE, load, scores
+    from bench_kwatra_quality import FIGURE, load, scores
 
     rows = []
     texsynth.optimize_texture(load(photos[0], 64), 96, rng=0)  # warm-up: imports, caches

@@ -56,7 +56,7 @@ def main():
             ("controlled, no mask, no fields", lambda: synthesize_controlled(exemplar, SIZE, texton_mask=None, rng=0)),
             ("controlled, texton mask", lambda: synthesize_controlled(exemplar, SIZE, rng=0)),
             ("controlled, texton mask + vortex orientation + scale gradient",
-             lambda: synthesize_controlled(exemplar, SIZE, orientation=vortex, scale=gradient, rng=0)),
+             lambda: synthesize_controlled(exemplar, SIZE, orientation=vortex, magnification=gradient, rng=0)),
             ("controlled, progressive variation to the other photo (blend ramp)",
              lambda: synthesize_controlled(exemplar, SIZE, exemplar_b=other, blend=lambda r, c: c / SIZE, rng=0)),
         ]

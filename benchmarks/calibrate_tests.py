@@ -27,9 +27,9 @@ from texsynth.optimization import Terms
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from test_interpolation import _sharpness  # noqa: E402  the tests' own measures, not copies
+from test_ruiters import _sharpness  # noqa: E402  the tests' own measures, not copies
 from test_texton import _fragments  # noqa: E402
-# tests/test_optimization.py's QUALITY set
+# tests/test_kwatra.py's QUALITY set
 QUALITY = ["rohitrango/t4.png", "jcjohnson/bread.png", "lcv/metal.pgm", "rohitrango/t1.png", "lcv/reptil_skin.pgm",
            "lcv/text.pgm"]
 
@@ -42,7 +42,7 @@ def texture(name, size):
 
 
 def _quality(name, seed, **options):
-    """Ratios of tests/test_optimization.py's quality tests at 64 -> 96."""
+    """Ratios of tests/test_kwatra.py's quality tests at 64 -> 96."""
     ex = texture(name, 64)
     out = optimize_texture(ex, 96, rng=seed, **options)
     noise, mosaic = metrics.noise_baseline(ex, 96, rng=0), metrics.mosaic_baseline(ex, 96, rng=0)
@@ -66,7 +66,7 @@ def optimization_bidirectional(name, seed):
 
 
 def optimization_pairs(name, seed):
-    """The paired tests of tests/test_optimization.py: one option against the paper's preset, same seed."""
+    """The paired tests of tests/test_kwatra.py: one option against the paper's preset, same seed."""
     ex = texture(name, 64)
     paper = optimize_texture(ex, 96, rng=seed, preset="paper")
     complete = optimize_texture(ex, 96, rng=seed, preset="paper", terms=Terms(completeness_weight=1.0))
@@ -83,7 +83,7 @@ def optimization_pairs(name, seed):
 
 
 def optimization_4x(name, seed):
-    """tests/test_optimization.py::test_defaults_at_4x_keep_the_completeness_term_on_the_coarse_levels."""
+    """tests/test_kwatra.py::test_defaults_at_4x_keep_the_completeness_term_on_the_coarse_levels."""
     ex = texture(name, 64)
     out = optimize_texture(ex, 128, rng=seed)
     off = optimize_texture(ex, 128, terms=Terms(completeness_weight=0), rng=seed)
@@ -103,7 +103,7 @@ def texton_turned(name, seed):
 
 
 def interpolation_halfway(name, seed):
-    """tests/test_interpolation.py::test_halfway_is_as_sharp_as_the_linear_blend (pebbles <-> paving)."""
+    """tests/test_ruiters.py::test_halfway_is_as_sharp_as_the_linear_blend (pebbles <-> paving)."""
     from skimage.transform import resize
 
     a = resize(texture(name, None), (96, 96), anti_aliasing=True)

@@ -29,13 +29,17 @@ myst_heading_anchors = 3
 suppress_warnings = ["myst.header", "ref.citation"]
 extlinks = {"doi": ("https://doi.org/%s", "doi:%s")}
 
-# Examples run when the gallery is built for publication (TEXSYNTH_GALLERY=1); the
-# warning-free check in the test suite only renders their code.
+# The examples gallery: every examples/plot_*.py is executed and its figures become the page's
+# pictures and the index's thumbnails (the examples run at small sizes and use only texsynth.data and
+# skimage.data, so the whole build takes a few minutes on 2 cores). TEXSYNTH_GALLERY=0 renders the
+# scripts without running them: tests/test_docs.py sets it, to check the build for warnings within
+# the test suite's time (run `python -m sphinx -b html docs /tmp/html` for the real gallery).
+# Examples write their PNGs into examples/output/ (ignored by git) and never into docs/.
 sphinx_gallery_conf = {
     "examples_dirs": "../examples",
     "gallery_dirs": "auto_examples",
     "filename_pattern": r"/plot_",
-    "plot_gallery": "True" if os.environ.get("TEXSYNTH_GALLERY") else "False",
+    "plot_gallery": "False" if os.environ.get("TEXSYNTH_GALLERY", "1") == "0" else "True",
     "download_all_examples": False,
     "within_subsection_order": "FileNameSortKey",
 }
@@ -60,4 +64,34 @@ def _methods_table():
         out.write_text(text)
 
 
+
+def _top_level_aliases():
+    """``{module: [names]}``: the names each public module shares with the top level of texsynth.
+
+    Their one page is the top-level one (``texsynth.optimize_texture``, what users call); the module
+    pages (``_templates/autosummary/module.rst``) link to it, so no object is documented twice.
+    """
+    import importlib
+    import inspect
+    import pkgutil
+
+    import texsynth
+
+    top = {name: getattr(texsynth, name) for name in texsynth.__all__
+           if not name.startswith("_") and not inspect.ismodule(getattr(texsynth, name))}
+    out = {}
+    for info in pkgutil.walk_packages(texsynth.__path__, "texsynth."):
+        if any(part.startswith("_") for part in info.name.split(".")):
+            continue
+        module = importlib.import_module(info.name)
+        shared = [name for name in getattr(module, "__all__", ()) if name in top and getattr(module, name) is top[name]]
+        if shared:
+            out[info.name] = shared
+    return out
+
+
 _methods_table()
+autosummary_context = {"at_top": _top_level_aliases()}
+# pages an earlier build generated for these names under their module (gen_modules is not cleaned)
+exclude_patterns += [f"gen_modules/{module}.{name}.rst" for module, names in autosummary_context["at_top"].items()
+                     for name in names]

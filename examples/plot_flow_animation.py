@@ -35,17 +35,19 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from skimage.transform import rescale  # noqa: E402
 
-from texsynth import metrics
+from texsynth import data, metrics
 from texsynth.core import flows  # noqa: E402
-from texsynth.io import load_image, save_frames  # noqa: E402
+from texsynth.io import save_frames  # noqa: E402
 from texsynth.optimization import Animation, animate_texture  # noqa: E402
 
-TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
-OUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
-exemplar = load_image(TEXTURES / "rohitrango" / "t4.png")[..., :3]  # pebbles: distinct elements
+# the bundled nuts (256 px, grey) at half size: distinct elements, several across a frame
+exemplar = rescale(data.load("nuts"), 0.5, anti_aliasing=True)
 shape, frames = (128, 128), 16
 
 # Figure 7: rotation about the centre, 0.06 rad (3.4 degrees) per frame
@@ -79,7 +81,7 @@ report("frame_falloff=None (plain E-step)", plain, pinfo.frame_seconds.mean())
 fig, axes = plt.subplots(2, 4, figsize=(14, 7.4))
 for row, (vid, name) in enumerate([(video, "default"), (plain, "plain E-step")]):
     for a, k in zip(axes[row], [0, 3, 7, 15]):
-        a.imshow(np.clip(vid[k], 0, 1))
+        a.imshow(np.clip(vid[k], 0, 1), cmap="gray", vmin=0, vmax=1)
         a.set_title(f"{name}, frame {k + 1}")
         a.axis("off")
 fig.tight_layout()
@@ -93,7 +95,7 @@ for _ in range(frames - 1):
 fig, axes = plt.subplots(1, 3, figsize=(12, 4.4))
 for a, img, title in zip(axes, [video[0], warped[-1], video[-1]],
                          ["frame 1", f"plain warping, frame {frames}", f"flow-guided synthesis, frame {frames}"]):
-    a.imshow(np.clip(img, 0, 1))
+    a.imshow(np.clip(img, 0, 1), cmap="gray", vmin=0, vmax=1)
     a.set_title(title)
     a.axis("off")
 fig.tight_layout()
@@ -105,7 +107,7 @@ video_sink = animate_texture(exemplar, sink, n_frames=frames, first_frame=video[
 save_frames(OUT / "flow_sink.gif", video_sink, fps=8, overwrite=True)
 fig, axes = plt.subplots(1, 4, figsize=(14, 3.8))
 for a, k in zip(axes, [0, 5, 10, 15]):
-    a.imshow(np.clip(video_sink[k], 0, 1))
+    a.imshow(np.clip(video_sink[k], 0, 1), cmap="gray", vmin=0, vmax=1)
     a.set_title(f"sink, frame {k + 1}")
     a.axis("off")
 fig.tight_layout()
@@ -139,7 +141,7 @@ for a, k in zip(axes[0], [0, 4, 8, 12]):
     a.set_title(f"flow {k + 1} -> {k + 2}")
     a.axis("off")
 for a, k in zip(axes[1], [0, 5, 10, 15]):
-    a.imshow(np.clip(video_var[k], 0, 1))
+    a.imshow(np.clip(video_var[k], 0, 1), cmap="gray", vmin=0, vmax=1)
     a.set_title(f"time-varying flow, frame {k + 1}")
     a.axis("off")
 fig.tight_layout()

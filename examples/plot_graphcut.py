@@ -4,14 +4,15 @@ Graph-cut textures: seam refinement and interactive merging (Kwatra et al. 2003)
 
 Two figures in the spirit of the paper's:
 
-1. **Seam refinement.** Text (``lcv/text.pgm``, a 128 px crop) synthesised to
+1. **Seam refinement.** Text (the bundled ``text``, a 128 px crop) synthesised to
    256 px: left, the output once it is covered (``refine=0``); right, the same
    run after four refinement passes (the same seed: the covering is identical,
    the passes then place patches over the costliest seams). The seams are drawn
    in red, brighter where they cost more, and the curve below is the total seam
    cost after every patch (``info.energy``): it rises while the output is
    covered and never rises during refinement.
-2. **Interactive merging.** Grass and gravel (scikit-image's photographs) with
+2. **Interactive merging.** Grass and gravel (``skimage.data.grass()`` and
+   ``skimage.data.gravel()``, photographs that ship with scikit-image) with
    a user's strokes: blue pixels must come from the grass, orange ones from the
    gravel. ``graphcut_merge`` finds the cheapest seam between the strokes,
    with the gradient-normalised cost ``M'`` (the seam hides along the blades
@@ -21,9 +22,11 @@ Two figures in the spirit of the paper's:
    defaults (half-exemplar blocks) and with ``preset="paper"`` (the whole
    exemplar placed at output translations, as the paper does).
 
-All are saved to ``examples/output/`` and, for the docs, ``docs/_static/``.
+All are saved to ``examples/output/``; ``python plot_graphcut.py --docs`` in a
+checkout also refreshes the documentation's copies in ``docs/_static/``.
 """
 
+import sys
 from pathlib import Path
 
 import matplotlib
@@ -31,15 +34,16 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from skimage import data as skdata
 
-from texsynth.io import load_image
+from texsynth import data
 from texsynth.patch import graphcut_merge, graphcut_texture
 
-HERE = Path(__file__).resolve().parent
-TEXTURES = HERE.parents[1] / "shared" / "textures"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
-STATIC = HERE.parent / "docs" / "_static"
+# the figures of the documentation, refreshed only on request (never by the docs build itself)
+FOLDERS = [OUT] + ([HERE.parent / "docs" / "_static"] if "--docs" in sys.argv else [])
 
 
 def seam_overlay(image, labels, strength):
@@ -66,7 +70,7 @@ def seam_strength(image, labels):
 
 # %%
 # Figure 1: the covered output and the refined one
-exemplar = load_image(TEXTURES / "lcv" / "text.pgm")[:128, :128]
+exemplar = data.load("text")[:128, :128]
 before, info0 = graphcut_texture(exemplar, 256, block=64, refine=0, rng=3, return_info=True)
 after, info = graphcut_texture(exemplar, 256, block=64, refine=4, rng=3, return_info=True)
 print(f"seam cost after covering {info0.seam_cost:.1f}, after 4 refinement passes {info.seam_cost:.1f}")
@@ -93,14 +97,14 @@ ax.set_ylabel("total seam cost (M)")
 ax.legend(ncol=5, fontsize=8)
 fig.suptitle("Graph-cut textures: seams (red) before and after refinement, and the seam cost patch by patch")
 fig.tight_layout()
-for folder in (OUT, STATIC):
+for folder in FOLDERS:
     fig.savefig(folder / "graphcut_refinement.png", dpi=80)
 print("saved", OUT / "graphcut_refinement.png")
 
 # %%
 # Figure 2: interactive merging of two photographs with the user's strokes
-grass = load_image(TEXTURES / "skimage" / "grass.png")[:192, :192]
-gravel = load_image(TEXTURES / "skimage" / "gravel.png")[:192, :192]
+grass = skdata.grass()[:192, :192] / 255.0
+gravel = skdata.gravel()[:192, :192] / 255.0
 rows, cols = np.mgrid[:192, :192]
 from_a = (np.abs(cols - (50 + 20 * np.sin(rows / 25))) < 4) & (rows > 15) & (rows < 177)  # a wavy stroke on the left
 from_b = (np.abs(cols - 150) < 4) & (rows > 30) & (rows < 160)  # a straight one on the right
@@ -123,7 +127,7 @@ for ax, (image, title) in zip(axes, panels):
     ax.axis("off")
 fig.suptitle("Interactive merging: the cheapest seam between the user's strokes")
 fig.tight_layout()
-for folder in (OUT, STATIC):
+for folder in FOLDERS:
     fig.savefig(folder / "graphcut_merge.png", dpi=80)
 plt.imsave(OUT / "graphcut_merged.png", merged, cmap="gray", vmin=0, vmax=1)
 print("saved", OUT / "graphcut_merge.png")
@@ -131,10 +135,10 @@ print("saved", OUT / "graphcut_merge.png")
 # %%
 # Figure 3: the default blocks against the paper's whole-input patches
 fig, axes = plt.subplots(2, 3, figsize=(12, 8.4))
-for row, file in zip(axes, [TEXTURES / "skimage" / "gravel.png", TEXTURES / "lcv" / "text.pgm"]):
-    exemplar = load_image(file)[:128, :128]
+for row, (name, image) in zip(axes, [("gravel", skdata.gravel() / 255.0), ("text", data.load("text"))]):
+    exemplar = image[:128, :128]
     row[0].imshow(exemplar, cmap="gray", vmin=0, vmax=1)
-    row[0].set_title(f"{file.name}, 128 px")
+    row[0].set_title(f"{name}, 128 px")
     for ax, preset in zip(row[1:], ("default", "paper")):
         out, inf = graphcut_texture(exemplar, 256, preset=preset, rng=1, return_info=True)
         ax.imshow(out, cmap="gray", vmin=0, vmax=1)
@@ -143,6 +147,6 @@ for ax in axes.ravel():
     ax.axis("off")
 fig.suptitle("Half-exemplar blocks (default) and the whole exemplar as the patch (the paper's)")
 fig.tight_layout()
-for folder in (OUT, STATIC):
+for folder in FOLDERS:
     fig.savefig(folder / "graphcut_presets.png", dpi=80)
 print("saved", OUT / "graphcut_presets.png")

@@ -13,6 +13,9 @@ mortar lines dissolve into blobs.
 Colour exemplars are decorrelated by PCA (Briand et al., IPOL 2014). The third
 figure compares the three ways of treating the non-periodic exemplar border.
 Outputs are 1.5x the exemplar's size (any size works) and tile seamlessly.
+
+Exemplars: the bundled samples (``texsynth.data``) and scikit-image's gravel
+and brick photographs (``skimage.data``).
 """
 
 from pathlib import Path
@@ -22,29 +25,36 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from skimage import data as skdata
 from skimage.transform import resize
 
+from texsynth import data
 from texsynth.statistical import heeger_bergen
-from texsynth.io import load_image
 from texsynth.metrics import spectrum_distance
 
-TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
-OUTPUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUTPUT = HERE / "output"
 OUTPUT.mkdir(exist_ok=True)
 
-CASES = [  # (file, exemplar side, expected behaviour)
-    ("lcv/metal.pgm", 128, "stochastic: works"),
-    ("skimage/gravel.png", 128, "stochastic: works"),
-    ("jcjohnson/bread.png", None, "stochastic colour: works"),
-    ("embark/1.jpg", 128, "water, colour: works"),
-    ("lcv/text.pgm", 128, "structured: fails"),
-    ("skimage/brick.png", 128, "structured: fails"),
-    ("jcjohnson/brick.png", None, "structured colour: fails"),
+CASES = [  # (sample, exemplar side, expected behaviour)
+    ("metal", 128, "stochastic: works"),
+    ("gravel", 128, "stochastic: works"),
+    ("bread", None, "stochastic colour: works"),
+    ("water", 128, "water, colour: works"),
+    ("text", 128, "structured: fails"),
+    ("skimage brick", 128, "structured: fails"),
+    ("brick", None, "structured colour: fails"),
 ]
 
 
 def load(name, side):
-    image = load_image(TEXTURES / name)
+    """A bundled sample, or scikit-image's gravel or (grey) brick photograph, resized to side x side."""
+    if name == "gravel":
+        image = skdata.gravel() / 255.0
+    elif name == "skimage brick":
+        image = skdata.brick() / 255.0
+    else:
+        image = data.load(name)
     if side is not None:
         image = resize(image, (side, side), anti_aliasing=True)
     return image
@@ -73,7 +83,7 @@ print("saved", OUTPUT / "heeger_bergen.png")
 
 # Boundary treatment of the exemplar (Briand et al. 2014, sec. 2.4): the wood photograph's left and
 # right edges do not match, so wrapped around it has a vertical seam that the FFT pyramid sees.
-exemplar = load("jcjohnson/wood.png", None)
+exemplar = load("wood", None)
 fig, axes = plt.subplots(1, 4, figsize=(12, 3.4))
 show(axes[0], exemplar, "exemplar")
 for ax, mode in zip(axes[1:], ["periodic+smooth", "mirror", "none"]):
@@ -84,7 +94,7 @@ fig.savefig(OUTPUT / "heeger_bergen_boundary.png", dpi=90)
 print("saved", OUTPUT / "heeger_bergen_boundary.png")
 
 # Convergence: histogram distance of every sub-band per iteration (metal).
-exemplar = load("lcv/metal.pgm", 128)
+exemplar = load("metal", 128)
 _, info = heeger_bergen(exemplar, scales=4, iterations=8, rng=0, return_info=True)
 fig, ax = plt.subplots(figsize=(6, 4))
 ax.semilogy(info.band_distances, color="0.7", lw=0.8)

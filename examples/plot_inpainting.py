@@ -2,15 +2,15 @@
 Hole filling with soft constraints (Kwatra et al. 2005, Section 4)
 ==================================================================
 
-``embark/bricks.png`` has a round hole in its alpha channel. Texture
+The bundled ``bricks_hole`` (``texsynth.data``) has a round hole in its alpha channel. Texture
 optimization fills it: the known pixels are soft constraints (eq. 2,
 ``λ = 100`` makes them nearly hard), their neighbourhoods are searched for
 exemplar neighbourhoods that agree with them (the modified M-step of
 Algorithm 2), and the hole is synthesised from neighbourhoods of the same
 image that do not touch the hole (``exemplar_mask``).
 
-The image is processed at half resolution (175 x 175) to keep the example
-quick, with the library's defaults (3 levels, neighbourhoods 32, 16, 8).
+The sample is Embark Studios' ``bricks.png`` at half resolution (175 x 175),
+filled with the library's defaults (3 levels, neighbourhoods 32, 16, 8).
 Fewer levels and smaller neighbourhoods (2 levels, 16 and 8, the example's
 earlier settings) fill the hole with smeared bricks whose mortar fades
 toward the centre: with 2 levels the coarsest level sees the hole at
@@ -36,18 +36,17 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy import ndimage  # noqa: E402
 
-from texsynth.io import load_image, save_image  # noqa: E402
+from texsynth import data  # noqa: E402
+from texsynth.io import save_image  # noqa: E402
 from texsynth.optimization import Constraints, Schedule, optimize_texture  # noqa: E402
-from texsynth.core.pyramid import downsample# noqa: E402
 
-TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
-OUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
-rgba = load_image(TEXTURES / "embark" / "bricks.png")
-small = downsample(rgba)  # (175, 175, 4)
-known = small[..., 3] > 0.999  # pixels untouched by the hole
-image = small[..., :3]
+rgba = data.load("bricks_hole")  # (175, 175, 4): colour and alpha, 0 in the hole
+known = rgba[..., 3] > 0.999  # pixels untouched by the hole
+image = rgba[..., :3]
 
 hole = ~known
 core = ndimage.binary_erosion(hole, iterations=3)  # the hole's interior, away from its rim
@@ -78,7 +77,9 @@ print("(the known pixels blurred by a Gaussian of sigma 1 px: "
 shown = image.copy()
 shown[hole] = [1.0, 0.0, 1.0]  # the hole in magenta
 fig, axes = plt.subplots(1, 4, figsize=(16, 4.4))
-for a, img, title in zip(axes, [shown, filled, filled[30:145, 25:150], smeared[30:145, 25:150]],
+rows, cols = np.nonzero(hole)
+box = np.s_[max(rows.min() - 8, 0):rows.max() + 9, max(cols.min() - 8, 0):cols.max() + 9]  # the hole and 8 px
+for a, img, title in zip(axes, [shown, filled, filled[box], smeared[box]],
                          ["input (hole in magenta)", "filled (defaults: 3 levels, 32/16/8)", "detail",
                           "detail, 2 levels, 16/8: smeared"]):
     a.imshow(img)

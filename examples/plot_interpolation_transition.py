@@ -6,7 +6,8 @@ Ruiters et al. 2010, Figure 4 (a continuous transition strip from one
 texture to the other) and Figure 7 (a transition controlled by a grey image
 used as the distribution map of alpha). Interpolated neighbourhoods for
 several alphas carry alpha as an extra channel that the synthesis matches to
-the map.
+the map. The pair is the bundled brick wall and wood grain (64 px crops), as
+in ``plot_interpolation_sequence.py``, with the same shortened schedule.
 """
 
 from pathlib import Path
@@ -17,32 +18,32 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from texsynth import data
 from texsynth.optimization import (InterpolationSchedule, NeighborhoodSet, VaryingAlpha, interpolate_textures,
                                    linear_blend, transition_alpha_map)
-from texsynth.io import load_image
 
-TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
-OUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
-a = load_image(TEXTURES / "rohitrango" / "t1.png")[:80, :80, :3]  # brick
-b = load_image(TEXTURES / "rohitrango" / "t7.png")[:80, :80, :3]  # slate wall
-options = dict(schedule=InterpolationSchedule(stages=((2, 17), (1, 17), (1, 9)), max_iterations=4),
+a = data.load("brick")[:64, :64]  # red bricks, light mortar
+b = data.load("wood")[:64, :64]  # wood grain
+options = dict(schedule=InterpolationSchedule(stages=((2, 17), (1, 9)), max_iterations=3),
                varying=VaryingAlpha(alpha_steps=6, statistics_bands=3),
                neighborhood_set=NeighborhoodSet(max_neighborhoods=300), rng=0)
 
-strip_map = transition_alpha_map((64, 256))
+strip_map = transition_alpha_map((64, 192))
 strip = interpolate_textures(a, b, strip_map, **options)
 
 # a grey image as distribution map (Figure 7): a disc of texture 2 inside texture 1
-yy, xx = np.mgrid[:128, :128]
-disc = np.clip((40 - np.hypot(yy - 64, xx - 64)) / 12 + 0.5, 0, 1)
+yy, xx = np.mgrid[:96, :96]
+disc = np.clip((30 - np.hypot(yy - 48, xx - 48)) / 9 + 0.5, 0, 1)
 controlled = interpolate_textures(a, b, disc, **options)
 
 fig, axes = plt.subplots(3, 2, figsize=(10, 8), gridspec_kw=dict(width_ratios=[2, 1]))
 axes[0, 0].imshow(np.clip(strip, 0, 1))
 axes[0, 0].set_title("transition strip (ours)")
-axes[1, 0].imshow(linear_blend(np.tile(a, (1, 4, 1))[:64, :256], np.tile(b, (1, 4, 1))[:64, :256], strip_map))
+axes[1, 0].imshow(linear_blend(np.tile(a, (1, 3, 1)), np.tile(b, (1, 3, 1)), strip_map))
 axes[1, 0].set_title("linear blend with the same alpha ramp")
 axes[2, 0].imshow(strip_map, cmap="gray")
 axes[2, 0].set_title("alpha map")

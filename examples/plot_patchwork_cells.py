@@ -21,7 +21,8 @@ import numpy as np
 
 from texsynth.patch import patchwork, voronoi_weights
 
-OUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
 size, spacing = 192, 32

@@ -2,14 +2,15 @@
 Patchwork on real textures (Harrison 2002, Figure 4), tileable output and a failure case
 ========================================================================================
 
-Textures from ``../shared/textures`` synthesised at the paper's settings
+The bundled samples (``texsynth.data``) and scikit-image's gravel, grass and
+brick photographs (``skimage.data``) synthesised at the paper's settings
 (``f = 6``; grid 64 for the large inputs, smaller grids for the small ones so
 a patch fits in the input). Stochastic textures (water, ink, gravel, grass,
 bread, metal) come out without visible joins. A tileable output is tiled 2x2
 to show that the wrap-around has no seam.
 
 The paper's own failure cases are shown honestly: regular tiling patterns
-(bricks, a basket weave) and large objects (nuts) - random patches break the
+(two brick walls) and large objects (nuts) - random patches break the
 lattice and cut objects in half, and the blended joins show as ghosted,
 half-transparent bricks or nuts.
 """
@@ -21,19 +22,21 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from skimage import data as skdata
 
-from texsynth.io import load_image
+from texsynth import data
 from texsynth.patch import patchwork
 
-HERE = Path(__file__).resolve().parent
-TEXTURES = HERE.parents[1] / "shared" / "textures"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
 
 def load(name):
-    image = load_image(TEXTURES / name)
-    return image[..., :3] if image.ndim == 3 and image.shape[-1] == 4 else image
+    """A bundled sample, or one of scikit-image's grey photographs ("skimage.gravel", ...)."""
+    if name.startswith("skimage."):
+        return getattr(skdata, name.split(".")[1])() / 255.0
+    return data.load(name)
 
 
 def show(ax, image, title):
@@ -43,12 +46,12 @@ def show(ax, image, title):
 
 
 good = [
-    ("embark/1.jpg", "water", 64),
-    ("embark/2.jpg", "ink", 64),
-    ("skimage/gravel.png", "gravel", 64),
-    ("skimage/grass.png", "grass", 64),
-    ("jcjohnson/bread.png", "bread", 24),
-    ("lcv/metal.pgm", "metal", 48),
+    ("water", "water", 64),
+    ("ink", "ink", 48),
+    ("skimage.gravel", "gravel", 64),
+    ("skimage.grass", "grass", 64),
+    ("bread", "bread", 24),
+    ("metal", "metal", 48),
 ]
 fig, axes = plt.subplots(2, len(good), figsize=(3.1 * len(good), 6.6), layout="constrained")
 for k, (file, name, grid) in enumerate(good):
@@ -64,8 +67,7 @@ print("saved", OUT / "patchwork_gallery.png")
 # Tileable output: the grid and the distance wrap around; tiled 2x2, the copies meet without a seam
 # (the dashed lines mark where the copies meet).
 fig, axes = plt.subplots(1, 3, figsize=(15, 5.4))
-for ax, (file, name) in zip(axes, [("embark/1.jpg", "water"), ("skimage/gravel.png", "gravel"),
-                                   ("jcjohnson/bread.png", "bread")]):
+for ax, (file, name) in zip(axes, [("water", "water"), ("skimage.gravel", "gravel"), ("bread", "bread")]):
     exemplar = load(file)
     grid = 64 if min(exemplar.shape[:2]) >= 192 else 24
     tile = patchwork(exemplar, (200, 240), grid_spacing=grid, tileable=True, rng=3)
@@ -80,9 +82,9 @@ print("saved", OUT / "patchwork_tileable.png")
 # %%
 # Where it fails (Section 3.1 and 6 of the paper): tiling patterns and large objects.
 bad = [
-    ("skimage/brick.png", "bricks (tiling pattern)", 64),
-    ("rohitrango/t2.png", "basket weave (tiling pattern)", 48),
-    ("lcv/nuts.pgm", "nuts (large objects)", 64),
+    ("skimage.brick", "bricks (tiling pattern)", 64),
+    ("brick", "red bricks (tiling pattern)", 16),
+    ("nuts", "nuts (large objects)", 48),
 ]
 fig, axes = plt.subplots(2, len(bad), figsize=(4.2 * len(bad), 8.4))
 for k, (file, name, grid) in enumerate(bad):

@@ -2,7 +2,7 @@
 Patchwork joins: sharp, feathered and standard-deviation controlled (Harrison 2002, Figure 1)
 =============================================================================================
 
-Two patches of a real texture (water, ``embark/1.jpg``) are joined three ways,
+Two patches of a real texture (the bundled ``water``) are joined three ways,
 with the weights of eq. 1 (``w_i = d(x, p_i)^-f``, two points ``p_1`` left and
 ``p_2`` right, ``f = 2`` so the transition is wide enough to see):
 
@@ -24,16 +24,16 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from skimage import data as skdata
 
-from texsynth.io import load_image
+from texsynth import data
 from texsynth.patch import patchwork
 
-HERE = Path(__file__).resolve().parent
-TEXTURES = HERE.parents[1] / "shared" / "textures"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
-texture = load_image(TEXTURES / "embark" / "1.jpg")  # 300 x 300 colour photograph of water
+texture = data.load("water")  # 300 x 300 colour photograph of water
 a = texture.reshape(-1, 3).mean(0)  # the average colour a of eq. 2
 h, w = 160, 240
 patch1 = texture[0:h, 0:w]  # two different parts of the photograph
@@ -92,8 +92,7 @@ print("saved", OUT / "patchwork_joins.png")
 # %%
 # Close-ups of joins in a real synthesis at the paper's defaults (f = 6, grid 64):
 # left the output with the Voronoi cell borders drawn, right the same crop without them.
-for name, file in [("water", TEXTURES / "embark" / "1.jpg"), ("gravel", TEXTURES / "skimage" / "gravel.png")]:
-    exemplar = load_image(file)
+for name, exemplar in [("water", data.load("water")), ("gravel", skdata.gravel() / 255.0)]:
     out, info = patchwork(exemplar, 256, grid_spacing=64, sharpness=6, rng=4, return_info=True)
     border = np.zeros(info.cells.shape, bool)
     border[:-1] |= info.cells[:-1] != info.cells[1:]

@@ -9,8 +9,8 @@ Figure 8 settings) copies the texture patch that best matches the pattern
 around ``p_i`` (sum of squared differences over 64 random candidates), and the
 cells are joined with eq. 7, which blends the local averages ``a_i``. The
 pattern is first rescaled to the texture's mean colour and range (the paper's
-pre-processing). Textures: pink ink (``embark/2.jpg``) and water
-(``embark/1.jpg``).
+pre-processing). Textures: the bundled pink ink (``ink``) and water
+(``water``).
 
 A second figure is a 3x close-up of two flat areas of the ink cameraman, with
 ticks on the frame where each pixel's block of summed cells changes (every
@@ -31,11 +31,10 @@ from scipy.ndimage import gaussian_filter
 from skimage import data as skdata
 from skimage.transform import resize
 
-from texsynth.io import load_image
+from texsynth import data
 from texsynth.patch import patchwork_transfer
 
-HERE = Path(__file__).resolve().parent
-TEXTURES = HERE.parents[1] / "shared" / "textures"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
@@ -53,7 +52,7 @@ def text_image(text, shape=(160, 576)):
 photo = resize(skdata.camera(), (384, 384), anti_aliasing=True)
 words = text_image("texsynth")
 patterns = {"photograph": photo, "text": words}
-textures = {"ink": load_image(TEXTURES / "embark" / "2.jpg"), "water": load_image(TEXTURES / "embark" / "1.jpg")}
+textures = {"ink": data.load("ink"), "water": data.load("water")}
 
 results = {}
 fig, axes = plt.subplots(len(textures), 3, figsize=(16, 4.4 * len(textures)),

@@ -11,16 +11,19 @@ pixels it blends and with what weights), and :func:`texsynth.apply_coordinates`
 renders every other channel through the same map. Normal maps are renormalised
 where pixels blend (``normals=True``); 16-bit channels stay 16-bit.
 
-The exemplar set is made from one photograph (``benchmarks/photos/cobblestones_1``):
-the height is its blurred luminance (inverted: the dark stones stand above the
-bright mortar), the normal map that height's gradient. The
-set is synthesised twice, by image quilting (copies along cuts) and by patch-based
-sampling (feathered blends), from 256 x 256 to 512 x 512. The last column lights
-the synthesised normal map from the upper left: its bumps sit under the stones of
-the albedo. Writes the channels to ``examples/output/pbr_*.png`` (height and
-normals as 16-bit PNG) and the figure ``docs/_static/pbr_channels.png``.
+The exemplar set is made from one photograph, the bundled red brick wall
+(``texsynth.data.load("brick")``, 77 x 107): the height is its blurred luminance
+(inverted: the dark bricks stand above the bright mortar), the normal map that
+height's gradient. The set is synthesised twice, by image quilting (copies along
+cuts) and by patch-based sampling (feathered blends), to 256 x 256. The last
+column lights the synthesised normal map from the upper left: its bumps sit under
+the bricks of the albedo. Writes the channels to ``examples/output/pbr_*.png``
+(height and normals as 16-bit PNG) and the figure ``pbr_channels.png``;
+``python plot_pbr_channels.py --docs`` in a checkout also refreshes the
+documentation's copy in ``docs/_static/``.
 """
 
+import sys
 import time
 from pathlib import Path
 
@@ -31,18 +34,19 @@ import matplotlib.pyplot as plt
 import numpy as np
 from scipy import ndimage
 
-from texsynth import apply_coordinates, patch_sampling, quilt
-from texsynth.io import load_image, save_image
+from texsynth import apply_coordinates, data, patch_sampling, quilt
+from texsynth.io import save_image
 
-HERE = Path(__file__).resolve().parent
-PHOTO = HERE.parent / "benchmarks" / "photos" / "cobblestones_1.png"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
-STATIC = HERE.parent / "docs" / "_static"
+# the figure of the documentation, refreshed only on request (never by the docs build itself)
+FOLDERS = [OUT] + ([HERE.parent / "docs" / "_static"] if "--docs" in sys.argv else [])
+SIZE = 256
 
 
 def height_of(albedo, sigma=2.0):
-    """A height map from a photograph: its blurred luminance, inverted (the dark stones stand above the
+    """A height map from a photograph: its blurred luminance, inverted (the dark bricks stand above the
     bright mortar)."""
     lum = albedo[..., :3] @ np.array([0.2125, 0.7154, 0.0721])
     return 1 - ndimage.gaussian_filter(lum, sigma)
@@ -62,21 +66,21 @@ def lit(normal_map, light=(-1.0, 1.0, 1.5)):
     return np.clip(n @ direction, 0, 1)
 
 
-albedo = load_image(PHOTO)[:256, :256, :3]
+albedo = data.load("brick")
 height = height_of(albedo)
 normal = normals_of(height)
 exemplar_set = {"albedo": albedo, "height": height, "normal": normal}
 
-rows = {"exemplar (256 x 256)": exemplar_set}
+rows = {f"exemplar ({albedo.shape[0]} x {albedo.shape[1]})": exemplar_set}
 for name, method in (("quilt", quilt), ("patch sampling", patch_sampling)):
     started = time.perf_counter()
-    out, info = method(albedo, 512, block=64, rng=1, return_info=True)
+    out, info = method(albedo, SIZE, block=32, rng=1, return_info=True)
     channels = apply_coordinates({"height": height, "normal": normal}, info, normals={"normal": True})
     seconds = time.perf_counter() - started
     lengths = np.linalg.norm(channels["normal"] * 2 - 1, axis=-1)
     print(f"{name}: {seconds:.2f} s; map {info.coordinates.shape}, normals' length {lengths.min():.6f}-"
           f"{lengths.max():.6f}")
-    rows[f"{name} (512 x 512)"] = {"albedo": out, **channels}
+    rows[f"{name} ({SIZE} x {SIZE})"] = {"albedo": out, **channels}
     slug = name.replace(" ", "_")
     save_image(OUT / f"pbr_{slug}_albedo.png", out, overwrite=True)
     save_image(OUT / f"pbr_{slug}_height.png", channels["height"], bits=16, overwrite=True)
@@ -91,6 +95,6 @@ for r, (title, images) in enumerate(rows.items()):
         ax.set_title(f"{title}: {label}" if label == "albedo" else label, fontsize=9)
         ax.axis("off")
 fig.tight_layout()
-STATIC.mkdir(exist_ok=True)
-fig.savefig(STATIC / "pbr_channels.png", dpi=80)
-print(f"wrote {STATIC / 'pbr_channels.png'}")
+for folder in FOLDERS:
+    fig.savefig(folder / "pbr_channels.png", dpi=80)
+    print(f"wrote {folder / 'pbr_channels.png'}")

@@ -30,7 +30,8 @@ import numpy as np
 
 from texsynth.procedural import band_limit_octaves, fbm, perlin, turbulence
 
-OUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 N, FREQ, SEED = 256, 8, 3
 
@@ -61,7 +62,6 @@ for ax, (img, title) in zip(axes.ravel(), panels):
     ax.axis("off")
 fig.tight_layout()
 fig.savefig(OUT / "procedural_noise.png", dpi=90)
-plt.close(fig)
 
 # %%
 # Synthesis of turbulence in 1-D: one row through the octaves
@@ -80,7 +80,6 @@ axes[-1].set_ylabel("sum", fontsize=8)
 axes[0].set_title("Synthesis of turbulence (1-D): octaves and their sum along one row")
 fig.tight_layout()
 fig.savefig(OUT / "procedural_turbulence_1d.png", dpi=80)
-plt.close(fig)
 
 
 # %%
@@ -106,5 +105,4 @@ ax.legend()
 ax.set_title("Radially averaged power spectra")
 fig.tight_layout()
 fig.savefig(OUT / "procedural_spectra.png", dpi=90)
-plt.close(fig)
 print("wrote", sorted(p.name for p in OUT.glob("procedural_*.png")))

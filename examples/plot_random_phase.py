@@ -12,10 +12,14 @@ periodic-plus-smooth decomposition) and give outputs of any size.
 The first figure shows RPN and ADSN, 3x the exemplar's area, on three
 micro-textures (brushed metal, grass, wood grain) and where the model fails:
 bricks, whose edges are carried by the phases that RPN throws away. The
-second shows why the periodic component is used. The figure is also saved as
+second shows why the periodic component is used. Exemplars: the bundled metal
+and wood samples (``texsynth.data``) and scikit-image's grass and brick
+photographs (``skimage.data``). ``python plot_random_phase.py --docs`` in a
+checkout also refreshes the documentation's copy of the first figure,
 ``docs/_static/random_phase.png``.
 """
 
+import sys
 import time
 from pathlib import Path
 
@@ -24,28 +28,29 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from skimage import data as skdata
 
-from texsynth.io import load_image
+from texsynth import data
 from texsynth.metrics import noise_baseline, spectrum_distance
 from texsynth.statistical import random_phase_noise
 
-HERE = Path(__file__).resolve().parent
-TEXTURES = HERE.parents[1] / "shared" / "textures"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUTPUT = HERE / "output"
 OUTPUT.mkdir(exist_ok=True)
-STATIC = HERE.parent / "docs" / "_static"
+# the figure of the documentation, refreshed only on request (never by the docs build itself)
+FOLDERS = [OUTPUT] + ([HERE.parent / "docs" / "_static"] if "--docs" in sys.argv else [])
 
-CASES = [  # (file, crop, label)
-    ("lcv/metal.pgm", 128, "micro-texture: works"),
-    ("skimage/grass.png", 128, "grass: the grain, not the blades"),
-    ("jcjohnson/wood.png", None, "wood grain, colour: works"),
-    ("skimage/brick.png", 128, "structured: fails"),
+CASES = [  # (sample, crop, label)
+    ("metal", 128, "micro-texture: works"),
+    ("skimage.grass", 128, "grass: the grain, not the blades"),
+    ("wood", None, "wood grain, colour: works"),
+    ("skimage.brick", 128, "structured: fails"),
 ]
 
 
 def load(name, crop):
-    image = load_image(TEXTURES / name)
-    image = image[..., :3] if image.ndim == 3 else image
+    """A bundled sample, or a scikit-image photograph ("skimage.grass"), cropped to crop x crop."""
+    image = getattr(skdata, name[8:])() / 255.0 if name.startswith("skimage.") else data.load(name)
     return image if crop is None else image[:crop, :crop]
 
 
@@ -69,13 +74,13 @@ for row, (name, crop, label) in zip(axes, CASES):
         show(ax, out, f"{process.upper()} {size[0]}x{size[1]} ({1000 * seconds:.0f} ms)\nspectrum distance "
              f"{spectrum_distance(out, exemplar):.2f} (noise {spectrum_distance(noise, exemplar):.2f})")
 fig.tight_layout()
-for folder in (OUTPUT, STATIC):
+for folder in FOLDERS:
     fig.savefig(folder / "random_phase.png", dpi=80)
 print("saved", OUTPUT / "random_phase.png")
 
 # The periodic component: the wood photograph's opposite borders do not match, so its Fourier modulus has a
 # bright cross, which random phase noise turns into horizontal and vertical streaks.
-exemplar = load("jcjohnson/wood.png", None)
+exemplar = load("wood", None)
 fig, axes = plt.subplots(1, 3, figsize=(11, 2.8))
 show(axes[0], exemplar, "exemplar")
 for ax, mode in zip(axes[1:], ("periodic+smooth", "none")):

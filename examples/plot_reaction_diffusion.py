@@ -33,7 +33,8 @@ from texsynth.io import save_frames
 from texsynth.procedural import GRAY_SCOTT_PRESETS, TurkRates, apply_colormap, gray_scott, reaction_diffusion
 from texsynth.procedural import RD_COLORS, meinhardt_stripes
 
-OUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
 
@@ -51,7 +52,6 @@ def save_grid(panels, name, rows=1, suptitle=None, size=(3.2, 3.6)):
         fig.suptitle(suptitle)
     fig.tight_layout()
     fig.savefig(OUT / name, dpi=80)
-    plt.close(fig)
 
 
 # %%

@@ -14,9 +14,12 @@ is masked, and seams are removed until no masked pixel is left, then inserted ag
 to restore the width (Section 4.6 of the paper).
 
 Writes ``examples/output/seam_carving_resize.png``, ``seam_carving_removal.png``
-and the figures ``docs/_static/seam_carving.png`` and ``seam_carving_object_removal.png``.
+and the figures ``seam_carving.png`` and ``seam_carving_object_removal.png``;
+``python plot_seam_carving.py --docs`` in a checkout also refreshes the
+documentation's copies in ``docs/_static/``.
 """
 
+import sys
 import time
 from pathlib import Path
 
@@ -31,10 +34,11 @@ from skimage.transform import resize
 from texsynth.io import save_image
 from texsynth.patch import carve_seams
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
-STATIC = HERE.parent / "docs" / "_static"
+# the figures of the documentation, refreshed only on request (never by the docs build itself)
+FOLDERS = [OUT] + ([HERE.parent / "docs" / "_static"] if "--docs" in sys.argv else [])
 
 photo = skdata.astronaut() / 255.0  # 512 x 512 colour photograph
 results = {}
@@ -65,16 +69,15 @@ save_image(OUT / "seam_carving_removal.png", np.concatenate([rocket, np.ones((42
 
 
 def figure(panels, widths, height, name):
-    """Images side by side at their relative widths, titled; saved to examples/output and docs/_static."""
+    """Images side by side at their relative widths, titled; saved to FOLDERS."""
     fig, axes = plt.subplots(1, len(panels), figsize=(16, height), gridspec_kw={"width_ratios": widths})
     for ax, (image, title) in zip(axes, panels):
         ax.imshow(np.clip(image, 0, 1))
         ax.set_title(title, fontsize=9)
         ax.axis("off")
     fig.tight_layout()
-    fig.savefig(OUT / name, dpi=80)
-    if STATIC.is_dir():
-        fig.savefig(STATIC / name, dpi=80)
+    for folder in FOLDERS:
+        fig.savefig(folder / name, dpi=80)
 
 
 figure([(photo, "input 512 x 512"), (results[384][0], "seam carving to 384 wide"),

@@ -26,7 +26,8 @@ from scipy.ndimage import map_coordinates
 
 from texsynth.procedural import marble, wood
 
-OUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 SIZE = 128  # volume resolution
 PIX = 300  # rendered image size
@@ -102,7 +103,6 @@ for row, (vol, name) in enumerate([(marble_vol, "marble"), (wood_vol, "wood")]):
         axes[row, col].axis("off")
 fig.tight_layout()
 fig.savefig(OUT / "procedural_solid.png", dpi=80)
-plt.close(fig)
 
 # %%
 # 2-D marble with several transfer functions, and 2-D wood
@@ -120,5 +120,4 @@ for ax, (img, title) in zip(axes, panels):
     ax.axis("off")
 fig.tight_layout()
 fig.savefig(OUT / "procedural_marble_wood_2d.png", dpi=80)
-plt.close(fig)
 print("wrote procedural_solid.png, procedural_marble_wood_2d.png")

@@ -16,32 +16,37 @@ texture's luminance matches. That is guided synthesis with two grey guides:
 :func:`texsynth.optimize_texture` adds the guides as extra channels of every neighbourhood
 (``guide_weight`` weighs them against the colours), so the output takes the texture's colours
 and grain and the photograph's light and dark. Texture by numbers (label maps as guides) is
-the same call with other guides (``docs/methods/optimization.md``).
+the same call with other guides (``docs/methods/kwatra.md``).
 
-Photograph: scikit-image's ``camera`` (128 px). Textures: water caustics (the bundled
-``water``, Embark's ``imgs/1.jpg``), wood (bundled, an Efros-Leung sample) and pink ink in
-water (``../shared/textures/embark/2.jpg``, MIT OR Apache-2.0), 96 px crops. Writes
-``examples/output/style_transfer_*.png`` and the figure ``docs/_static/style_transfer.png``:
-the photograph, then per texture the exemplar (above, at its size) and the result. About 4 s
-per texture on a quiet 2-core machine.
+Photograph: scikit-image's ``camera`` (128 px). Textures: the bundled water caustics
+(``water``), wood and pink ink in water (``ink``), 96 px crops. Writes
+``examples/output/style_transfer_*.png`` and the figure ``style_transfer.png``: the
+photograph, then per texture the exemplar (above, at its size) and the result;
+``python plot_style_transfer.py --docs`` in a checkout also refreshes the documentation's copy
+in ``docs/_static/``. About 4 s per texture on a quiet 2-core machine.
 """
 
+import sys
 import time
 from pathlib import Path
 
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
 import numpy as np
 from skimage import data as skdata
 from skimage.transform import resize
 
 from texsynth import data, optimize_texture
 from texsynth.optimization import Guides
-from texsynth.io import load_image, save_image
+from texsynth.io import save_image
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
-STATIC = HERE.parent / "docs" / "_static"
-SHARED = HERE.parent.parent / "shared" / "textures"
+# the figure of the documentation, refreshed only on request (never by the docs build itself)
+FOLDERS = [OUT] + ([HERE.parent / "docs" / "_static"] if "--docs" in sys.argv else [])
 
 #: weight of the guide (the photograph's luminance) against the colours: 4 follows the photograph a little
 #: more closely than the default 1 (correlation of the output's luminance with it 0.958 against 0.951 on bread)
@@ -67,10 +72,7 @@ def style_transfer(texture, photo, *, guide_weight=GUIDE_WEIGHT, rng=0):
 
 def main():
     photo = resize(skdata.camera() / 255.0, (128, 128), anti_aliasing=True)
-    textures = {"water": data.load("water")[:96, :96], "wood": data.load("wood")[:96, :96]}
-    ink = SHARED / "embark" / "2.jpg"
-    if ink.exists():  # the shared texture folder (always there in CI)
-        textures["ink"] = load_image(ink)[::2, ::2][:96, :96]
+    textures = {name: data.load(name)[:96, :96] for name in ("water", "wood", "ink")}
     columns = [np.repeat(photo[..., None], 3, -1)]
     for name, texture in textures.items():
         t = time.perf_counter()
@@ -86,7 +88,12 @@ def main():
     gap = np.ones((224, 6, 3))
     figure = np.concatenate([c for column in columns for c in (column, gap)][:-1], 1)
     figure = np.repeat(np.repeat(np.clip(figure, 0, 1), 2, 0), 2, 1)  # 2x, pixels visible
-    save_image(STATIC / "style_transfer.png", figure, overwrite=True)
+    for folder in FOLDERS:
+        save_image(folder / "style_transfer.png", figure, overwrite=True)
+    fig, ax = plt.subplots(figsize=(figure.shape[1] / 100, figure.shape[0] / 100), dpi=100)
+    fig.subplots_adjust(0, 0, 1, 1)
+    ax.imshow(figure, interpolation="nearest")
+    ax.axis("off")
 
 
 if __name__ == "__main__":

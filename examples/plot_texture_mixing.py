@@ -12,6 +12,10 @@ the strip against each source, and ``f = E_A / (E_A + E_B)`` (0: looks like A
 only, 1: like B only). A hard switch (step weights: A on the left half, B on
 the right) is shown dashed for comparison: a ramp should rise steadily where
 the switch jumps. The script prints the profile as a table.
+
+The pairs: scikit-image's brick and gravel photographs (``skimage.data``, grey,
+at a quarter of their size) and the bundled red brick wall and bread crumb
+(``texsynth.data``, colour).
 """
 
 from pathlib import Path
@@ -21,20 +25,21 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from skimage import data as skdata
 
-from texsynth.io import load_image
+from texsynth import data
 from texsynth.metrics import texture_energy
 from texsynth.pixel import Neighborhood, mix_textures
 
-TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
-OUT = Path(__file__).resolve().parent / "output"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
+OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 STRIP = 8  # columns per strip of the energy profile
 
 
 def load(name, step):
-    img = load_image(TEXTURES / name)
-    img = img[..., :3] if img.ndim == 3 else img
+    """64 x 64 pixels of a bundled sample or of a scikit-image photograph ("skimage.brick"), every step-th."""
+    img = getattr(skdata, name[8:])() / 255.0 if name.startswith("skimage.") else data.load(name)
     return img[: 64 * step : step, : 64 * step : step]
 
 
@@ -53,14 +58,11 @@ def smoothness(f):
     return rho, np.abs(np.diff(f)).max() / (f.max() - f.min())
 
 
-# README pairs for mixing: brick <-> gravel (grey), two weaves t2 <-> t14 (colour), with a
-# neighbourhood per source (Wei 2002: sources differ in texon size). Bricks and the t2 tiles are
-# large texons: 9x9 and 13x13; gravel and the t14 strands keep 5x5. With 5x5 for t2 its side of
-# the mixture grows flat, tile-less brown (the texture energy does not see it: flat patches
-# match the flat insides of the tiles); 13x13 brings the diagonal tiles back.
+# Two pairs, grey and colour, with a neighbourhood per source (Wei 2002: sources differ in texon
+# size). Bricks are large texons: 9x9; gravel and the bread's pores keep 5x5.
 pairs = [
-    ("skimage/brick.png", "skimage/gravel.png", 4, [9, 5]),
-    ("rohitrango/t2.png", "rohitrango/t14.png", 2, [13, 5]),
+    ("skimage.brick", "skimage.gravel", 4, [9, 5]),
+    ("brick", "bread", 1, [9, 5]),
 ]
 h, w = 128, 192
 ramp = np.tile(np.linspace(0, 1, w), (h, 1))
@@ -86,7 +88,7 @@ for row, prow, (na, nb, sub, sizes) in zip(axes, paxes, pairs):
     f, fs = ea / (ea + eb), sa / (sa + sb)
     x = np.arange(0, w, STRIP) + STRIP / 2
     wb = ramp[0, np.arange(0, w, STRIP) + STRIP // 2]  # weight of B at the strip centre
-    label_a, label_b = na.split("/")[-1], nb.split("/")[-1]
+    label_a, label_b = na.split(".")[-1], nb.split(".")[-1]
     prow[0].plot(x, ea, "o-", color="C0", label=f"ramp vs A ({label_a})")
     prow[0].plot(x, eb, "o-", color="C1", label=f"ramp vs B ({label_b})")
     prow[0].plot(x, sa, "--", color="C0", alpha=0.6, label="hard switch vs A")

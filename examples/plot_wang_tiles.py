@@ -9,12 +9,13 @@ along its diagonals. ``wang_tiling`` then lays them at random in scanline order,
 each tile's north and west colours matching its neighbours', into a 1024 x 1024
 texture: 64 tiles, no two neighbours joined by anything but the exemplar itself.
 
-Two exemplars: a brick wall (scikit-image's ``brick``, regular) and water caustics
-(``embark/1.jpg``, stochastic). Writes the tile sets and the 1024 x 1024 tilings to
-``examples/output/`` and the figure ``docs/_static/wang_tiles.png``; the tile
-edges are drawn in the figure's tile sets (white) only.
+Two exemplars: a brick wall (``skimage.data.brick()``, regular) and water caustics
+(the bundled ``water``, stochastic). Writes the tile sets, the 1024 x 1024 tilings
+and the figure ``wang_tiles.png`` to ``examples/output/``; ``python plot_wang_tiles.py
+--docs`` in a checkout also refreshes the documentation's copy in ``docs/_static/``.
 """
 
+import sys
 import time
 from pathlib import Path
 
@@ -23,18 +24,19 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from skimage import data as skdata
 
-from texsynth.io import load_image, save_image
+from texsynth import data
+from texsynth.io import save_image
 from texsynth.patch import wang_tiles, wang_tiling
 
-HERE = Path(__file__).resolve().parent
-TEXTURES = HERE.parents[1] / "shared" / "textures"
+HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
-STATIC = HERE.parent / "docs" / "_static"
+# the figure of the documentation, refreshed only on request (never by the docs build itself)
+FOLDERS = [OUT] + ([HERE.parent / "docs" / "_static"] if "--docs" in sys.argv else [])
 
-exemplars = {"brick": load_image(TEXTURES / "skimage" / "brick.png")[:256, :256],
-             "water": load_image(TEXTURES / "embark" / "1.jpg")[:256, :256]}
+exemplars = {"brick": skdata.brick()[:256, :256] / 255.0, "water": data.load("water")[:256, :256]}
 
 
 def sheet(tiles, gap=4):
@@ -71,6 +73,5 @@ for row, (name, ex) in enumerate(exemplars.items()):
         axes[row, 1].text(c * 132 + 64, r * 132 + 64, "".join(map(str, edge)), color="yellow", fontsize=7,
                           ha="center", va="center")
 fig.tight_layout()
-fig.savefig(OUT / "wang_tiles.png", dpi=80)
-if STATIC.is_dir():
-    fig.savefig(STATIC / "wang_tiles.png", dpi=80)
+for folder in FOLDERS:
+    fig.savefig(folder / "wang_tiles.png", dpi=80)

@@ -11,10 +11,11 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src" / "texsynth"
 FAMILIES = {"pixel", "patch", "optimization", "statistical", "procedural", "surface"}
 TOOLS = {"io", "data", "metrics", "testing"}
-FRONT = {"__init__", "__main__", "cli", "demo", "registry", "_batch"}
+FRONT = {"__init__", "__main__", "cli", "_cli_text", "_cli_values", "demo", "registry", "_batch"}
 # Ruiters et al. run one Portilla-Simoncelli step per iteration (Section 4.5): documented in
-# docs/architecture.md as the one import across families
-EXCEPTIONS = {("texsynth.optimization._ruiters", "texsynth.statistical")}
+# docs/architecture.md as the one import across families; and the core's one place images enter
+# (as_image) reads a file name given for an image through texsynth.io, on first use
+EXCEPTIONS = {("texsynth.optimization._ruiters", "texsynth.statistical"), ("texsynth.core._validate", "texsynth.io")}
 
 
 def _module_name(path):
@@ -89,6 +90,7 @@ def test_the_documented_exception_is_real():
         assert target in _imports(path)[1]
     text = (SRC.parents[1] / "docs" / "architecture.md").read_text()
     assert "_ruiters.py" in text and "texsynth.statistical" in text
+    assert "core/_validate.py" in text and "texsynth.io.load_image" in text
 
 
 def test_import_texsynth_loads_no_family_and_no_numpy():
@@ -286,3 +288,58 @@ def test_the_add_an_em_method_example_of_docs_architecture_runs():
     result = doctest.testfile(str(page), module_relative=False,
                               optionflags=doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS)
     assert result.attempted >= 5 and result.failed == 0
+
+
+# One stem per algorithm (issue 33, item 6): the module of an algorithm, src/texsynth/<family>/_X.py, has
+# its page docs/methods/X.md, its tests tests/test_X.py (more: test_X_<topic>.py) and its benchmark
+# benchmarks/bench_X.py (more: bench_X_<topic>.py), and the registry's page= of its functions is X.
+# The rule does not apply to the helper modules below: each serves an algorithm (or a family) and is
+# covered by that algorithm's files, the stem given here, or by tests/test_<helper>.py of its own.
+HELPER_MODULES = {
+    "_patchwork_video": "patchwork",              # Harrison's report, the video section: patchwork_video
+    "_patchwork_transfer": "patchwork",           # Harrison's report, texture transfer: patchwork_transfer
+    "_ps_statistics": "portilla_simoncelli",      # Portilla-Simoncelli's statistics and projection step
+    "_ruiters_neighborhoods": "ruiters",          # Ruiters et al.'s neighbourhood sets and correspondences
+    "_augment": "wei_levoy",                      # exemplar augmentation of Wei-Levoy and mixtures (test_augment.py)
+    "_retile": "vertex_synthesis",                # Turk's retiling and mesh hierarchy (tests/test_retile.py)
+    "_field": "vertex_synthesis",                 # tangent fields, also lapped textures' (tests/test_field.py)
+    "_mesh": "surfaces",                          # the surface family's Mesh (tests/test_mesh.py)
+    "_meshio": "surfaces",                        # mesh files (tests/test_meshio.py)
+    "_shapes": "surfaces",                        # test surfaces (tests/test_shapes.py)
+    "_render": "surfaces",                        # previews (tests/test_render.py)
+}
+# docs/methods pages that are no algorithm's: the index, the core's search layer and seams, the surface family
+OTHER_PAGES = {"index", "search", "seams", "surfaces"}
+ROOT = SRC.parents[1]
+
+
+def _algorithm_modules():
+    """{stem: module path} of every family module that is an algorithm (not a helper)."""
+    modules = {p.stem: p for family in FAMILIES for p in (SRC / family).glob("_*.py") if p.stem != "__init__"}
+    unknown = set(HELPER_MODULES) - set(modules)
+    assert not unknown, f"HELPER_MODULES names modules that do not exist: {sorted(unknown)}"
+    return {stem[1:]: path for stem, path in modules.items() if stem not in HELPER_MODULES}
+
+
+def test_every_algorithm_has_one_stem():
+    from texsynth.registry import METHODS
+
+    algorithms = _algorithm_modules()
+    missing = [f"{path.relative_to(SRC)}: {needed}" for stem, path in sorted(algorithms.items())
+               for needed in (f"docs/methods/{stem}.md", f"tests/test_{stem}.py", f"benchmarks/bench_{stem}.py")
+               if not (ROOT / needed).is_file()]
+    assert not missing, "algorithms without their page, tests or benchmark under their module's stem:\n" + \
+        "\n".join(missing)
+    for stem, covering in HELPER_MODULES.items():  # a helper's files: its algorithm's (or the family's) page
+        assert (ROOT / "docs" / "methods" / f"{covering}.md").is_file(), (stem, covering)
+    for name, method in METHODS.items():  # the registry's page is the stem of the function's module
+        stem = method.function().__module__.rpartition(".")[2]
+        expected = HELPER_MODULES.get(stem, stem[1:])
+        assert method.page == expected, f"{name}: page={method.page!r}, its module's stem is {expected!r}"
+    for function in ("synthesize_surface", "lapped_textures"):  # the surface methods: no registry entry
+        import texsynth
+
+        assert getattr(texsynth, function).__module__.rpartition("._")[2] in algorithms, function
+    stale = sorted(p.stem for p in (ROOT / "docs" / "methods").glob("*.md")
+                   if p.stem not in algorithms and p.stem not in OTHER_PAGES)
+    assert not stale, f"docs/methods pages named after no algorithm module: {stale}"

@@ -122,7 +122,7 @@ CALLS = {
     "tile_and_blend_at": (texsynth.tile_and_blend_at, (EX, [0, 5], [3, -7]), dict(rng=0)),
     "efros_leung": (texsynth.efros_leung, (EX, 12), dict(neighborhood_size=5, rng=0)),
     "synthesize_controlled": (texsynth.synthesize_controlled, (EX, 12),
-                              dict(neighborhood=texsynth.Neighborhood(levels=1), orientation=0.3, scale=1.2,
+                              dict(neighborhood=texsynth.Neighborhood(levels=1), orientation=0.3, magnification=1.2,
                                    exemplar_b=EX[::-1], blend=0.5, rng=0)),
     "quilt": (texsynth.quilt, (EX, 32), dict(block=12, rng=0)),
     "quilt_transfer": (texsynth.quilt_transfer, (EX, EX), dict(block=12, iterations=1, rng=0)),
@@ -180,6 +180,8 @@ def test_junk_in_any_parameter_is_a_clear_error(name, data):
         except (ValueError, TypeError) as exc:
             # the message names the parameter (or, for a value inside a container, a parameter's entry)
             assert param in str(exc) or param.rstrip("s") in str(exc), f"{param}={value!r}: {exc}"
+        except FileNotFoundError as exc:  # a str given for an image is a file name (docs/conventions.md, Images)
+            assert isinstance(value, str) and str(exc).startswith(f"{param}: "), f"{param}={value!r}: {exc}"
 
 
 # --------------------------------------------------------------------------- the small public helpers
@@ -232,6 +234,8 @@ def test_junk_in_a_helper_is_a_clear_error(name, data):
             func(**bound)
         except (ValueError, TypeError) as exc:
             assert param in str(exc), f"{param}={bound[param]!r}: {exc}"
+        except FileNotFoundError as exc:  # a str given for an image is a file name (docs/conventions.md, Images)
+            assert isinstance(bound[param], str) and str(exc).startswith(f"{param}: "), f"{param}: {exc}"
 
 
 def test_a_splotch_that_cannot_fit_is_refused_before_allocating():

@@ -147,7 +147,7 @@ def test_an_unreachable_scheduler_fails_fast_naming_the_address(exemplars, tmp_p
 
 def test_without_dask_the_error_names_the_extra(monkeypatch, tmp_path):
     monkeypatch.setitem(sys.modules, "distributed", None)
-    with pytest.raises(ImportError, match=r"pip install texsynth\[dask\]"):
+    with pytest.raises(ImportError, match=r"pip install '\.\[dask\]' in a texsynth checkout"):
         texsynth.batch(tmp_path, tmp_path / "out")
 
 

@@ -241,3 +241,85 @@ def test_blocks_equal_the_whole_image_with_the_oldest_simd_kernels():
                NPY_DISABLE_CPU_FEATURES=" ".join(f for f in __cpu_dispatch__ if __cpu_features__.get(f)))
     done = subprocess.run([sys.executable, "-c", _OTHER_KERNELS], env=env, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0 and done.stdout.strip() == "same", done.stderr[-2000:]
+
+
+# --------------------------------------------------------------------------- provenance and format (issue 34)
+def test_zarr_and_tiff_record_attributes_and_zarr_writes_format_2(tmp_path):
+    from texsynth import __version__
+
+    lazy = turbulence((70, 90), rng=2, chunks=32) / 2
+    told = {"method": "turbulence", "options": {"octaves": 5, "size": [70, 90]}, "seed": 2}
+    save_chunked(tmp_path / "t3.zarr", lazy, attributes=told)
+    store = zarr.open_array(str(tmp_path / "t3.zarr"))
+    assert store.metadata.zarr_format == 3 and dict(store.attrs) == {**told, "texsynth_version": __version__}
+    save_chunked(tmp_path / "t2.zarr", lazy, attributes=told, zarr_format=2)
+    assert (tmp_path / "t2.zarr" / ".zarray").is_file() and (tmp_path / "t2.zarr" / ".zattrs").is_file()
+    store2 = zarr.open_array(str(tmp_path / "t2.zarr"))
+    assert store2.metadata.zarr_format == 2 and dict(store2.attrs)["method"] == "turbulence"
+    assert np.array_equal(store2[:], store[:]) and np.array_equal(store[:], to_uint(lazy.compute()))
+    save_chunked(tmp_path / "t.tif", lazy, attributes=told)
+    with tifffile.TiffFile(tmp_path / "t.tif") as tif:
+        recorded = tif.shaped_metadata[0]
+    assert recorded["method"] == "turbulence" and recorded["texsynth_version"] == __version__
+    assert dict(zarr.open_array(str(save_chunked(tmp_path / "plain.zarr", lazy))).attrs) == {
+        "texsynth_version": __version__}
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    ({"zarr_format": 4}, ValueError, "zarr_format must be 2 or 3"),
+    ({"zarr_format": True}, ValueError, "zarr_format must be 2 or 3"),
+    ({"attributes": {"when": object()}}, TypeError, "JSON-serialisable"),
+    ({"attributes": {"x": float("nan")}}, TypeError, "JSON-serialisable"),
+    ({"attributes": {1: "a"}}, TypeError, "str keys"),
+    ({"attributes": ["method"]}, TypeError, "attributes must be a dict"),
+])
+def test_bad_attributes_and_zarr_format_are_refused_before_writing(tmp_path, kwargs, error, match):
+    with pytest.raises(error, match=match):
+        save_chunked(tmp_path / "t.zarr", turbulence((40, 30), rng=0, chunks=16) / 2, **kwargs)
+    with pytest.raises(ValueError, match="zarr_format is for .zarr"):
+        save_chunked(tmp_path / "t.tif", turbulence((40, 30), rng=0, chunks=16) / 2, zarr_format=2)
+    assert not list(tmp_path.iterdir())
+
+
+def test_command_line_zarr_records_how_it_was_made_in_blocks_of_1024(tmp_path, capsys):
+    from texsynth import __version__
+    from texsynth.cli import DEFAULT_CHUNKS
+    from texsynth.io import save_image
+
+    assert DEFAULT_CHUNKS == 1024  # a 2048 x 2048 output is four blocks, not one
+    photo = save_image(tmp_path / "granite.png", data.load("bread")[:64, :64])
+    assert main(["patchwork", str(photo), "-o", str(tmp_path / "p.zarr"), "--size", "1100x40", "--seed", "4",
+                 "--zarr-format", "2", "--no-progress"]) == 0
+    store = zarr.open_array(str(tmp_path / "p.zarr"))
+    assert store.metadata.zarr_format == 2 and store.chunks == (40, 1024, 3)
+    attrs = dict(store.attrs)
+    assert attrs["method"] == "patchwork" and attrs["seed"] == 4 and attrs["exemplar"] == "granite.png"
+    assert attrs["texsynth_version"] == __version__ and attrs["options"]["chunks"] == 1024
+    assert np.array_equal(store[:], to_uint(patchwork(load_image(photo), (40, 1100), rng=4)))
+    capsys.readouterr()
+    assert main(["patchwork", str(photo), "-o", str(tmp_path / "p.tif"), "--chunks", "64",
+                 "--zarr-format", "2"]) == 2
+    assert "--zarr-format is for a .zarr output" in capsys.readouterr().err
+    assert not (tmp_path / "p.tif").exists()
+
+
+def test_command_line_blocks_of_a_float_height_keep_its_range(tmp_path, capsys):
+    from texsynth.io import normalize_range, restore_range, save_image
+
+    grey = data.load("bread")[:64, :64].mean(-1)
+    heights = ((grey - grey.min()) / (grey.max() - grey.min()) * 3 - 1).astype(np.float32)  # metres, [-1, 2]
+    source = save_image(tmp_path / "h.tif", heights, bits=32)
+    unit, value_range = normalize_range(heights)
+    expected = patchwork(unit, (40, 50), rng=0)
+    # a float32 store (the input's depth) holds the heights themselves
+    assert main(["patchwork", str(source), "-o", str(tmp_path / "f.zarr"), "--size", "50x40", "--seed", "0"]) == 0
+    stored = zarr.open_array(str(tmp_path / "f.zarr"))
+    assert stored.dtype == np.float32 and "value_range" not in stored.attrs
+    assert np.allclose(stored[:], restore_range(expected.astype(np.float32), value_range), atol=1e-6)
+    # an 8-bit store keeps the scaled values and records what 0 and 1 stand for
+    capsys.readouterr()
+    assert main(["patchwork", str(source), "-o", str(tmp_path / "u.zarr"), "--size", "50x40", "--seed", "0",
+                 "--bits", "8"]) == 0
+    assert "0 is -1, 1 is 2" in capsys.readouterr().err
+    stored = zarr.open_array(str(tmp_path / "u.zarr"))
+    assert stored.attrs["value_range"] == [-1.0, 2.0] and np.array_equal(stored[:], to_uint(expected))

@@ -36,6 +36,23 @@ def test_unknown_method_is_a_one_line_error_with_status_2():
     assert "Traceback" not in proc.stderr
 
 
+def test_every_command_is_its_functions_name_with_dashes():
+    for name, method in cli.METHODS.items():
+        assert name == method.target.split(":")[1].replace("_", "-"), name
+
+
+@pytest.mark.parametrize("typed, suggested", [("pixels", "'synthesize-pixels'"), ("seam-carve", "'carve-seams'"),
+                                              ("graphcut", "'graphcut-texture' or 'graphcut-merge'"),
+                                              ("tile-blend", "'tile-and-blend'"), ("quilts", "'quilt'")])
+def test_a_mistyped_command_names_the_likeliest(typed, suggested, capsys):
+    # no aliases: an old or mistyped name is argparse's "invalid choice", with the likeliest commands first
+    with pytest.raises(SystemExit) as info:
+        run(typed, "in.png", "-o", "out.png")
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and err.count("\n") == 1
+    assert f"invalid choice: '{typed}'; did you mean {suggested}" in err
+
+
 def test_every_method_has_help_generated_from_its_signature(capsys):
     import inspect
 
@@ -96,7 +113,7 @@ def test_flow_and_ramp_values(tmp_path):
     assert flow.shape == (8, 10, 2) and np.abs(flow).max() > 0
     with pytest.raises(cli.CommandError, match="KIND:AMOUNT"):
         cli.parse_flow("swirl:1", (8, 10))
-    ramp = cli._ramp((3, 5))
+    ramp = cli.ramp((3, 5))
     assert ramp.shape == (3, 5) and ramp[0, 0] == 0.0 and ramp[-1, -1] == 1.0
 
 
@@ -130,7 +147,8 @@ def test_mix_ramp_goes_from_the_first_input_to_the_second(tmp_path):
     a, b = data.load("bread")[:40, :40], data.load("brick")[:40, :40]
     pa, pb = save_image(tmp_path / "a.png", a), save_image(tmp_path / "b.png", b)
     out = tmp_path / "mix.png"
-    assert run("mix", str(pa), str(pb), "-o", str(out), "--size", "96x32", "--weights", "ramp", "--seed", "0") == 0
+    assert run("mix-textures", str(pa), str(pb), "-o", str(out), "--size", "96x32", "--weights", "ramp",
+               "--seed", "0") == 0
     mix = load_image(out)
     assert mix.shape == (32, 96, 3)
     left, right = mix[:, :24], mix[:, -24:]
@@ -141,9 +159,9 @@ def test_mix_ramp_goes_from_the_first_input_to_the_second(tmp_path):
 
 def test_pixels_and_solid_commands(tmp_path):
     src = save_image(tmp_path / "wood.png", data.load("wood")[:24, :24])
-    assert run("pixels", str(src), "-o", str(tmp_path / "p.png"), "--size", "40x32", "--seed", "0") == 0
+    assert run("synthesize-pixels", str(src), "-o", str(tmp_path / "p.png"), "--size", "40x32", "--seed", "0") == 0
     assert load_image(tmp_path / "p.png").shape == (32, 40, 3)
-    assert run("solid", str(src), "-o", str(tmp_path / "s.png"), "--size", "20", "--seed", "0") == 0
+    assert run("synthesize-solid", str(src), "-o", str(tmp_path / "s.png"), "--size", "20", "--seed", "0") == 0
     volume = np.load(tmp_path / "s.npy")
     assert volume.shape == (20, 20, 20, 3)  # one number: a cube
     for axis in "zyx":
@@ -177,7 +195,7 @@ def test_grouped_parameters_are_described_once(capsys):
     # optimize_texture, for frame 1 (... a kd-tree re-ranking 4 candidates ...)"); the help used to
     # repeat that sentence under each of them. Now the first shown carries it, the others point to it.
     with pytest.raises(SystemExit):
-        run("animate", "--help")
+        run("animate-texture", "--help-full")  # --help shows first sentences; --help-full the whole text
     text = capsys.readouterr().out
     assert text.count("re-ranking 4 candidates") == 1
     assert ":func:" not in text and "``" not in text  # numpydoc markup is stripped
@@ -189,7 +207,7 @@ def test_grouped_parameters_are_described_once(capsys):
         func = method.function()
         params = inspect.signature(func).parameters
         shown = cli._option_names(method, params)
-        described = cli._doc_params(func, shown)
+        described = cli.doc_params(func, shown)
         descriptions = [d for n, d in described.items() if n in shown and len(d) > 30]
         assert len(descriptions) == len(set(descriptions)), name
         for option in shown:
@@ -263,16 +281,16 @@ def test_borrowed_grouped_entries_point_at_the_flag_that_carries_them():
     iterations = "Iterations, described by the base on their own."
     shown = ["band", "size_a", "size_b", "iterations"]
     for func in (_toy_middle, _toy_top):
-        assert cli._doc_params(func, shown)["size_a"] == sizes, func
-        assert cli._doc_params(func, shown)["size_b"] == "See --size-a.", func
-        assert cli._doc_params(func, shown)["iterations"] == iterations, func
+        assert cli.doc_params(func, shown)["size_a"] == sizes, func
+        assert cli.doc_params(func, shown)["size_b"] == "See --size-a.", func
+        assert cli.doc_params(func, shown)["iterations"] == iterations, func
     # with its own words (not only "As in ..."), the entry's text is shown once, on the first option
-    frames = cli._doc_params(_toy_frames, shown)
+    frames = cli.doc_params(_toy_frames, shown)
     assert frames["size_a"] == f"{sizes} As in :func:`_toy_base`, for the first frame only."
     assert frames["size_b"] == "See --size-a."
     assert frames["iterations"] == f"{iterations} (see --size-a)"
     # the pointer goes to the first option that is shown
-    assert cli._doc_params(_toy_top, ["size_b", "iterations"])["size_b"] == sizes
+    assert cli.doc_params(_toy_top, ["size_b", "iterations"])["size_b"] == sizes
 
 
 def test_make_tileable_help_points_once_at_a_shown_flag(capsys):
@@ -437,8 +455,8 @@ def test_option_group_map_and_file_fields_are_read_as_images(toy, tmp_path):
     # a spatial field (Method.spatial): a number, --NAME-map FILE or --transition, as for a parameter
     args = ["toy", ex, "-o", str(tmp_path / "o.png"), "--overwrite", "--size", "6x4"]
     assert run(*args, "--blend", "0.25") == 0 and toy[-1]["toy"].blend == 0.25
-    assert run(*args, "--transition") == 0 and np.array_equal(toy[-1]["toy"].blend, cli._ramp((4, 6)))
-    assert run(*args, "--blend", "ramp") == 0 and np.array_equal(toy[-1]["toy"].blend, cli._ramp((4, 6)))
+    assert run(*args, "--transition") == 0 and np.array_equal(toy[-1]["toy"].blend, cli.ramp((4, 6)))
+    assert run(*args, "--blend", "ramp") == 0 and np.array_equal(toy[-1]["toy"].blend, cli.ramp((4, 6)))
     assert run(*args, "--blend-map", str(rgba)) == 0 and np.allclose(toy[-1]["toy"].blend, grey, atol=1 / 255)
     # an orientation field (Method.fields): a number, a .npy array or a grey image
     np.save(tmp_path / "theta.npy", grey)
@@ -516,7 +534,7 @@ def test_interpolate_number_alpha_end_to_end(tmp_path, pair_files, monkeypatch):
 
     calls = _spy(monkeypatch, interpolation, "interpolate_textures")
     out = tmp_path / "mid.png"
-    assert run("interpolate", *pair_files, "-o", str(out), "--alpha", "0.5", *FAST_INTERPOLATE) == 0
+    assert run("interpolate-textures", *pair_files, "-o", str(out), "--alpha", "0.5", *FAST_INTERPOLATE) == 0
     assert load_image(out).shape == (32, 32, 3)
     assert calls[0]["alpha"] == 0.5 and calls[0]["size"] == (32, 32) and calls[0].get("features") is None
 
@@ -526,7 +544,8 @@ def test_interpolate_transition_end_to_end(tmp_path, pair_files, monkeypatch):
 
     calls = _spy(monkeypatch, interpolation, "interpolate_textures")
     out = tmp_path / "strip.png"
-    assert run("interpolate", *pair_files, "-o", str(out), "--transition", "--size", "48x24", *FAST_INTERPOLATE) == 0
+    assert run("interpolate-textures", *pair_files, "-o", str(out), "--transition", "--size", "48x24",
+               *FAST_INTERPOLATE) == 0
     assert load_image(out).shape == (24, 48, 3)
     np.testing.assert_allclose(calls[0]["alpha"], interpolation.transition_alpha_map((24, 48)))
 
@@ -540,7 +559,7 @@ def test_interpolate_alpha_map_from_an_rgb_file_end_to_end(tmp_path, pair_files,
     rgba = np.concatenate([np.stack([grey] * 3, -1), np.ones((24, 40, 1))], -1)
     amap = save_image(tmp_path / "disc.png", rgba)
     out = tmp_path / "disc_out.png"
-    assert run("interpolate", *pair_files, "-o", str(out), "--alpha-map", str(amap), *FAST_INTERPOLATE) == 0
+    assert run("interpolate-textures", *pair_files, "-o", str(out), "--alpha-map", str(amap), *FAST_INTERPOLATE) == 0
     assert load_image(out).shape == (24, 40, 3)  # the map's size, not the inputs'
     assert calls[0]["alpha"].shape == (24, 40) and calls[0]["size"] == (24, 40)
     np.testing.assert_allclose(calls[0]["alpha"], grey, atol=1 / 255)
@@ -560,7 +579,7 @@ def test_interpolate_features_end_to_end(tmp_path, pair_files, monkeypatch):
 
     iio.imwrite(pb, fb)
     out = tmp_path / "feat.png"
-    assert run("interpolate", *pair_files, "-o", str(out), "--alpha", "0.3", "--features", str(pa), str(pb),
+    assert run("interpolate-textures", *pair_files, "-o", str(out), "--alpha", "0.3", "--features", str(pa), str(pb),
                *FAST_INTERPOLATE) == 0
     assert load_image(out).shape == (32, 32, 3)
     f1, f2 = calls[0]["features"]
@@ -568,7 +587,7 @@ def test_interpolate_features_end_to_end(tmp_path, pair_files, monkeypatch):
     assert np.array_equal(f1, fa[..., 0] > 0.5) and np.array_equal(f2, fb > 20000)
     # feature maps of the wrong size: the function's one-line error, exit 2
     small = save_image(tmp_path / "small.png", np.zeros((8, 8)))
-    assert run("interpolate", *pair_files, "-o", str(tmp_path / "x.png"), "--alpha", "0.3",
+    assert run("interpolate-textures", *pair_files, "-o", str(tmp_path / "x.png"), "--alpha", "0.3",
                "--features", str(small), str(pb), *FAST_INTERPOLATE) == 2
     assert not (tmp_path / "x.png").exists()
 
@@ -582,15 +601,15 @@ def test_interpolate_alpha_options_are_exclusive_and_ramp_is_an_alias(tmp_path, 
     for options in (["--alpha", "0.5", "--transition"], ["--alpha-map", amap, "--transition"],
                     ["--alpha", "0.5", "--alpha-map", amap], []):
         with pytest.raises(SystemExit) as info:
-            run("interpolate", *pair_files, "-o", out, *options)
+            run("interpolate-textures", *pair_files, "-o", out, *options)
         err = capsys.readouterr().err
         assert info.value.code == 2 and err.count("\n") == 1, options
         assert ("not allowed with" if options else "one of the arguments --alpha --alpha-map --transition") in err
-    assert run("interpolate", *pair_files, "-o", out, "--alpha", "ramp", "--size", "40x8") == 0
-    assert run("interpolate", *pair_files, "-o", out, "--overwrite", "--transition", "--size", "40x8") == 0
+    assert run("interpolate-textures", *pair_files, "-o", out, "--alpha", "ramp", "--size", "40x8") == 0
+    assert run("interpolate-textures", *pair_files, "-o", out, "--overwrite", "--transition", "--size", "40x8") == 0
     assert np.array_equal(calls[0]["alpha"], calls[1]["alpha"]) and calls[0]["alpha"].shape == (8, 40)
     # --alpha FILE is --alpha-map FILE: without --size the output has the map's size
-    assert run("interpolate", *pair_files, "-o", str(tmp_path / "p.png"), "--alpha", amap) == 0
+    assert run("interpolate-textures", *pair_files, "-o", str(tmp_path / "p.png"), "--alpha", amap) == 0
     assert calls[-1]["alpha"].shape == (8, 8) and calls[-1]["size"] == (8, 8)
 
 
@@ -598,11 +617,11 @@ def test_interpolate_alpha_options_are_exclusive_and_ramp_is_an_alias(tmp_path, 
 def test_optimize_with_k_coherent_candidates(tmp_path):
     ex = save_image(tmp_path / "ex.png", data.load("bumpy")[:32, :32])
     out = tmp_path / "kc.png"
-    assert run("optimize", str(ex), "-o", str(out), "--size", "40x40", "--candidates", "k-coherent", "--k", "2",
+    assert run("optimize-texture", str(ex), "-o", str(out), "--size", "40x40", "--candidates", "k-coherent", "--k", "2",
                "--levels", "1", "--max-iterations", "2", "--seed", "0") == 0
     assert load_image(out).shape == (40, 40, 3)
     # a clear error naming the clash, nothing written
-    assert run("optimize", str(ex), "-o", str(tmp_path / "bad.png"), "--candidates", "k-coherent",
+    assert run("optimize-texture", str(ex), "-o", str(tmp_path / "bad.png"), "--candidates", "k-coherent",
                "--method", "exact") == 2
     assert not (tmp_path / "bad.png").exists()
 
@@ -622,7 +641,7 @@ def test_optimize_with_an_rgba_mask_and_tileable(tmp_path, monkeypatch):
     pm, pt = save_image(tmp_path / "mask.png", mask), save_image(tmp_path / "target.png", target)
     fast = ["--size", "40x40", "--neighborhood-sizes", "8", "--levels", "1", "--max-iterations", "2", "--seed", "0"]
     out = tmp_path / "hole.png"
-    assert run("optimize", str(ex), "-o", str(out), "--tileable", "--mask", str(pm), "--target", str(pt),
+    assert run("optimize-texture", str(ex), "-o", str(out), "--tileable", "--mask", str(pm), "--target", str(pt),
                "--constraint-weight", "100", *fast) == 0
     kw = calls[0]
     assert kw["tileable"] is True and kw["mask"].shape == (40, 40) and np.array_equal(kw["mask"] > 0.5, inside)
@@ -633,20 +652,20 @@ def test_optimize_with_an_rgba_mask_and_tileable(tmp_path, monkeypatch):
     # the same mask saved as a grey file gives the same output
     grey = save_image(tmp_path / "mask_grey.png", inside.astype(float))
     out2 = tmp_path / "hole2.png"
-    assert run("optimize", str(ex), "-o", str(out2), "--tileable", "--mask", str(grey), "--target", str(pt),
+    assert run("optimize-texture", str(ex), "-o", str(out2), "--tileable", "--mask", str(grey), "--target", str(pt),
                "--constraint-weight", "100", *fast) == 0
     assert np.array_equal(load_image(out2), result)
 
 
 @pytest.mark.parametrize("name, module, fast", [
-    ("optimize", "optimization", ["--neighborhood-sizes", "8", "--levels", "1", "--max-iterations", "1"]),
-    ("controlled", "pixel", ["--levels", "1"]),
+    ("optimize-texture", "optimization", ["--neighborhood-sizes", "8", "--levels", "1", "--max-iterations", "1"]),
+    ("synthesize-controlled", "pixel", ["--levels", "1"]),
 ])
-def test_orientation_and_scale_fields_from_numbers_npy_and_grey_images(tmp_path, monkeypatch, capsys, name,
-                                                                       module, fast):
+def test_orientation_and_magnification_fields_from_numbers_npy_and_grey_images(tmp_path, monkeypatch, capsys, name,
+                                                                               module, fast):
     import importlib
 
-    function = "optimize_texture" if name == "optimize" else "synthesize_controlled"
+    function = "optimize_texture" if name == "optimize-texture" else "synthesize_controlled"
     calls = _spy(monkeypatch, importlib.import_module(f"texsynth.{module}"), function)
     ex = save_image(tmp_path / "ex.png", data.load("brick")[:32, :32])
     angles = np.tile(np.linspace(0, np.pi, 24), (20, 1))
@@ -654,19 +673,19 @@ def test_orientation_and_scale_fields_from_numbers_npy_and_grey_images(tmp_path,
     grey = np.tile(np.linspace(0.0, 1.0, 24), (20, 1))
     ramp = save_image(tmp_path / "ramp.png", grey, bits=16)
     args = [name, str(ex), "--size", "24x20", "--seed", "0", *fast]
-    assert run(*args, "-o", str(tmp_path / "a.png"), "--orientation", "0.5", "--scale", "1.2") == 0
-    assert calls[-1]["orientation"] == 0.5 and calls[-1]["scale"] == 1.2
+    assert run(*args, "-o", str(tmp_path / "a.png"), "--orientation", "0.5", "--magnification", "1.2") == 0
+    assert calls[-1]["orientation"] == 0.5 and calls[-1]["magnification"] == 1.2
     assert run(*args, "-o", str(tmp_path / "b.png"), "--orientation", str(tmp_path / "theta.npy"),
-               "--scale", str(ramp)) == 0
+               "--magnification", str(ramp)) == 0
     assert np.array_equal(calls[-1]["orientation"], angles)
-    # grey 0..1 -> scale 0.5..2 geometrically (the documented mapping), to 16-bit rounding
-    assert np.allclose(calls[-1]["scale"], 2.0 ** (2 * grey - 1), atol=1e-4)
+    # grey 0..1 -> magnification 0.5..2 geometrically (the documented mapping), to 16-bit rounding
+    assert np.allclose(calls[-1]["magnification"], 2.0 ** (2 * grey - 1), atol=1e-4)
     assert load_image(tmp_path / "b.png").shape == (20, 24, 3)
     assert run(*args, "-o", str(tmp_path / "c.png"), "--orientation", str(ramp)) == 0
     assert np.allclose(calls[-1]["orientation"], 2 * np.pi * grey, atol=1e-3)  # grey 0..1 -> 0..2 pi
     capsys.readouterr()
-    assert run(*args, "-o", str(tmp_path / "d.png"), "--scale", str(tmp_path / "nothing.png")) == 2
-    assert "--scale must be a number, a .npy file or an image file" in capsys.readouterr().err
+    assert run(*args, "-o", str(tmp_path / "d.png"), "--magnification", str(tmp_path / "nothing.png")) == 2
+    assert "--magnification must be a number, a .npy file or an image file" in capsys.readouterr().err
     np.save(tmp_path / "small.npy", angles[:5])
     assert run(*args, "-o", str(tmp_path / "e.png"), "--orientation", str(tmp_path / "small.npy")) == 2
     assert "orientation has shape (5, 24) but the output size is (20, 24)" in capsys.readouterr().err
@@ -679,14 +698,14 @@ def test_animate_named_flow_to_gif_and_frame_folder(tmp_path):
     fast = ["--size", "24x20", "--n-frames", "3", "--neighborhood-sizes", "8", "--levels", "1",
             "--max-iterations", "2", "--max-frame-iterations", "1", "--seed", "0"]
     gif = tmp_path / "vortex.gif"
-    assert run("animate", str(ex), "-o", str(gif), "--flows", "vortex:1", *fast) == 0
+    assert run("animate-texture", str(ex), "-o", str(gif), "--flows", "vortex:1", *fast) == 0
     assert load_frames(gif).shape == (3, 20, 24, 3)
     folder = tmp_path / "sink"
-    assert run("animate", str(ex), "-o", str(folder), "--flows", "sink:1.5", *fast) == 0
+    assert run("animate-texture", str(ex), "-o", str(folder), "--flows", "sink:1.5", *fast) == 0
     frames = sorted(p.name for p in folder.iterdir())
     assert len(frames) == 3 and all(f.endswith(".png") for f in frames)
     assert load_image(folder / frames[0]).shape == (20, 24, 3)
-    assert run("animate", str(ex), "-o", str(tmp_path / "n.gif"), "--flows", "swirl:1", *fast) == 2
+    assert run("animate-texture", str(ex), "-o", str(tmp_path / "n.gif"), "--flows", "swirl:1", *fast) == 2
 
 
 @pytest.mark.parametrize("tty, flag, expected", [(True, [], True), (True, ["--no-progress"], False),
@@ -762,7 +781,7 @@ def test_output_naming_a_folder_is_one_line_even_with_overwrite(tmp_path, metal_
 
 def test_volume_outputs_are_written_as_a_set(tmp_path, metal_file, capsys):
     (tmp_path / "vol_slice_y.png").write_bytes(b"mine")
-    status = run("solid", str(metal_file), "-o", str(tmp_path / "vol.npy"), "--size", "8", "--levels", "1",
+    status = run("synthesize-solid", str(metal_file), "-o", str(tmp_path / "vol.npy"), "--size", "8", "--levels", "1",
                  "--passes", "1")
     assert "vol_slice_y.png" in _one_line_error(capsys, status)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["metal.png", "vol_slice_y.png"]  # nothing written
@@ -779,7 +798,7 @@ def test_unwritable_format_is_refused_before_the_synthesis(tmp_path, metal_file,
         raise AssertionError("the synthesis ran before the output path was checked")
 
     monkeypatch.setattr(optimization, "animate_texture", never)
-    status = run("animate", str(metal_file), "-o", str(tmp_path / "frames.tif"), "--size", "16",
+    status = run("animate-texture", str(metal_file), "-o", str(tmp_path / "frames.tif"), "--size", "16",
                  "--flows", "rotation:0.1", "--n-frames", "2")
     assert "frame-sequence format" in _one_line_error(capsys, status)
 
@@ -929,8 +948,8 @@ def test_coordinates_are_saved_and_applied_later(tmp_path, capsys):
     files = [save_image(tmp_path / n, im, bits=16) for n, im in
              (("a.png", a), ("b.png", b), ("ha.png", a.mean(-1)), ("hb.png", b.mean(-1)))]
     out, the_map = tmp_path / "mix.png", tmp_path / "mix_map.npz"
-    argv = ["mix", str(files[0]), str(files[1]), "-o", str(out), "--size", "24x20", "--seed", "0", "--levels", "1",
-            "--weights", "ramp", "--channels", f"{files[2]}+{files[3]}", "--coordinates", str(the_map)]
+    argv = ["mix-textures", str(files[0]), str(files[1]), "-o", str(out), "--size", "24x20", "--seed", "0",
+            "--levels", "1", "--weights", "ramp", "--channels", f"{files[2]}+{files[3]}", "--coordinates", str(the_map)]
     assert run(*argv) == 0
     saved = np.load(the_map)
     assert saved["coordinates"].shape == (20, 24, 2, 2) and saved["source_index"].shape == (20, 24, 2)
@@ -948,7 +967,7 @@ def test_coordinates_are_saved_and_applied_later(tmp_path, capsys):
     # seam carving: inserted seams blend, removal copies; the map is applied as --channels did
     photo = save_image(tmp_path / "photo.png", data.load("brick")[:40, :48])
     height = save_image(tmp_path / "h.png", data.load("brick")[:40, :48].mean(-1))
-    argv = ["seam-carve", str(photo), "-o", str(tmp_path / "wide.png"), "--size", "60x40", "--channels",
+    argv = ["carve-seams", str(photo), "-o", str(tmp_path / "wide.png"), "--size", "60x40", "--channels",
             str(height), "--coordinates", str(tmp_path / "wide.npz")]
     assert run(*argv) == 0
     assert np.load(tmp_path / "wide.npz")["weights"].shape[:2] == (40, 60)
@@ -978,3 +997,211 @@ def test_surface_follows_files_outside_the_mesh_folder_only_with_allow_outside(t
     with pytest.raises(SystemExit):
         run("surface", "-h")
     assert "--allow-outside follow the files MESH names" in " ".join(capsys.readouterr().out.split())
+
+
+# --------------------------------------------------------------------------- traps of issue 34
+def test_size_is_wxh_n_or_a_factor_of_the_input(tmp_path, capsys):
+    assert cli.parse_size("4x", (96, 128)) == (384, 512)
+    assert cli.parse_size("1.5x", (77, 96)) == (116, 144)  # rounded to whole pixels
+    assert cli.parse_size("0.5X", (10, 11)) == (5, 6)
+    assert cli.parse_size("64") == (64, 64)
+    for bad in ("4x", "x4", "1.5", "-2x", "4y"):  # no input for the factor, or no form at all
+        with pytest.raises(cli.CommandError) as info:
+            cli.parse_size(bad)
+        assert "--size" in str(info.value) and ("WIDTHxHEIGHT" in str(info.value)), bad
+    with pytest.raises(cli.CommandError, match=r"one number N \(NxN\) or a factor of the input's size \(4x, 1.5x\)"):
+        cli.parse_size("big", (8, 8))  # the error says the three forms
+    with pytest.raises(cli.CommandError, match="smaller than a pixel"):
+        cli.parse_size("0x", (8, 8))
+    src = save_image(tmp_path / "in.png", data.load("brick")[:40, :48])
+    assert run("quilt", str(src), "-o", str(tmp_path / "twice.png"), "--size", "2x", "-s", "0", "--block", "12") == 0
+    assert load_image(tmp_path / "twice.png").shape == (80, 96, 3)
+    assert run("uncrop", str(src), "-o", str(tmp_path / "wider.png"), "--size", "1.5x", "-s", "0",
+               "--neighborhood-sizes", "8", "--levels", "1", "--max-iterations", "1") == 0
+    assert load_image(tmp_path / "wider.png").shape == (60, 72, 3)
+    # a factor needs an input: a procedural method says which forms it takes instead
+    err = _one_line_error(capsys, run("perlin", "-o", str(tmp_path / "p.png"), "--size", "4x"))
+    assert "--size 4x is a factor of the input's size" in err and "WIDTHxHEIGHT" in err
+    with pytest.raises(SystemExit):
+        run("optimize-texture", "--help")
+    assert "a factor of the input's size (4x, 1.5x)" in " ".join(capsys.readouterr().out.split())
+
+
+def test_scale_is_refused_and_magnification_is_the_elements_size(tmp_path, monkeypatch, capsys):
+    # `optimize-texture --scale 4` used to be accepted as the element-magnification field: the output stayed
+    # the input's size with bricks 4x larger. Now --scale is no option; the error names --size 4x and
+    # --magnification, and options are never abbreviated (heeger-bergen's --scales took --scale).
+    import texsynth.optimization
+    import texsynth.statistical
+
+    src = str(save_image(tmp_path / "in.png", data.load("brick")[:32, :32]))
+    sizes = []
+    calls = _spy(monkeypatch, texsynth.optimization, "optimize_texture",
+                 lambda exemplar, size, **kwargs: sizes.append(size) or np.zeros(tuple(size) + (3,)))
+    hb = _spy(monkeypatch, texsynth.statistical, "heeger_bergen", lambda exemplar, size, **kwargs: np.zeros(size))
+    for name, hint in (("optimize-texture", "--magnification makes the elements larger"),
+                       ("heeger-bergen", "did you mean --scales?")):
+        with pytest.raises(SystemExit) as info:
+            run(name, src, "-o", str(tmp_path / "o.png"), "--scale", "4")
+        err = capsys.readouterr().err
+        assert info.value.code == 2 and err.count("\n") == 1, err
+        assert "unrecognized arguments: --scale 4" in err and "--size 4x makes the output four times" in err
+        assert hint in err
+    with pytest.raises(SystemExit):
+        run("heeger-bergen", src, "-o", str(tmp_path / "o.png"), "--iter", "1")  # no abbreviations
+    assert "--iter: did you mean --iterations?" in capsys.readouterr().err
+    assert not calls and not hb
+    assert run("optimize-texture", src, "-o", str(tmp_path / "m.png"), "--magnification", "2") == 0
+    assert calls[-1]["magnification"] == 2 and calls[-1]["orientation"] is None
+    assert sizes[-1] == (32, 32) and load_image(tmp_path / "m.png").shape == (32, 32, 3)
+    assert run("optimize-texture", src, "-o", str(tmp_path / "s.png"), "--size", "4x") == 0
+    assert sizes[-1] == (128, 128) and "fields" not in calls[-1]
+
+
+def test_one_name_one_meaning_for_the_magnification():
+    import inspect
+
+    import texsynth
+    from texsynth.core.em import Fields
+
+    assert [f.name for f in dataclasses.fields(Fields)] == ["orientation", "magnification"]
+    assert "magnification" in inspect.signature(texsynth.synthesize_controlled).parameters
+    assert "scale" not in inspect.signature(texsynth.synthesize_controlled).parameters
+    for name, method in cli.METHODS.items():
+        assert "scale" not in method.fields, name
+    with pytest.raises(ValueError, match="magnification must be positive"):
+        texsynth.synthesize_controlled(data.load("brick")[:16, :16], 12, magnification=0.0)
+
+
+def test_help_is_the_first_sentence_and_help_full_the_whole_text(capsys):
+    with pytest.raises(SystemExit) as info:
+        run("optimize-texture", "--help")
+    assert info.value.code == 0
+    short = " ".join(capsys.readouterr().out.split())
+    with pytest.raises(SystemExit) as info:
+        run("optimize-texture", "--help-full")
+    assert info.value.code == 0
+    full = " ".join(capsys.readouterr().out.split())
+    first = "EM iterations per (level, size) stage at most; a stage also stops when the matched exemplar " \
+            "neighbourhoods no longer change. (default: 5)"
+    assert first in short and "They are the paper's {z_p}" not in short
+    assert "They are the paper's {z_p}" in full and "usually 3-5 iterations" in full
+    assert "--help-full" in short and "docs/methods/kwatra.md" in short  # where the rest is
+    assert len(full) > 1.5 * len(short)
+    # the short help of every method is free of the numpydoc jargon that leaked (z_p, FIELD_MIN_VALUES) and of
+    # pointers to docstring sections the command line does not show
+    for name in cli.METHODS:
+        with pytest.raises(SystemExit):
+            run(name, "--help")
+        text = capsys.readouterr().out
+        for jargon in ("z_p", "FIELD_MIN_VALUES", "(1 + 2)-approximate", "see Notes", ":func:", "``"):
+            assert jargon not in text, (name, jargon)
+    from texsynth._cli_text import first_sentence
+
+    assert first_sentence("A (e.g. 3 px). B.") == "A (e.g. 3 px)."
+    assert first_sentence("Weight of Kwatra et al. 2005, 0.5 or texsynth.core.x. More.") == \
+        "Weight of Kwatra et al. 2005, 0.5 or texsynth.core.x."
+
+
+def test_errors_of_the_function_name_the_flags(tmp_path, capsys):
+    src = str(save_image(tmp_path / "in.png", data.load("brick")[:32, :32]))
+    out = str(tmp_path / "o.png")
+    err = _one_line_error(capsys, run("quilt", src, "-o", out, "--block", "500"))
+    assert "pass --block <= 32" in err and "block 500" not in err.replace("--block 500", "")
+    err = _one_line_error(capsys, run("optimize-texture", src, "-o", out, "--levels", "0"))
+    assert "--levels must be" in err
+    err = _one_line_error(capsys, run("optimize-texture", src, "-o", out, "--neighborhood-sizes", "64"))
+    assert "pass --neighborhood-sizes" in err
+    err = _one_line_error(capsys, run("optimize-texture", src, "-o", out, "--magnification", "0"))
+    assert err.startswith("texsynth: error: --magnification must be positive")
+    assert not (tmp_path / "o.png").exists()
+    # ordinary words stay words; names inside a Python expression stay Python
+    assert cli._flags_in("at all levels the block of k pixels", ["levels", "block", "k"]) == \
+        "at all levels the block of k pixels"
+    assert cli._flags_in("k=3 but pass search=Search(k=2, method='exact')", ["k", "method"]) == \
+        "--k=3 but pass search=Search(k=2, method='exact')"
+
+
+def test_s_is_short_for_seed(tmp_path, monkeypatch):
+    import texsynth.patch
+
+    src = str(save_image(tmp_path / "in.png", data.load("brick")[:32, :32]))
+    calls = _spy(monkeypatch, texsynth.patch, "quilt", lambda exemplar, size, **kwargs: np.zeros(tuple(size) + (3,)))
+    assert run("quilt", src, "-o", str(tmp_path / "a.png"), "-s", "7") == 0
+    assert run("quilt", src, "-o", str(tmp_path / "b.png"), "--seed", "7") == 0
+    assert calls[0]["rng"] == calls[1]["rng"] == 7
+    parser = cli.build_parser()
+    assert parser.parse_args(["demo", "-s", "3"]).seed == 3
+    assert parser.parse_args(["surface", "m.obj", "e.png", "-o", "o.ply", "-s", "4"]).seed == 4
+
+
+@pytest.fixture
+def hole_files(tmp_path):
+    """An image, a white hole (white = fill) and the same hole drawn black (Embark's way), and an RGBA image
+    whose transparent pixels are that hole."""
+    image = data.load("bread")[:48, :48]
+    hole = np.zeros((48, 48)); hole[16:30, 14:34] = 1.0
+    rgba = np.concatenate([image, 1.0 - hole[..., None]], -1)
+    return {"image": str(save_image(tmp_path / "im.png", image)), "white": str(save_image(tmp_path / "w.png", hole)),
+            "black": str(save_image(tmp_path / "b.png", 1.0 - hole)), "rgba": str(save_image(tmp_path / "a.png", rgba)),
+            "hole": hole > 0.5}
+
+
+FAST_INPAINT = ["--neighborhood-sizes", "8", "--levels", "1", "--max-iterations", "1", "-s", "0"]
+
+
+def test_hole_is_white_and_invert_mask_takes_a_black_one(tmp_path, hole_files, capsys):
+    with pytest.raises(SystemExit):
+        run("inpaint", "--help")
+    assert "image file, white (> 0.5) = fill" in " ".join(capsys.readouterr().out.split())
+    assert run("inpaint", hole_files["image"], "--hole", hole_files["white"], "-o", str(tmp_path / "w_out.png"),
+               *FAST_INPAINT) == 0
+    assert run("inpaint", hole_files["image"], "--hole", hole_files["black"], "--invert-mask",
+               "-o", str(tmp_path / "b_out.png"), *FAST_INPAINT) == 0
+    assert np.array_equal(load_image(tmp_path / "w_out.png"), load_image(tmp_path / "b_out.png"))
+    capsys.readouterr()
+    # the black hole without --invert-mask fills 88 % of the photograph: a warning names the share and the fix
+    assert run("inpaint", hole_files["image"], "--hole", hole_files["black"], "-o", str(tmp_path / "x.png"),
+               *FAST_INPAINT) == 0
+    err = capsys.readouterr().err
+    assert "texsynth: warning: the hole covers 88 % of the image" in err and "--invert-mask" in err
+    err = _one_line_error(capsys, run("optimize-texture", hole_files["image"], "-o", str(tmp_path / "y.png"),
+                                      "--invert-mask"))
+    assert "--invert-mask inverts the --mask file; pass --mask FILE too" in err
+
+
+def test_invert_mask_inverts_the_commands_main_mask_only(tmp_path, hole_files, monkeypatch):
+    import texsynth.optimization
+
+    calls = _spy(monkeypatch, texsynth.optimization, "inpaint", lambda image, hole, **kwargs: np.asarray(image))
+    assert run("inpaint", hole_files["image"], "--hole", hole_files["black"], "--sample-mask", hole_files["black"],
+               "--invert-mask", "-o", str(tmp_path / "o.png")) == 0
+    assert np.allclose(calls[-1]["hole"], hole_files["hole"]) and np.allclose(calls[-1]["sample_mask"],
+                                                                              ~hole_files["hole"])
+    for name, method in cli.METHODS.items():
+        if method.mask is not None:
+            assert method.mask in method.maps, name
+
+
+def test_hole_channel_a_takes_the_inputs_transparency(tmp_path, hole_files, monkeypatch, capsys):
+    import texsynth.optimization
+
+    real = texsynth.optimization.inpaint
+    calls = _spy(monkeypatch, texsynth.optimization, "inpaint")
+    assert run("inpaint", hole_files["rgba"], "--hole-channel", "a", "-o", str(tmp_path / "filled.png"),
+               *FAST_INPAINT) == 0
+    assert calls[-1]["hole"] == "alpha"
+    filled = load_image(tmp_path / "filled.png")
+    rgba = load_image(hole_files["rgba"])
+    expected = real(rgba, rgba[..., 3] < 0.5, neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)
+    assert filled.shape == (48, 48, 4) and np.abs(filled - expected).max() <= 1 / 255
+    assert filled[..., 3].min() > 0.5  # the transparent pixels are filled, and opaque
+    assert run("inpaint", hole_files["rgba"], "--hole-channel", "a", "--invert-mask", "-o", str(tmp_path / "i.png"),
+               *FAST_INPAINT) == 0
+    assert np.array_equal(calls[-1]["hole"], ~hole_files["hole"])
+    capsys.readouterr()  # (that hole covers 88 %: a warning)
+    for argv, words in ((["--hole-channel", "a"], "--hole-channel a takes the hole from the input's alpha channel"),
+                        ([], "the hole is missing: pass --hole FILE"),
+                        (["--hole-channel", "a", "--hole", hole_files["white"]], "not both")):
+        source = hole_files["image"] if argv[:1] != ["--hole-channel"] or "--hole" not in argv else hole_files["rgba"]
+        assert words in _one_line_error(capsys, run("inpaint", source, "-o", str(tmp_path / "e.png"), *argv))

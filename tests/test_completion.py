@@ -268,3 +268,58 @@ def test_the_memory_check_of_uncrop_bounds_what_is_allocated_before_optimize_tex
         finally:
             tracemalloc.stop()
         assert estimates[-1] >= peaks[-1], kwargs
+
+
+# --------------------------------------------------------------------------- the hole as artists have it (issue 34)
+FAST = dict(neighborhood_sizes=(8,), levels=1, max_iterations=1, rng=0)
+
+
+def _photo_and_hole():
+    image = texsynth.data.load("bread")[:48, :48]
+    hole = np.zeros((48, 48), bool)
+    hole[16:30, 14:34] = True
+    return image, hole
+
+
+def test_hole_alpha_is_the_images_transparency():
+    image, hole = _photo_and_hole()
+    rgba = np.concatenate([image, np.where(hole, 0.0, 1.0)[..., None]], -1)
+    rgba[hole, :3] = 0.0  # what a cut-out holds under its transparent pixels: ignored
+    out = texsynth.inpaint(rgba, "alpha", **FAST)
+    assert np.array_equal(out, texsynth.inpaint(rgba, hole, **FAST))  # alpha < 0.5 = fill
+    assert out.shape == (48, 48, 4) and np.array_equal(out[~hole], rgba[~hole])
+    assert out[hole, 3].min() >= 0.5  # the filled pixels take the alpha of those they copy: opaque here
+    grey_alpha = np.stack([image.mean(-1), np.where(hole, 0.2, 0.9)], -1)
+    assert np.array_equal(texsynth.inpaint(grey_alpha, "alpha", **FAST), texsynth.inpaint(grey_alpha, hole, **FAST))
+
+
+@pytest.mark.parametrize("layout", ["rgb", "grey"])
+def test_hole_alpha_without_an_alpha_channel_is_a_clear_error(layout):
+    image, _ = _photo_and_hole()
+    image = image if layout == "rgb" else image.mean(-1)
+    with pytest.raises(ValueError, match=r"hole='alpha' takes the hole from the image's alpha channel .* has none"):
+        texsynth.inpaint(image, "alpha", **FAST)
+
+
+def test_hole_may_be_an_image_file_white_is_fill(tmp_path):
+    from texsynth.io import save_image
+
+    image, hole = _photo_and_hole()
+    expected = texsynth.inpaint(image, hole, **FAST)
+    grey = save_image(tmp_path / "hole.png", hole.astype(float))
+    rgba = save_image(tmp_path / "hole_rgba.png", np.stack([hole * 1.0] * 3 + [np.full(hole.shape, 0.3)], -1))
+    for given in (str(grey), grey, str(rgba)):  # str or Path; colour averaged, alpha ignored
+        assert np.array_equal(texsynth.inpaint(image, given, **FAST), expected), given
+    with pytest.raises(ValueError, match=r"hole must be an \(H, W\) map, an image file or 'alpha', got 'Alpha'"):
+        texsynth.inpaint(image, "Alpha", **FAST)
+
+
+def test_a_hole_over_half_the_image_warns_with_its_share():
+    import warnings
+
+    image, hole = _photo_and_hole()
+    with pytest.warns(UserWarning, match=r"the hole covers 88 % of the image \(white, True = fill\).*~hole"):
+        texsynth.inpaint(image, ~hole, **FAST)  # Embark's mask (black = fill) taken as it is
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        texsynth.inpaint(image, hole, **FAST)  # 12 %: no warning

@@ -19,3 +19,12 @@ def test_every_sample_loads_with_its_layout_and_attribution():
 def test_unknown_name():
     with pytest.raises(ValueError, match="bread"):
         data.load("marble")
+
+
+def test_bricks_hole_has_its_hole_in_the_alpha_channel():
+    image = data.load("bricks_hole")
+    assert image.shape == (175, 175, 4)
+    hole = image[..., 3] < 0.5
+    assert 0.05 < hole.mean() < 0.3  # a round hole, well inside the image
+    rows, cols = hole.nonzero()
+    assert rows.min() > 0 and cols.min() > 0 and rows.max() < 174 and cols.max() < 174

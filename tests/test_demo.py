@@ -25,7 +25,8 @@ def test_the_real_demo_command_writes_the_gallery(tmp_path):
     assert not [p for p in out.iterdir() if p.name.startswith(".") and p.name != demo._MARKER]  # no temporaries
     bad = subprocess.run([sys.executable, "-m", "texsynth", "demo", "--out", str(out), "--only", "marbel"],
                          capture_output=True, text=True, timeout=600)
-    assert bad.returncode == 2 and "no gallery entry named 'marbel'; choose among marble" in bad.stderr
+    assert bad.returncode == 2 and "no gallery entry named 'marbel' (did you mean 'marble'?); choose among" in bad.stderr
+    assert "choose among pixels_bread" in bad.stderr  # the gallery opens with example-based synthesis
 
 
 @pytest.mark.slow
@@ -43,7 +44,7 @@ def test_every_gallery_entry_is_a_real_picture(entry, tmp_path):
 
 def test_select_entries_keeps_the_gallery_order_and_names_the_choices():
     assert [e.slug for e in demo.select_entries(["wood", "marble"])] == ["marble", "wood"]
-    with pytest.raises(ValueError, match="choose among marble, wood"):
+    with pytest.raises(ValueError, match="choose among pixels_bread, pixels_kcoherent_brick"):
         demo.select_entries([])
 
 

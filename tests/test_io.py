@@ -533,7 +533,7 @@ def test_formats_without_alpha_or_sixteen_bit_colour(tmp_path):
     for suffix in (".bmp", ".ppm"):
         back = load_image(save_image(tmp_path / f"la{suffix}", la))  # alpha dropped, as for JPEG
         assert back.shape == (6, 7) and np.abs(back - la[..., 0]).max() <= 0.5 / 255 + 1e-9
-    with pytest.raises(ValueError, match="bits=16 needs a .png or .tif"):
+    with pytest.raises(ValueError, match="bits=16 needs a .png, .tif or .exr"):
         save_image(tmp_path / "c16.jpg", np.zeros((4, 4, 3)), bits=16)
     with pytest.raises(ValueError, match="bits=32.*needs a .tif"):
         save_image(tmp_path / "c32.png", np.zeros((4, 4, 3)), bits=32)
@@ -684,3 +684,238 @@ def test_bad_input_is_refused_naming_the_parameter(case, data):
             call(value, Path(d))
         assert name in str(info.value)
         assert os.listdir(d) == []
+
+
+# --------------------------------------------------------------------------- EXR, TGA, ranges (issue 34)
+import importlib.util  # noqa: E402
+
+from texsynth.io import load_coordinates, normalize_range, restore_range, save_coordinates  # noqa: E402
+
+# the exr extra is optional: its tests run where it is installed (the test extra installs it)
+needs_exr = pytest.mark.skipif(importlib.util.find_spec("OpenEXR") is None,
+                               reason="the exr extra (OpenEXR) is not installed")
+
+
+@needs_exr
+@pytest.mark.parametrize("channels", [None, 2, 3, 4])
+def test_exr_round_trips_float32_exactly_and_half_to_half_precision(tmp_path, channels):
+    shape = (9, 11) if channels is None else (9, 11, channels)
+    values = (np.random.default_rng(channels or 1).random(shape) * 7 - 2).astype(np.float32)  # heights: [-2, 5]
+    path = save_image(tmp_path / "h.exr", values)
+    assert image_bits(path) == 32
+    with pytest.raises(ValueError, match="normalize=True"):  # outside [0, 1]: the library's contract
+        load_image(path)
+    unit, value_range = load_image(path, normalize=True)
+    assert unit.dtype == np.float32 and unit.shape == shape and 0 <= unit.min() and unit.max() <= 1
+    assert value_range == (float(values.min()), float(values.max()))
+    assert np.abs(restore_range(unit, value_range) - values).max() <= 4 * np.finfo(np.float32).eps * 7
+    import OpenEXR
+
+    channels_in_file = set(OpenEXR.File(str(path)).channels()) | set(
+        OpenEXR.File(str(path), separate_channels=True).channels())
+    assert {"Y", "R", "RGB", "RGBA"} & channels_in_file  # named as viewers expect
+    half = save_image(tmp_path / "h16.exr", values, bits=16)
+    assert image_bits(half) == 16
+    back = restore_range(*load_image(half, normalize=True))
+    assert np.allclose(back, values, rtol=2 ** -10, atol=2 ** -10)
+    in_range = np.clip(values, 0, 1)
+    assert np.array_equal(load_image(save_image(tmp_path / "u.exr", in_range)), in_range)
+
+
+@needs_exr
+def test_exr_channels_that_are_read_and_refused(tmp_path):
+    import OpenEXR
+
+    def write(name, channels):
+        header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+        OpenEXR.File(header, {k: v.astype(np.float32) for k, v in channels.items()}).write(str(tmp_path / name))
+        return tmp_path / name
+
+    plane = np.random.default_rng(0).random((5, 6))
+    assert np.allclose(load_image(write("z.exr", {"Z": plane})), plane)  # one channel: grey, whatever its name
+    layered = write("l.exr", {"R": plane, "G": plane / 2, "B": plane / 4, "depth.Z": plane * 9})
+    assert load_image(layered).shape == (5, 6, 3)  # R, G, B read; other layers left
+    with pytest.raises(ValueError, match=r"\['G', 'R'\].*R, G, B"):
+        load_image(write("rg.exr", {"R": plane, "G": plane}))
+    (tmp_path / "bad.exr").write_bytes(b"v/1\x01 not really")
+    with pytest.raises(ValueError, match="cannot read .* as an OpenEXR image"):
+        load_image(tmp_path / "bad.exr")
+
+
+@needs_exr
+def test_exr_bits_that_cannot_be_stored_are_refused_before_writing(tmp_path):
+    with pytest.raises(ValueError, match="bits=8 cannot be stored in an .exr"):
+        save_image(tmp_path / "a.exr", np.zeros((4, 4)), bits=8)
+    with pytest.raises(ValueError, match="largest half float"):
+        save_image(tmp_path / "b.exr", np.full((4, 4), 1e5), bits=16)
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        save_image(tmp_path / "c.exr", np.array([[0.0, np.inf]]))
+    assert not list(tmp_path.iterdir())
+
+
+def test_exr_without_the_extra_names_it_and_writes_nothing(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "OpenEXR", None)  # as if it were not installed
+    with pytest.raises(ImportError, match=r"pip install 'texsynth\[exr\]'"):
+        save_image(tmp_path / "a.exr", np.zeros((4, 4)))
+    (tmp_path / "in.exr").write_bytes(b"\x76\x2f\x31\x01" + bytes(60))
+    with pytest.raises(ImportError, match="texsynth\\[exr\\]"):
+        load_image(tmp_path / "in.exr")
+    from texsynth.io import check_suffix
+
+    with pytest.raises(ImportError, match="exr"):
+        check_suffix("out.exr")  # what the command line asks before a synthesis
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.exr"]
+
+
+@pytest.mark.parametrize("channels", [None, 2, 3, 4])
+def test_tga_round_trips_at_8_bits_with_alpha(tmp_path, channels):
+    shape = (7, 9) if channels is None else (7, 9, channels)
+    pixels = np.random.default_rng(3).integers(0, 256, shape).astype(np.uint8)
+    path = save_image(tmp_path / "t.tga", pixels)
+    assert image_bits(path) == 8
+    assert np.array_equal(load_image(path), pixels / 255.0)
+    assert load_frames(tmp_path).shape[:3] == (1, 7, 9)  # a folder of TGA frames is a sequence too
+
+
+def test_float_files_outside_the_unit_range_pass_through_float_formats(tmp_path):
+    heights = np.array([[-0.25, 0.0, 0.5], [1.0, 2.5, 3.75]])
+    stored = iio.imread(save_image(tmp_path / "h.tif", heights, bits=32))
+    assert np.array_equal(stored, heights.astype(np.float32))  # kept as they are, not clipped
+    with pytest.raises(ValueError, match=r"values in \[-0.25, 3.75\] but a .png file stores \[0, 1\].*\.exr"):
+        save_image(tmp_path / "h.png", heights)
+    with pytest.raises(ValueError, match=r"\[-0.25, 3.75\].*normalize=True"):
+        load_image(tmp_path / "h.tif")
+    unit, value_range = load_image(tmp_path / "h.tif", normalize=True)
+    assert value_range == (-0.25, 3.75) and unit.min() == 0 and unit.max() == 1
+    assert np.allclose(restore_range(unit, value_range), heights, atol=1e-6)
+    # files in [0, 1] (every integer file, float files inside it) come back unchanged, with (0, 1)
+    ramp = np.linspace(0, 1, 12).reshape(3, 4)
+    for path in (save_image(tmp_path / "r.png", ramp, bits=16), save_image(tmp_path / "r.tif", ramp, bits=32)):
+        image, value_range = load_image(path, normalize=True)
+        assert value_range == (0.0, 1.0) and np.array_equal(image, load_image(path))
+
+
+def test_normalize_range_and_restore_range():
+    data_ = np.array([[-1.5, 0.5], [2.5, 6.5]], dtype=np.float32)
+    unit, value_range = normalize_range(data_)
+    assert unit.dtype == np.float32 and value_range == (-1.5, 6.5)
+    assert unit.tolist() == [[0.0, 0.25], [0.5, 1.0]]
+    assert np.array_equal(restore_range(unit, value_range), data_)
+    shared, r = normalize_range(data_, (-2.0, 8.0))  # a range several files share
+    assert r == (-2.0, 8.0) and np.allclose(shared * 10 - 2, data_)
+    inside = np.array([[0.2, 0.4]])
+    assert normalize_range(inside)[1] == (0.0, 1.0) and np.array_equal(normalize_range(inside)[0], inside)
+    assert normalize_range(np.array([[0, 255]], np.uint8))[0].tolist() == [[0.0, 1.0]]
+    constant, r = normalize_range(np.full((2, 2), 5.0))
+    assert np.array_equal(restore_range(constant, r), np.full((2, 2), 5.0))
+    with pytest.raises(ValueError, match=r"outside value_range=\(0, 2\)"):
+        normalize_range(data_, (0, 2))
+    with pytest.raises(ValueError, match="low < high"):
+        normalize_range(data_, (3, 3))
+    with pytest.raises(TypeError, match="value_range must be a pair"):
+        restore_range(unit, "wide")
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        normalize_range(np.array([[np.nan, 1.0]]))
+    with pytest.raises(ValueError, match=r"shape \(H, W\) or \(H, W, C\)"):
+        normalize_range(np.zeros((2, 2, 7)))
+
+
+# --------------------------------------------------------------------------- coordinate maps as images
+def _copy_map(shape, size, seed=0):
+    rng = np.random.default_rng(seed)
+    return np.stack([rng.integers(0, size[0], shape), rng.integers(0, size[1], shape)], axis=-1)
+
+
+@pytest.mark.parametrize("suffix", [".png", ".tif", pytest.param(".exr", marks=needs_exr)])
+def test_coordinate_maps_as_images_round_trip_exactly(tmp_path, suffix):
+    for size in ((1, 1), (48, 40), (255, 7), (4097, 1000), (32768, 32768)):
+        coords = _copy_map((12, 15), size, seed=size[0])
+        coords[0, 0], coords[0, 1] = (size[0] - 1, size[1] - 1), (0, 0)  # both ends of the exemplar
+        path = save_coordinates(tmp_path / f"m{suffix}", coords, exemplar_size=size, overwrite=True)
+        saved = load_coordinates(path)
+        assert saved.coordinates.dtype == np.int64 and np.array_equal(saved.coordinates, coords)
+        assert saved.weights is None and saved.source_index is None
+    # the values a shader reads: R = (col + 0.5) / width, G = (row + 0.5) / height, B = 0
+    coords = _copy_map((6, 5), (48, 40))
+    rgb = load_image(save_coordinates(tmp_path / f"s{suffix}", coords, exemplar_size=(48, 40)))
+    assert rgb.shape == (6, 5, 3) and np.all(rgb[..., 2] == 0)
+    tolerance = 0.5 / 65535 if suffix == ".png" else 1e-7
+    assert np.abs(rgb[..., 0] - (coords[..., 1] + 0.5) / 40).max() <= tolerance
+    assert np.abs(rgb[..., 1] - (coords[..., 0] + 0.5) / 48).max() <= tolerance
+    if suffix == ".png":
+        assert image_bits(tmp_path / "s.png") == 16
+    # pixels without a source (-1: Efros-Leung's given pixels) get an alpha channel, 0 there
+    coords[2, 3] = -1
+    rgba = load_image(save_coordinates(tmp_path / f"a{suffix}", coords, exemplar_size=(48, 40)))
+    assert rgba.shape == (6, 5, 4) and rgba[2, 3, 3] == 0 and rgba[..., 3].sum() == 29
+    assert np.array_equal(load_coordinates(tmp_path / f"a{suffix}").coordinates, coords)
+
+
+def test_coordinate_map_images_of_a_synthesis_render_it(tmp_path):
+    import texsynth
+
+    exemplar = data.load("bread")[:40, :36]
+    out, info = texsynth.quilt(exemplar, (50, 60), block=12, rng=0, return_info=True)
+    saved = load_coordinates(save_coordinates(tmp_path / "q.png", info, exemplar_size=exemplar.shape[:2]))
+    assert np.array_equal(texsynth.apply_coordinates(exemplar, saved), out)
+    # a blend map is stored as its dominant source: the copy map coordinates[:, :, 0]
+    out, info = texsynth.patch_sampling(exemplar, 48, block=12, rng=0, return_info=True)
+    dominant = load_coordinates(save_coordinates(tmp_path / "p.tif", info, exemplar_size=exemplar.shape[:2]))
+    assert np.array_equal(dominant.coordinates, info.coordinates[:, :, 0])
+
+
+def test_coordinate_map_images_refuse_what_they_cannot_hold(tmp_path):
+    coords = _copy_map((6, 5), (48, 40))
+    with pytest.raises(ValueError, match=r"exemplar_size=exemplar.shape\[:2\]"):
+        save_coordinates(tmp_path / "m.png", coords)
+    with pytest.raises(ValueError, match="outside the exemplar of exemplar_size"):
+        save_coordinates(tmp_path / "m.png", coords, exemplar_size=(10, 10))
+    with pytest.raises(ValueError, match="several exemplars.*as .npz"):
+        save_coordinates(tmp_path / "m.png", coords[:, :, None], np.ones((6, 5, 1)),
+                         source_index=np.zeros((6, 5, 1), int), exemplar_size=(48, 40))
+    with pytest.raises(ValueError, match=r"up to 32768 pixels.*\.exr or \.tif"):
+        save_coordinates(tmp_path / "m.png", coords, exemplar_size=(40000, 40))
+    with pytest.raises(ValueError, match=r"\.npz.*\.png \(16 bits\)"):
+        save_coordinates(tmp_path / "m.jpg", coords, exemplar_size=(48, 40))
+    with pytest.raises(ValueError, match="exemplar_size must be"):
+        save_coordinates(tmp_path / "m.png", coords, exemplar_size=(48, 0))
+    assert not list(tmp_path.iterdir())  # nothing written
+    # a map re-saved by another program (no note of the exemplar size) needs it given; a note must agree
+    path = save_coordinates(tmp_path / "m.png", coords, exemplar_size=(48, 40))
+    plain = save_image(tmp_path / "plain.png", load_image(path), bits=16)
+    with pytest.raises(ValueError, match="does not record the exemplar's size"):
+        load_coordinates(plain)
+    assert np.array_equal(load_coordinates(plain, exemplar_size=(48, 40)).coordinates, coords)
+    with pytest.raises(ValueError, match="a map of an exemplar of 40x48 pixels"):
+        load_coordinates(path, exemplar_size=(50, 50))
+    with pytest.raises(ValueError, match="8-bit image"):
+        load_coordinates(save_image(tmp_path / "m8.png", load_image(path)), exemplar_size=(300, 300))
+    with pytest.raises(ValueError, match="exemplar_size is for image maps"):
+        load_coordinates(save_coordinates(tmp_path / "m.npz", coords), exemplar_size=(48, 40))
+
+
+@needs_exr
+def test_a_failed_exr_write_leaves_nothing_and_keeps_the_old_file(tmp_path, monkeypatch):
+    import OpenEXR
+
+    import texsynth.io as tio
+
+    old = save_image(tmp_path / "h.exr", np.full((4, 4), 0.25))
+
+    class Failing:  # OpenEXR as it behaves on a full disk: part of the file written, then a RuntimeError
+        ZIP_COMPRESSION, scanlineimage = OpenEXR.ZIP_COMPRESSION, OpenEXR.scanlineimage
+
+        class File:
+            def __init__(self, header, channels):
+                pass
+
+            def write(self, name):
+                Path(name).write_bytes(b"v/1\x01 partial")
+                raise RuntimeError("No space left on device")
+
+    monkeypatch.setattr(tio, "_openexr", lambda: Failing)
+    with pytest.raises(OSError, match="No space left"):
+        save_image(old, np.full((4, 4), 0.75), overwrite=True)
+    monkeypatch.undo()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["h.exr"]
+    assert np.array_equal(load_image(old), np.full((4, 4), 0.25, np.float32))

@@ -164,10 +164,10 @@ def test_seeds(wood):
 def test_command_line(tmp_path, wood):
     src = save_image(tmp_path / "wood.png", wood)
     out = tmp_path / "rpn.png"
-    assert cli.main(["random-phase", str(src), "-o", str(out), "--size", "200x120", "--process", "adsn",
+    assert cli.main(["random-phase-noise", str(src), "-o", str(out), "--size", "200x120", "--process", "adsn",
                      "--seed", "1"]) == 0
     assert load_image(out).shape == (120, 200, 3)
-    assert cli.main(["random-phase", str(src), "-o", str(tmp_path / "bad.png"), "--process", "gauss"]) == 2
+    assert cli.main(["random-phase-noise", str(src), "-o", str(tmp_path / "bad.png"), "--process", "gauss"]) == 2
     assert not (tmp_path / "bad.png").exists()
 
 

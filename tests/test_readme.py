@@ -4,6 +4,8 @@ import re
 import subprocess
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 
@@ -32,8 +34,72 @@ def test_quick_start_runs(tmp_path, monkeypatch):
 
 def test_readme_images_exist_and_stay_small():
     images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", README)
-    assert "docs/_static/gallery_strip.png" in images  # the gallery strip under the two commands
+    # the first screen: a picture of what the quick start makes, before the recipes
+    assert images[0] == "docs/_static/readme_hero.png" and README.index(images[0]) < README.index("## ")
+    assert "docs/_static/gallery_strip.png" in images  # every method, under "All the methods"
     for image in images:
         path = ROOT / image
         assert path.is_file(), f"README shows {image}, which does not exist"
         assert path.stat().st_size < 600_000, f"{image} is {path.stat().st_size // 1000} kB; keep README pictures small"
+    recipes = [ROOT / image for image in images if "/readme_" in image]
+    assert len(recipes) >= 9 and sum(p.stat().st_size for p in recipes) < 800_000  # benchmarks/figure_readme.py
+
+
+def _recipes():
+    """The README's recipes: (title, Python block, command lines)."""
+    start = README.index("\n## Recipes")
+    part = README[start:README.index("\n## ", start + 5)]
+    out = []
+    for section in part.split("\n### ")[1:]:
+        title = section.splitlines()[0]
+        python = re.findall(r"```python\n(.*?)```", section, re.S)
+        commands = [line.split("#")[0].strip() for block in re.findall(r"```bash\n(.*?)```", section, re.S)
+                    for line in block.splitlines() if line.startswith("texsynth ")]
+        out.append((title, python, commands))
+    return out
+
+
+def test_every_recipe_has_a_picture_three_to_six_lines_of_python_and_a_command():
+    recipes = _recipes()
+    assert len(recipes) >= 8
+    for title, python, commands in recipes:
+        assert len(python) == 1, title
+        lines = [line for line in python[0].splitlines() if line.strip()]
+        assert 3 <= len([line for line in lines if not line.startswith(("import ", "from "))]) <= 6, title
+        assert commands, f"recipe {title!r} has no command line"
+
+
+def test_the_recipes_commands_parse():
+    # each command line names a command and flags the parser knows (nothing runs)
+    import shlex
+
+    from texsynth import cli
+
+    parser = cli.build_parser()
+    for title, _, commands in _recipes():
+        for command in commands:
+            try:
+                parser.parse_args(shlex.split(command)[1:])
+            except SystemExit:
+                raise AssertionError(f"recipe {title!r}: {command!r} does not parse") from None
+
+
+def test_install_lines_name_extras_that_exist():
+    # from a checkout: pip install '.[extra]' (texsynth is not on PyPI)
+    import tomllib
+
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    docs = [README] + [p.read_text() for p in (ROOT / "docs").rglob("*.md") if "_build" not in p.parts]
+    docs.append((ROOT / "docs" / "api.rst").read_text())
+    for text in docs:
+        assert "pip install texsynth" not in text and "pip install 'texsynth[" not in text
+        for extra in re.findall(r"pip install (?:-e )?'?\.\[([a-z,]+)\]", text):
+            assert set(extra.split(",")) <= set(extras), extra
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("recipe", [r[0] for r in _recipes()])
+def test_every_recipe_runs_as_written(recipe, tmp_path, monkeypatch):
+    code = next(python[0] for title, python, _ in _recipes() if title == recipe)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(code, f"README recipe {recipe!r}", "exec"), {})

@@ -1,4 +1,5 @@
-"""texsynth.registry is the one list of methods: the API, the README, the docs, the command and the gallery agree with it."""
+"""texsynth.registry is the one list of methods: the API, the docs' methods table, the command, the gallery and
+texsynth.methods() agree with it."""
 
 import dataclasses
 import importlib
@@ -12,19 +13,19 @@ from texsynth import cli, demo
 from texsynth.registry import METHODS, SURFACE_DEMOS
 
 ROOT = Path(__file__).resolve().parents[1]
-README = (ROOT / "README.md").read_text()
-TABLE = README[README.index("## Methods"):README.index("## ", README.index("## Methods") + 5)]
+INDEX = (ROOT / "docs" / "methods" / "index.md").read_text()
+TABLE = INDEX[INDEX.index("## The methods, by paper"):INDEX.index("## ", INDEX.index("## The methods, by paper") + 5)]
 # public functions that are parts or helpers of a registered method, not methods of their own
 HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_map", "edge_feature_map",
            "linear_blend", "wang_tiles", "wang_tiling", "tile_and_blend_at", "find_textons",
-           "apply_coordinates", "batch", "read_mesh", "write_mesh", "render_mesh"}
+           "apply_coordinates", "batch", "read_mesh", "write_mesh", "render_mesh", "methods"}
 # methods on meshes: one command of their own (`texsynth surface MESH EXEMPLAR`, --mode vertex or lapped),
 # since their input and output are meshes, not images
 SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped"}
 
 
 @pytest.mark.parametrize("name", list(METHODS))
-def test_every_method_is_public_documented_and_in_the_readme(name):
+def test_every_method_is_public_documented_and_in_the_methods_table(name):
     method = METHODS[name]
     module, function = method.target.split(":")
     func = method.function()
@@ -36,8 +37,9 @@ def test_every_method_is_public_documented_and_in_the_readme(name):
     assert function in page.read_text(), f"{page.name} does not mention {function}"
     assert re.search(r"doi:|technical report", method.paper), f"{name}: its paper needs a DOI or a source"
     rows = [r for r in TABLE.splitlines() if f"`texsynth {name}`" in r]
-    assert rows, f"README's methods table has no row with `texsynth {name}`"
-    assert function in rows[0], f"README's row of `texsynth {name}` does not name {function}"
+    assert rows, f"docs/methods/index.md's table has no row with `texsynth {name}`"
+    assert function in rows[0], f"docs/methods/index.md's row of `texsynth {name}` does not name {function}"
+    assert f"]({method.page}.md" in rows[0], f"docs/methods/index.md's row of `texsynth {name}` does not link {method.page}.md"
     assert callable(func)
 
 
@@ -56,9 +58,11 @@ def test_surface_methods_have_their_command_page_and_readme_row(function, mode):
     assert callable(getattr(texsynth, function))
     commands = cli.build_parser()._subparsers._group_actions[0].choices
     assert "surface" in commands and f"{mode}" in commands["surface"].format_help()
-    assert function in (ROOT / "docs" / "methods" / "surfaces.md").read_text()
+    page = getattr(texsynth, function).__module__.rpartition("._")[2]  # its module's stem: vertex_synthesis, lapped
+    assert function in (ROOT / "docs" / "methods" / f"{page}.md").read_text()
     rows = [r for r in TABLE.splitlines() if "`texsynth surface" in r and function in r]
-    assert rows, f"README's methods table has no row for {function} with `texsynth surface`"
+    assert rows, f"docs/methods/index.md's table has no row for {function} with `texsynth surface`"
+    assert f"]({page}.md)" in rows[0]
 
 
 def test_the_command_and_the_gallery_read_the_registry():
@@ -93,3 +97,28 @@ def test_flat_options_are_rebuilt_into_the_option_groups_that_hold_them():
     assert got["search"] == Search(method="exact")
     assert got["tileable"] is True and got["nonsense"] == 1  # not an option: passed on for the function's error
     assert "terms" not in got  # a group none of whose fields is given keeps the function's default
+
+
+def test_methods_lists_every_method_once_with_its_function_command_and_paper():
+    found = texsynth.methods()
+    assert [m.command for m in found][:len(METHODS)] == [f"texsynth {name}" for name in METHODS]
+    assert {"texsynth.synthesize_surface", "texsynth.lapped_textures"} <= {m.function for m in found}
+    for entry, (name, method) in zip(found, METHODS.items()):
+        module, function = method.target.split(":")
+        where = "texsynth" if function in texsynth.__all__ else f"texsynth.{module}"
+        assert entry.function == f"{where}.{function}"
+        assert eval(entry.function, {"texsynth": texsynth}) is method.function()  # the name works as written
+        assert entry.paper == method.paper and entry.summary
+        # one line for a notebook: no command-line syntax, no unbalanced brackets
+        assert "--" not in entry.summary and entry.summary.count("(") == entry.summary.count(")"), entry.summary
+    text = str(found)
+    assert len(text.splitlines()) == len(found) and "texsynth.optimize_texture" in text and "Kwatra et al." in text
+    assert repr(found) == text and "<table>" in found._repr_html_()
+    assert found[0] == found[0]._replace()  # named tuples: fields by name
+
+
+def test_the_gallery_and_the_list_open_with_example_based_synthesis():
+    first = next(iter(METHODS.values()))
+    assert first.inputs != "none" and demo.ENTRIES[0].sample is not None
+    kinds = [m.inputs == "none" for m in METHODS.values()]
+    assert kinds == sorted(kinds), "procedural methods (no exemplar) come after every example-based one"

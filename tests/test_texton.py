@@ -1,4 +1,4 @@
-"""Zhang et al. 2003 in 2-D (texsynth.pixel._texton): texton masks, orientation and scale fields, progressive variation."""
+"""Zhang et al. 2003 in 2-D (texsynth.pixel._texton): texton masks, orientation and magnification fields, progressive variation."""
 
 import numpy as np
 import pytest
@@ -58,7 +58,7 @@ def test_without_fields_pixels_are_exemplar_pixels_at_the_coordinates(texture):
 
 def test_turned_output_is_the_bilinear_blend_of_its_coordinate_map(texture):
     ex = texture("rohitrango/t4.png", 40)
-    out, info = synthesize_controlled(ex, 32, neighborhood=L2, orientation=0.5, scale=1.3, rng=0, return_info=True)
+    out, info = synthesize_controlled(ex, 32, neighborhood=L2, orientation=0.5, magnification=1.3, rng=0, return_info=True)
     assert info.coordinates.shape == (32, 32, 4, 2) and info.weights.shape == (32, 32, 4)
     np.testing.assert_allclose(info.weights.sum(-1), 1.0)
     assert np.all(np.diff(info.weights, axis=-1) <= 0)  # largest weight first
@@ -72,7 +72,7 @@ def test_same_seed_same_output_and_identity_fields_change_nothing(texture):
     ex = texture("rohitrango/t4.png", 40)
     a = synthesize_controlled(ex, 36, neighborhood=L2, rng=3)
     np.testing.assert_array_equal(a, synthesize_controlled(ex, 36, neighborhood=L2, rng=3))
-    same = synthesize_controlled(ex, 36, neighborhood=L2, rng=3, orientation=0.0, scale=np.ones((36, 36)))
+    same = synthesize_controlled(ex, 36, neighborhood=L2, rng=3, orientation=0.0, magnification=np.ones((36, 36)))
     np.testing.assert_array_equal(a, same)
     grey = synthesize_controlled(texture("lcv/text.pgm", 40), 30, neighborhood=L2, rng=0)
     assert grey.shape == (30, 30)  # grey in, grey out
@@ -122,11 +122,11 @@ def test_quarter_turn_gives_the_rotated_texture(texture):
     assert metrics.texture_energy(out, turned) < 0.6 * metrics.texture_energy(out, ex)
 
 
-def test_scale_two_doubles_the_elements(texture):
+def test_magnification_two_doubles_the_elements(texture):
     """Scale 2: the power-weighted mean frequency halves. Measured (seeds 0, 1): ratio 0.51-0.52."""
     ex = texture("embark/bricks.png", 96)
     plain = synthesize_controlled(ex, 192, rng=0)
-    big = synthesize_controlled(ex, 192, scale=2.0, rng=0)
+    big = synthesize_controlled(ex, 192, magnification=2.0, rng=0)
     assert 0.4 < _mean_frequency(big) / _mean_frequency(plain) < 0.65
 
 
@@ -167,10 +167,10 @@ def test_bad_input_names_the_parameter(texture):
     with pytest.raises(ValueError, match="texton_mask"):
         synthesize_controlled(ex, 24, texton_mask="otsu")
     for bad in (0.0, -1.0, np.nan, np.full((24, 24), np.inf)):
-        with pytest.raises(ValueError, match="scale"):
-            synthesize_controlled(ex, 24, scale=bad)
-    with pytest.raises(ValueError, match="scale"):
-        synthesize_controlled(ex, 24, scale=lambda r, c: c - 3)  # non-positive somewhere
+        with pytest.raises(ValueError, match="magnification"):
+            synthesize_controlled(ex, 24, magnification=bad)
+    with pytest.raises(ValueError, match="magnification"):
+        synthesize_controlled(ex, 24, magnification=lambda r, c: c - 3)  # non-positive somewhere
     with pytest.raises(ValueError, match="orientation"):
         synthesize_controlled(ex, 24, orientation=np.zeros((24, 25)))
     with pytest.raises(ValueError, match="orientation"):

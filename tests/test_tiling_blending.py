@@ -191,10 +191,10 @@ def test_dtypes_and_layouts(bread, gravel):
 def test_command_line(tmp_path, bread):
     src = save_image(tmp_path / "bread.png", bread)
     out = tmp_path / "tb.png"
-    assert cli.main(["tile-blend", str(src), "-o", str(out), "--size", "300x200", "--tile-scale", "0.2",
+    assert cli.main(["tile-and-blend", str(src), "-o", str(out), "--size", "300x200", "--tile-scale", "0.2",
                      "--seed", "1"]) == 0
     assert load_image(out).shape == (200, 300, 3)
-    assert cli.main(["tile-blend", str(src), "-o", str(tmp_path / "bad.png"), "--tile-scale", "0.7"]) == 2
+    assert cli.main(["tile-and-blend", str(src), "-o", str(tmp_path / "bad.png"), "--tile-scale", "0.7"]) == 2
     assert not (tmp_path / "bad.png").exists()
 
 

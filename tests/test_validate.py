@@ -153,3 +153,28 @@ def test_under_an_address_space_limit_the_memory_available_is_what_is_left_of_it
     left = available_memory()
     assert left <= 2**30 + 2**26  # about what is left (the process may have grown a little since)
     assert left >= 0
+
+
+def test_a_file_name_or_path_given_for_an_image_is_read(tmp_path):
+    # notebooks pass paths: a str used to be a TypeError, a pathlib.Path a confusing shape error
+    from pathlib import Path
+
+    import texsynth
+    from texsynth import data
+    from texsynth.io import load_frames, load_image, save_frames, save_image
+
+    image = data.load("bread")[:40, :40]
+    path = save_image(tmp_path / "bread.png", image)
+    for given in (str(path), Path(path)):
+        assert np.array_equal(as_image(given, "exemplar"), load_image(path))
+    assert np.array_equal(texsynth.quilt(str(path), 48, block=12, rng=0),
+                          texsynth.quilt(load_image(path), 48, block=12, rng=0))
+    assert np.array_equal(texsynth.patchwork(Path(path), 48, rng=0), texsynth.patchwork(load_image(path), 48, rng=0))
+    clip = np.stack([data.load("metal")[:16, t:t + 16] for t in range(3)])
+    gif = save_frames(tmp_path / "clip.gif", clip)
+    assert np.array_equal(as_image(gif, "frames", spatial_dims=3), load_frames(gif))
+    with pytest.raises(FileNotFoundError):
+        texsynth.quilt(str(tmp_path / "missing.png"), 48)
+    (tmp_path / "notes.txt").write_text("not an image")
+    with pytest.raises(ValueError, match="notes.txt"):
+        as_image(tmp_path / "notes.txt", "exemplar")

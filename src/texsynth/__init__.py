@@ -1,7 +1,8 @@
 """texsynth: example-based texture synthesis on one shared numpy layer.
 
 The algorithms are functions at the top level (``texsynth.optimize_texture``,
-``texsynth.patchwork``, ...), each implemented in its family:
+``texsynth.patchwork``, ...; ``print(texsynth.methods())`` lists them, one line
+each), each implemented in its family:
 
 =============================  ====================================================
 :mod:`texsynth.pixel`          pixel-based: Wei-Levoy, Wei's mixtures and solids, Efros-Leung, Zhang et al.
@@ -19,8 +20,7 @@ so ``import texsynth`` is fast.
 """
 
 from .core._lazy import attach
-
-__version__ = "0.1.0"
+from .core._version import __version__
 
 __getattr__, __dir__, __all__ = attach(
     __name__,
@@ -41,11 +41,11 @@ __getattr__, __dir__, __all__ = attach(
                         ".statistical"),
         **dict.fromkeys(["read_mesh", "write_mesh", "render_mesh", "synthesize_surface", "SurfaceSchedule",
                          "lapped_textures"], ".surface"),
-        **dict.fromkeys(["Schedule", "Terms", "Constraints", "Guides", "Fields"], ".core.em"),
+        **dict.fromkeys(["Schedule", "Terms", "Constraints", "Guides", "Fields", "Animation"], ".core.em"),
         "Search": ".core.search",
-        "Animation": ".optimization",
         "apply_coordinates": ".core.coordinates",
         "batch": "._batch",
+        "methods": ".registry",
     },
 )
 __all__.append("__version__")

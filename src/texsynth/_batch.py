@@ -29,7 +29,7 @@ def _distributed():
         import distributed
     except ImportError as exc:
         raise ImportError("texsynth.batch runs on dask.distributed, which is not installed: "
-                          "pip install texsynth[dask]") from exc
+                          "pip install '.[dask]' in a texsynth checkout") from exc
     return distributed
 
 
@@ -318,6 +318,21 @@ def _connect(distributed, client, scheduler, n_workers, processes):
 def batch(inputs, output_folder, *, methods=("patchwork",), options=None, seeds=1, size=None, client=None,
           scheduler=None, n_workers=None, processes=True, overwrite=False, progress=True):
     """Synthesise exemplars x methods x options x seeds into a folder, on ``dask.distributed``.
+
+    Examples
+    --------
+    >>> import shutil, tempfile, texsynth
+    >>> folder = tempfile.mkdtemp()
+    >>> summary = texsynth.batch([texsynth.data.path("bread")], folder, methods=["quilt"], seeds=2, size=48,
+    ...                          n_workers=1, processes=False, progress=False)
+    >>> [item["output"] for item in summary.items]
+    ['bread_quilt_s0.png', 'bread_quilt_s1.png']
+    >>> shutil.rmtree(folder)
+
+    Every combination is one item, synthesised on a worker of a Dask
+    cluster (an in-process ``LocalCluster`` unless ``client`` or
+    ``scheduler`` is given) and written as soon as it is done; a re-run
+    skips the items whose output exists (``docs/scaling.md``).
 
     Parameters
     ----------

@@ -5,16 +5,34 @@
     texsynth list
     texsynth demo [--out DIR] [--only NAME,...]
     texsynth batch INPUT_FOLDER_OR_MANIFEST -o FOLDER [--methods a,b] [--seeds N] [--scheduler tcp://HOST:PORT]
-    texsynth METHOD INPUT [INPUT ...] -o OUTPUT [--size WxH] [--seed N] [--bits 8|16|32] [method options]
+    texsynth METHOD INPUT [INPUT ...] -o OUTPUT [--size WxH|N|4x] [-s SEED] [--bits 8|16|32] [method options]
+    texsynth inpaint photo.png --hole hole.png [--invert-mask] -o out.png   (or --hole-channel a)
     texsynth quilt albedo.png -o out.png --channels height.png,rough.png --normal-maps normal.png
     texsynth quilt albedo.png -o out.png --coordinates out_map.npz
     texsynth apply-coordinates out_map.npz height.png -o out_height.png [--normal-map]
     texsynth surface MESH EXEMPLAR -o out.ply [--mode vertex|lapped] [--n-vertices N | --pixel-size S] [--field F]
 
-The methods and how each is exposed come from :mod:`texsynth.registry`; each
+The methods and how each is exposed come from :mod:`texsynth.registry`. A
+method's command is its function's name with dashes (``texsynth
+synthesize-pixels`` runs :func:`texsynth.synthesize_pixels`, ``texsynth
+carve-seams`` :func:`texsynth.carve_seams`); ``texsynth surface`` runs one of the
+two surface methods, chosen by ``--mode``. A mistyped command names the
+likeliest ones ("did you mean 'synthesize-pixels'?"). Each
 method's options are generated from the keyword-only parameters of its Python
 function and their numpydoc descriptions, so the command and the API never
-drift apart. Bad input gives a one-line error and exit status 2.
+drift apart: ``--help`` shows the first sentence of each, ``METHOD --help-full``
+the whole text. Bad input gives a one-line error and exit status 2; an error the
+function raises names the flags (``levels must be`` -> ``--levels must be``,
+:func:`_flags_in`), an option the command does not take names the likeliest
+ones, and a warning is one ``texsynth: warning:`` line. Abbreviated options
+are not accepted (``--scale`` would have been ``--scales`` of
+``heeger-bergen``).
+
+``--size`` is ``WIDTHxHEIGHT``, ``N`` or a factor of the input's size
+(``4x``, ``1.5x``; :func:`parse_size`); ``-s`` is ``--seed``. A method's
+main mask (:attr:`texsynth.registry.Method.mask`) is an image file, white =
+its meaning (``--hole``: fill), and ``--invert-mask`` swaps black and white;
+``inpaint`` also takes ``--hole-channel a``, the input's transparency.
 
 An option group, a parameter whose default is a frozen dataclass instance
 (``search=Search()``), is flattened: each of its fields is a flag named after
@@ -29,23 +47,31 @@ the flag (``--k must be ...``). Field names are unique per function (a clash
 fails when the parser is built).
 
 The output keeps the bit depth of the (first) input file, as far as its format
-allows (PNG up to 16 bits, TIFF up to 32-bit float, other formats 8), unless
-``--bits`` says otherwise. Methods that record where each output pixel came
-from (:data:`texsynth.registry.COORDINATE_METHODS`) take ``--channels`` and
+allows (PNG up to 16 bits, TIFF and EXR up to 32-bit float, other formats 8),
+unless ``--bits`` says otherwise. A float input outside [0, 1] (a height in
+metres, HDR colour) is scaled into [0, 1] by its minimum and maximum for the
+synthesis (:func:`texsynth.io.normalize_range`) and its range restored in a
+float output (EXR, TIFF with ``--bits 32``); an 8/16-bit output keeps the
+scaled values, and a note on stderr says what 0 and 1 stand for. Methods that
+record where each output pixel came from
+(:data:`texsynth.registry.COORDINATE_METHODS`) take ``--channels`` and
 ``--normal-maps``: more images of the input's size (height, roughness, normal
 maps of the same material) rendered through the synthesis's source-coordinate
 map (:func:`texsynth.apply_coordinates`) and written next to the output as
-``OUTPUT-STEM_CHANNEL-STEM.SUFFIX``, all files or none. ``--coordinates MAP.npz``
-saves the map itself (:func:`texsynth.io.save_coordinates`) with the output,
-and ``texsynth apply-coordinates`` renders a channel through it later.
+``OUTPUT-STEM_CHANNEL-STEM.SUFFIX``, all files or none, each in its own
+file's format and depth (``--channel-format`` chooses another).
+``--coordinates MAP.npz`` (or ``MAP.png``, ``.tif``, ``.exr``: an image for
+a shader) saves the map itself (:func:`texsynth.io.save_coordinates`) with
+the output, and ``texsynth apply-coordinates`` renders a channel through it
+later. A ``.zarr`` output (methods with ``chunks``) records the method, its
+options, the seed, the exemplar and texsynth's version as attributes;
+``--zarr-format 2`` writes Zarr version 2.
 """
 
 from __future__ import annotations
 
 import argparse
-import ast
 import dataclasses
-import importlib
 import inspect
 import re
 import shutil
@@ -54,6 +80,9 @@ import textwrap
 from pathlib import Path
 
 from .io import check_suffix
+from ._cli_text import HelpFull, did_you_mean, doc_params, group_heading, plain_text, short_help
+from ._cli_values import (FIELD_GREY, SIZE_FORMS, CommandError, parse_flow, parse_size, parse_value, parse_weights,
+                          ramp, read_field, read_grey_map)
 from .registry import (COORDINATE_METHODS, METHODS, VIDEO_COORDINATE_METHODS, Method, group_fields, group_options,
                        is_group, option_holder)
 
@@ -63,187 +92,36 @@ __all__ = ["main", "METHODS", "Method"]
 _ALWAYS_SKIPPED = {"rng", "progress", "return_info"}
 
 
-class CommandError(Exception):
-    """A user error on the command line: printed on one line, exit status 2."""
 
 
-def _doc_entries(func):
-    """The Parameters section of a numpydoc docstring as [(names, description)], one per entry."""
-    doc = inspect.getdoc(func) or ""
-    match = re.search(r"^Parameters\n-+\n(.*?)(?:^\w[\w ]*\n-+\n|\Z)", doc, re.S | re.M)
-    entries = []
-    if not match:
-        return entries
-    for line in match.group(1).splitlines():
-        if line and not line.startswith(" "):
-            names = line.split(":")[0]
-            entries.append(([n.strip() for n in names.split(",") if n.strip()], ""))
-        elif entries and line.strip():
-            names, text = entries[-1]
-            entries[-1] = (names, (text + " " + line.strip()).strip())
-    return entries
 
 
-_REFERENCE = re.compile(r"^As in :(?:func|meth):`~?([\w.]+)`")
-_ONLY_REFERENCE = re.compile(r"^As in :(?:func|meth):`~?[\w.]+`\.?$")  # nothing but the pointer
 
 
-def _referenced_function(func, text):
-    """The function a description such as "As in :func:`optimize_texture`, ..." refers to, or None.
-
-    A bare name is looked up in the module of ``func``, then among texsynth's public names.
-    """
-    match = _REFERENCE.match(text)
-    if not match:
-        return None
-    module_name, _, name = match.group(1).rpartition(".")
-    try:
-        module = importlib.import_module(module_name) if module_name else sys.modules[func.__module__]
-    except (ImportError, KeyError):
-        return None
-    other = getattr(module, name, None)
-    if other is None and not module_name:
-        try:
-            other = getattr(importlib.import_module("texsynth"), name, None)
-        except ImportError:
-            return None
-    return other if callable(other) and other is not func else None
 
 
-def _doc_sources(obj):
-    """The Parameters entries of ``obj``'s docstring and, for a function, those of its option groups' classes."""
-    entries = list(_doc_entries(obj))
-    for param in _parameters(obj).values():
-        if is_group(param.default):
-            entries += _doc_entries(type(param.default))
-    return entries
 
 
-def _parameters(obj):
-    """The parameters of a function's signature ({} for a class or what has no signature)."""
-    if isinstance(obj, type):
-        return {}
-    try:
-        return inspect.signature(obj).parameters
-    except (TypeError, ValueError):
-        return {}
 
 
-def _group_heading(pname, default):
-    """The --help heading of an option group's flags: ``search=Search(...)``."""
-    return f"{pname}={type(default).__name__}(...)"
 
 
-def _full_doc(obj, seen=()):
-    """{name: description} of ``obj``'s parameters (and its groups' fields), each complete on its own.
-
-    A grouped entry's description goes to each of its names, after the name's
-    own description from the function the entry refers to ("As in
-    :func:`inpaint`"), itself complete; a bare "As in ..." is dropped where
-    the name has its own. No description points to another option: these
-    are what another function's grouped entry borrows.
-    """
-    out = {}
-    for names, text in _doc_sources(obj):
-        other = _referenced_function(obj, text)
-        own = _full_doc(other, seen + (obj,)) if other is not None and other not in seen else {}
-        for n in names:
-            mine = own.get(n, "")
-            out[n] = mine if mine and _ONLY_REFERENCE.match(text) else f"{mine} {text}".strip()
-    return out
 
 
-def _doc_params(func, shown=None):
-    """Option descriptions from a numpydoc docstring: {name: description}.
-
-    The function's Parameters section, and for each option group (a
-    parameter whose default is a dataclass instance) the Parameters section
-    of the group's class, one entry per field. A grouped entry (``a, b, c :
-    type`` with one description for all) gives its description to the
-    first of its names that is ``shown`` as an option; the others get "see
-    --first" instead of a copy of the same sentence. When the description
-    refers to another function ("As in :func:`optimize_texture`, ..."),
-    every name also gets its own, complete description from that function's
-    docstring (a bare "As in ..." is then left out); a name whose
-    description is the same as an option shown before it gets "See
-    --that-option." instead of a copy.
-    """
-    out = {}
-    carrier = {}  # a borrowed description -> the shown option that carries it
-    groups = {pname: _group_heading(pname, param.default) for pname, param in _parameters(func).items()
-              if is_group(param.default) and (shown is None or any(
-                  field.name in shown for field in group_fields(param.default)))}  # the headings of their flags
-
-    def flag(name):
-        return groups.get(name) or "--" + name.replace("_", "-")
-
-    for names, text in _doc_sources(func):
-        other = _referenced_function(func, text)
-        own = _full_doc(other, (func,)) if other is not None else {}
-        visible = [n for n in names if shown is None or n in shown or n in groups]
-        first = (visible or names)[0]
-        bare = bool(_ONLY_REFERENCE.match(text))
-        for n in names:
-            mine = own.get(n, "")
-            if mine in carrier:
-                out[n] = f"See {flag(carrier[mine])}."
-                continue
-            if mine and n in visible:
-                carrier[mine] = n
-            if n == first:
-                out[n] = mine if mine and bare else f"{mine} {text}".strip()
-            elif mine and bare:  # its own description says it all
-                out[n] = mine
-            else:
-                out[n] = f"{mine} (see {flag(first)})" if mine else f"See {flag(first)}."
-    return out
 
 
-def _plain(text):
-    """numpydoc markup to plain help text: ``x`` -> x, :func:`~a.f` -> f()."""
-    text = re.sub(r":(?:func|meth):`~?(?:[\w]+\.)*(\w+)`", r"\1()", text)
-    text = re.sub(r":\w+:`~?([^`]+)`", r"\1", text)
-    text = re.sub(r"\s*\[\d+\]_", "", text)  # citations of the References section: [2]_
-    return text.replace("``", "")
 
 
-def _parse_value(text):
-    """Command-line text to a Python value: numbers, tuples, None, else the string."""
-    if text.lower() in {"none", "null"}:
-        return None
-    try:
-        return ast.literal_eval(text)
-    except (ValueError, SyntaxError):
-        return text
+"""The forms ``--size`` takes, as its help and its errors say them."""
 
 
-def parse_size(text):
-    """``"WxH"`` or ``"N"`` to ``(height, width)``.
-
-    >>> parse_size("320x200"), parse_size("64")
-    ((200, 320), (64, 64))
-    """
-    parts = text.lower().split("x")
-    try:
-        numbers = [int(p) for p in parts]
-    except ValueError:
-        raise CommandError(f"--size must look like WIDTHxHEIGHT (e.g. 256x256) or one number, got {text!r}") from None
-    if len(numbers) == 1:
-        numbers = numbers * 2
-    if len(numbers) == 3:  # volumes: WxHxD
-        width, height, depth = numbers
-        return depth, height, width
-    if len(numbers) != 2 or min(numbers) < 1:
-        raise CommandError(f"--size must be positive WIDTHxHEIGHT, got {text!r}")
-    width, height = numbers
-    return height, width
 
 
 def _add_method_parser(sub, name, method):
     func = method.function()
-    first_line = (inspect.getdoc(func) or method.summary).splitlines()[0]
+    first_line = plain_text((inspect.getdoc(func) or method.summary).splitlines()[0])
     parser = sub.add_parser(name, help=method.summary, description=f"{method.summary}\n\n{first_line}",
-                            formatter_class=argparse.RawDescriptionHelpFormatter)
+                            formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
     if method.inputs == "images":
         parser.add_argument("inputs", nargs="+", metavar="INPUT", help="input images")
     elif method.inputs == "pair":
@@ -253,59 +131,79 @@ def _add_method_parser(sub, name, method):
         parser.add_argument("inputs", nargs=1, metavar="INPUT", help=what)
     parser.add_argument("-o", "--output", required=True, help="output file (or folder for frames)")
     if method.size or method.flow:
-        parser.add_argument("--size", help="output size WIDTHxHEIGHT (WxHxD for volumes); default: the input's")
-    parser.add_argument("--seed", type=int, default=None, help="random seed (same seed, same output)")
+        parser.add_argument("--size", help=f"output size: {SIZE_FORMS}; default: the input's")
+    parser.add_argument("-s", "--seed", type=int, default=None, help="random seed (same seed, same output)")
     parser.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     if method.output == "image":
         parser.add_argument("--bits", type=int, choices=(8, 16, 32), default=None,
-                            help="bits per sample of the output file: 8, 16 (PNG, TIFF) or 32 (float TIFF); "
-                                 "default: the input file's, as far as the output format allows")
+                            help="bits per sample of the output file: 8, 16 (PNG, TIFF; EXR: half float) or 32 "
+                                 "(float TIFF or EXR); default: the input file's, as far as the output format allows")
     if name in COORDINATE_METHODS:
         parser.add_argument("--channels", metavar="FILES",
                             help="comma-separated images of the input's size (height, roughness, ...) rendered "
                                  "through the synthesis's source-coordinate map and written next to OUTPUT as "
-                                 "OUTPUT-STEM_CHANNEL-STEM (each keeps its own bit depth unless --bits is given)")
+                                 "OUTPUT-STEM_CHANNEL-STEM.SUFFIX, each in its own format and bit depth (see "
+                                 "--channel-format)")
         parser.add_argument("--normal-maps", metavar="FILES",
                             help="as --channels, for tangent-space normal maps: blended pixels are renormalised")
+        parser.add_argument("--channel-format", choices=tuple(CHANNEL_FORMATS), default="same",
+                            help="format of the --channels/--normal-maps outputs: 'same' (default) keeps each "
+                                 "channel file's suffix and depth; 'output' takes OUTPUT's suffix and --bits; "
+                                 "png8, png16, tif16, tif32 (float), exr16 (half), exr32 (float) force one")
         if method.inputs == "images":
             parser.description += ("\n\nWith several inputs, each --channels/--normal-maps entry is one file per "
                                    "input joined by '+', in the inputs' order: --channels ha.png+hb.png")
     if name in COORDINATE_METHODS or name in VIDEO_COORDINATE_METHODS:
-        parser.add_argument("--coordinates", metavar="MAP.npz",
-                            help="also save the source-coordinate map (coordinates, weights, source_index) to this "
-                                 ".npz file, written with OUTPUT as a set; 'texsynth apply-coordinates MAP.npz "
-                                 "CHANNEL -o OUT' renders a channel (for a video: the channel's frames) through it "
-                                 "later")
+        parser.add_argument("--coordinates", metavar="MAP",
+                            help="also save the source-coordinate map to this file, written with OUTPUT as a set: "
+                                 ".npz (every source and weight), or an image for a shader, .png (16-bit), .tif or "
+                                 ".exr (float), R = (column + 0.5) / exemplar width, G = (row + 0.5) / height; "
+                                 "'texsynth apply-coordinates MAP CHANNEL -o OUT' renders a channel (for a video: "
+                                 "the channel's frames) through it later")
+    if option_holder(inspect.signature(func).parameters, "chunks") is not None:
+        parser.add_argument("--zarr-format", type=int, choices=(2, 3), default=None,
+                            help="Zarr format version of a .zarr OUTPUT: 3 (default) or 2 for older readers")
     params = inspect.signature(func).parameters
     options = _options(method, params)
     shown = [option.name for option in options]
-    help_text = _doc_params(func, shown)
+    help_text = doc_params(func, shown)
+    full = {}  # an action or an option group's section -> its full text, which --help-full shows
+    width = max(40, shutil.get_terminal_size().columns - 4)
     containers = {}  # an option group's parameter -> its section of the help
+
+    def add(where, *names, describe, **kwargs):
+        """add_argument with the help ``describe(first sentence)``; ``describe(whole text)`` for --help-full."""
+        action = where.add_argument(*names, help=describe(short), **kwargs)
+        full[action] = ("help", describe(long))
+        return action
+
     for option in options:
         pname, default = option.name, option.default
         if option.group is None:
             container = parser
         elif option.group not in containers:
-            group_doc = f"{_plain(help_text.get(option.group, ''))} Each flag sets one field of {option.group}; " \
-                        f"the others keep their defaults."  # wrapped here: the description formatter is raw
-            width = max(40, shutil.get_terminal_size().columns - 4)
+            group_text = plain_text(help_text.get(option.group, ""))
+            tail = f" Each flag sets one field of {option.group}; the others keep their defaults."
+            # wrapped here: the description formatter is raw
             containers[option.group] = container = parser.add_argument_group(
-                _group_heading(option.group, params[option.group].default),
-                textwrap.fill(group_doc.strip(), width))
+                group_heading(option.group, params[option.group].default),
+                textwrap.fill((short_help(group_text) + tail).strip(), width))
+            full[container] = ("description", textwrap.fill((group_text + tail).strip(), width))
         else:
             container = containers[option.group]
         flag = "--" + pname.replace("_", "-")
         flags = [flag]
-        desc = _plain(help_text.get(pname, "")).replace("%", "%%")  # argparse %-formats help strings
+        long = plain_text(help_text.get(pname, "")).replace("%", "%%")  # argparse %-formats help strings
+        short = short_help(long)
         required = default is inspect.Parameter.empty
         if pname == method.spatial:
             # NAME (number | ramp | file), NAME-map FILE and --transition: one of them, at most
             group = container.add_mutually_exclusive_group(required=required)
             forms = ["a number"] + (["'ramp' (as --transition)"] if pname in method.ramps else []) + (
                 ["a grey image file (as " + flag + "-map)"] if pname in method.maps else [])
-            group.add_argument(*flags, dest=pname, type=_parse_value, default=None if required else default,
-                               help=f"{', '.join(forms[:-1])} or {forms[-1]}. {desc}" if len(forms) > 1 else desc)
+            add(group, *flags, dest=pname, type=parse_value, default=None if required else default,
+                describe=lambda d: f"{', '.join(forms[:-1])} or {forms[-1]}. {d}" if len(forms) > 1 else d)
             group.add_argument(flag + "-map", dest=f"_{pname}_map", metavar="PATH",
                                help=f"grey image file of {pname} values in [0, 1] (colour channels averaged, an "
                                     f"alpha channel ignored); the output has its size unless --size is given")
@@ -318,150 +216,68 @@ def _add_method_parser(sub, name, method):
                                         "the last at the right) or grey weight images, comma-separated (one per "
                                         "input, or one file m for two inputs: weights 1-m and m) (default: 'equal')")
         elif pname in method.map_pairs:
-            container.add_argument(*flags, dest=pname, nargs=2, metavar=("PATH1", "PATH2"), default=default,
-                                   help=f"two image files, read as binary maps (grey, colour channels averaged, "
-                                        f"an alpha channel ignored, threshold 0.5). {desc}")
+            add(container, *flags, dest=pname, nargs=2, metavar=("PATH1", "PATH2"), default=default,
+                describe=lambda d: f"two image files, read as binary maps (grey, colour channels averaged, an alpha "
+                                   f"channel ignored, threshold 0.5). {d}")
+        elif pname == "hole" and pname in method.maps:  # an image file, or the input's transparency
+            add(container, *flags, dest=pname, metavar="PATH", default=None if required else default,
+                describe=lambda d: "image file, white (> 0.5) = fill (colour channels averaged, an alpha channel "
+                                   "ignored); black = fill: add --invert-mask; or --hole-channel a instead."
+                                   + ("" if d == short else f" {d}"))
+            container.add_argument("--hole-channel", choices=("a",), default=None,
+                                   help="a: the hole is the input's transparency (alpha < 0.5 = fill), as "
+                                        "hole='alpha' in Python; the input must have an alpha channel")
         elif required:
-            container.add_argument(*flags, dest=pname, type=_parse_value, required=True, help=desc)
+            add(container, *flags, dest=pname, type=parse_value, required=True, describe=lambda d: d)
         elif pname in method.maps:
-            container.add_argument(*flags, dest=pname, metavar="PATH", default=default,
-                                   help=f"grey image file (colour channels averaged, an alpha channel ignored). "
-                                        f"{desc}")
+            add(container, *flags, dest=pname, metavar="PATH", default=default,
+                describe=lambda d: f"grey image file (colour channels averaged, an alpha channel ignored). {d}")
         elif pname in method.fields:
-            container.add_argument(*flags, dest=pname, metavar="VALUE|PATH", default=default,
-                                   help=f"a number, a .npy array of the output's size, or a grey image file (grey "
-                                        f"{_FIELD_GREY[pname][1]}). {desc}")
+            add(container, *flags, dest=pname, metavar="VALUE|PATH", default=default,
+                describe=lambda d: f"a number, a .npy array of the output's size, or a grey image file (grey "
+                                   f"{FIELD_GREY[pname][1]}). {d}")
         elif pname in method.files:
-            container.add_argument(*flags, dest=pname, metavar="PATH", default=default, help=f"image file. {desc}")
+            add(container, *flags, dest=pname, metavar="PATH", default=default, describe=lambda d: f"image file. {d}")
         elif isinstance(default, bool):
-            container.add_argument(*flags, dest=pname, action=argparse.BooleanOptionalAction, default=default,
-                                   help=f"{desc} (default: {default})")
+            add(container, *flags, dest=pname, action=argparse.BooleanOptionalAction, default=default,
+                describe=lambda d: f"{d} (default: {default})")
         else:  # a string default is a word of a closed vocabulary: no literal parsing ("none" stays "none"),
             # except "auto", which stands for a value chosen for the input (a number, a tuple or None)
             word = isinstance(default, str) and default != "auto"
-            container.add_argument(*flags, dest=pname, type=str if word else _parse_value,
-                                   default=default, help=f"{desc} (default: {default!r})")
+            add(container, *flags, dest=pname, type=str if word else parse_value, default=default,
+                describe=lambda d: f"{d} (default: {default!r})")
+        if pname == method.mask:
+            parser.add_argument("--invert-mask", action="store_true",
+                                help=f"swap black and white of the {flag} file as read (1 - the map): for a mask "
+                                     f"drawn the other way round (Embark marks a hole black)")
+    parser.add_argument("--help-full", action=HelpFull, full=full,
+                        help="show the full description of every option and exit")
+    parser.epilog = textwrap.fill(
+        f"Each option shows the first sentence of its description; 'texsynth {name} --help-full' shows them "
+        f"whole, help(texsynth.{func.__name__}) in Python the function's documentation, and the docs' page "
+        f"docs/methods/{method.page}.md the method.", width)
     parser.set_defaults(_method=name)
     return parser
 
 
-def parse_flow(text, shape):
-    """``KIND:AMOUNT`` to a flow field of the given shape (texsynth.core.flows).
-
-    KIND is ``sink``, ``source``, ``vortex`` (AMOUNT: speed in pixels per
-    frame), ``rotation`` (radians per frame) or ``translation`` (AMOUNT: one
-    number for a horizontal shift, or ``(dx, dy)``).
-
-    >>> parse_flow("translation:(1, 0)", (4, 6)).shape
-    (4, 6, 2)
-    """
-    from .core import flows
-
-    kinds = {"sink": flows.sink, "source": flows.source, "vortex": flows.vortex, "rotation": flows.rotation,
-             "translation": flows.translation}
-    kind, _, amount = str(text).partition(":")
-    if kind not in kinds or not amount:
-        raise CommandError(f"--flows must be KIND:AMOUNT with KIND one of {', '.join(kinds)}, got {text!r}")
-    value = _parse_value(amount)
-    if kind == "translation" and not isinstance(value, tuple):
-        value = (value, 0.0)
-    return kinds[kind](tuple(shape), value)
 
 
-def _ramp(shape):
-    import numpy as np
-
-    return np.broadcast_to(np.linspace(0.0, 1.0, shape[1]), tuple(shape[:2])).copy()
 
 
-def parse_weights(text, n, shape):
-    """``--weights`` to one weight per input: ``equal``, ``ramp`` or comma-separated image files.
-
-    ``equal`` gives every input the weight 1. ``ramp`` goes from the first
-    input at the left edge to the last at the right edge (piecewise-linear
-    hat functions; for two inputs the weights ``1 - t`` and ``t``). Files
-    are grey weight images of the output size: one per input, or a single
-    one ``m`` for two inputs (weights ``1 - m`` and ``m``).
-
-    >>> [w.round(2).tolist() for w in parse_weights("ramp", 3, (1, 5))]
-    [[[1.0, 0.5, 0.0, 0.0, 0.0]], [[0.0, 0.5, 1.0, 0.5, 0.0]], [[0.0, 0.0, 0.0, 0.5, 1.0]]]
-    """
-    import numpy as np
-
-    if text in (None, "equal"):
-        return None
-    if text == "ramp":
-        t = _ramp(shape) * (n - 1)
-        return [np.clip(1.0 - np.abs(t - i), 0.0, 1.0) for i in range(n)]
-    paths = str(text).split(",")
-    if len(paths) not in {n, 1} or (len(paths) == 1 and n != 2):
-        raise CommandError(f"--weights needs 'equal', 'ramp', one image file per input ({n}) "
-                           f"or, for two inputs, one file; got {text!r}")
-    maps = [read_grey_map(path, "--weights") for path in paths]
-    return [1.0 - maps[0], maps[0]] if len(paths) == 1 else maps
 
 
-# grey 0..1 of a field image -> the field's values, and the mapping in words
-_FIELD_GREY = {"orientation": (lambda g: 2.0 * 3.141592653589793 * g, "0..1 -> angle 0..2 pi, counter-clockwise"),
-               "scale": (lambda g: 2.0 ** (2.0 * g - 1.0), "0..1 -> scale 0.5..2 geometrically, 0.5 -> 1")}
 
 
-def read_field(text, name):
-    """``--orientation``/``--scale`` text to a field: a number, a ``.npy`` array or a grey image file.
-
-    A number is the field everywhere; a ``.npy`` file holds the values
-    themselves (radians; scale factors) at the output's size; any other path
-    is an image read by :func:`read_grey_map` whose grey ``g`` in [0, 1]
-    maps to ``2 pi g`` radians (orientation) or the scale ``2^(2g - 1)``
-    (0.5 at black, 1 at mid-grey, 2 at white). A callable is API-only.
-
-    >>> read_field("1.5", "scale")
-    1.5
-    """
-    import numpy as np
-
-    option = "--" + name.replace("_", "-")
-    try:
-        return float(text)
-    except ValueError:
-        pass
-    if not Path(text).is_file():
-        raise CommandError(f"{option} must be a number, a .npy file or an image file, got {text!r} (no such file)")
-    if text.lower().endswith(".npy"):
-        try:
-            return np.load(text, allow_pickle=False)
-        except ValueError as error:
-            raise CommandError(f"{option}: could not read {text!r} as a numeric .npy array ({error})") from None
-    return _FIELD_GREY[name][0](read_grey_map(text, option))
 
 
-def read_grey_map(path, option):
-    """Read an image file as one grey map ``(H, W)`` of floats in [0, 1].
 
-    The one reader of every map given on the command line (mixing weights,
-    masks, alpha maps, feature maps), so that a map saved as grey, grey with
-    alpha, RGB or RGBA (any bit depth ``load_image`` reads) means the same:
-    the colour channels are averaged and an alpha channel is ignored.
-    ``option`` names the option in error messages.
 
-    Examples
-    --------
-    >>> import tempfile, numpy as np
-    >>> from texsynth.io import save_image
-    >>> rgba = np.zeros((2, 3, 4)); rgba[..., :3] = 1.0  # white, fully transparent
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     read_grey_map(save_image(d + "/m.png", rgba), "--mask").tolist()
-    [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]]
-    """
-    from .io import load_image
 
-    image = load_image(path)
-    if image.ndim == 3:
-        channels = image.shape[-1]
-        image = image[..., 0] if channels <= 2 else image[..., :3].mean(axis=-1)  # (grey | RGB) [+ alpha]
-    if image.ndim != 2:
-        raise CommandError(f"{option} {str(path)!r} is not a 2-D image (shape {image.shape}); pass a grey or RGB image")
-    return image
+
+
+
+
+
 
 
 class _Option:
@@ -530,6 +346,45 @@ def _flag_message(message, names):
     return message if named else ", ".join("--" + n.replace("_", "-") for n in names) + ": " + message
 
 
+# words after which a one-word option name is the parameter ("levels must be", "block <= 128", "band 8")
+_AS_PARAMETER = r"(?=\s*(?:=|<|>|\d|(?:must|is|are|has|needs|contains|should|cannot|does|takes|gives|leaves)\b))"
+
+
+def _calls(message):
+    """The spans of ``name(...)`` calls in a message (a Python expression such as ``Search(k=2)``)."""
+    spans, stack = [], []
+    for i, char in enumerate(message):
+        if char == "(":
+            stack.append(i if i and (message[i - 1].isalnum() or message[i - 1] == "_") else None)
+        elif char == ")" and stack:
+            opened = stack.pop()
+            if opened is not None:
+                spans.append((opened, i))
+    return spans
+
+
+def _flags_in(message, names):
+    """A function's error (or warning) message with the options of ``names`` it names as the command's flags.
+
+    ``names`` are the options the command shows. A name with an underscore is a parameter wherever it stands
+    (``neighborhood_sizes=(16, 8)`` -> ``--neighborhood-sizes=(16, 8)``); a one-word name only where the
+    message uses it as one (``levels must be``, ``block <= 128``, ``k=3``, ``band 8``), so that ordinary words
+    ("at all levels") stay. Names inside a Python call of the message (``Search(k=2)``) stay too.
+
+    >>> _flags_in("pass block <= 128 or a larger image, not neighborhood_sizes=(64,)", ["block", "neighborhood_sizes"])
+    'pass --block <= 128 or a larger image, not --neighborhood-sizes=(64,)'
+    >>> _flags_in("levels must be >= 1 (at all levels); pass search=Search(k=2)", ["levels", "k"])
+    '--levels must be >= 1 (at all levels); pass search=Search(k=2)'
+    """
+    for name in sorted(set(names), key=len, reverse=True):
+        tail = "" if "_" in name else _AS_PARAMETER
+        pattern = re.compile(rf"(?<![\w\-.'\"`]){re.escape(name)}(?![\w\-'\"`(]){tail}")
+        calls = _calls(message)
+        message = pattern.sub(lambda m: m.group(0) if any(a < m.start() < b for a, b in calls)
+                              else "--" + name.replace("_", "-"), message)
+    return message
+
+
 def _rebuild_group(default, given):
     """The option group ``default`` with the fields the command line ``given`` ({field: value}) replaced."""
     try:
@@ -563,7 +418,7 @@ def _spatial_value(method, args, pname, value, shape):
     if map_path is not None:
         return read_grey_map(map_path, "--" + pname.replace("_", "-") + "-map")
     if getattr(args, f"_{pname}_transition") or (pname in method.ramps and value == "ramp"):
-        return _ramp(shape)
+        return ramp(shape)
     if pname in method.maps and isinstance(value, str):
         return read_grey_map(value, "--" + pname.replace("_", "-"))
     return value
@@ -576,19 +431,79 @@ def _load_inputs(method, paths):
     return [loader(p) for p in paths]
 
 
-_MOST_BITS = {".png": 16, ".tif": 32, ".tiff": 32, ".npy": 32}
+def _load_scaled(paths, what="input"):
+    """Images of ``paths`` in [0, 1] and the ``(low, high)`` range they stand for: ``(0.0, 1.0)`` unless a float
+    file (height, displacement, HDR) leaves [0, 1]; then all of them are scaled by one range, their joint
+    minimum and maximum (:func:`texsynth.io.normalize_range`), so that they stay comparable."""
+    from .io import load_image, normalize_range, restore_range
+
+    loaded = [load_image(p, normalize=True) for p in paths]
+    ranges = {value_range for _, value_range in loaded}
+    if ranges <= {(0.0, 1.0)}:
+        return [image for image, _ in loaded], (0.0, 1.0)
+    joint = (min(lo for lo, _ in ranges), max(hi for _, hi in ranges))
+    if len(loaded) == 1:
+        return [loaded[0][0]], joint
+    return [normalize_range(restore_range(image, r), joint)[0] for image, r in loaded], joint
+
+
+def _restored(image, value_range, target, bits, what):
+    """An output image in [0, 1] as it is written to ``target``: restored to ``value_range`` for a float format,
+    else left in [0, 1] with a note on stderr saying what 0 and 1 stand for."""
+    from .io import restore_range
+
+    if value_range == (0.0, 1.0):
+        return image
+    lo, hi = value_range
+    suffix = Path(target).suffix.lower()
+    if hasattr(image, "dask"):  # a lazy output (chunks): restored block by block into float32 samples
+        if bits == 32:
+            return image * (hi - lo) + lo
+    elif suffix == ".exr" or (suffix in {".tif", ".tiff"} and bits == 32):
+        return restore_range(image, value_range)
+    print(f"texsynth: note: {what} holds values in [{lo:.6g}, {hi:.6g}]; {Path(target).name} stores them scaled "
+          f"into [0, 1] (0 is {lo:.6g}, 1 is {hi:.6g}): write .exr, or .tif with --bits 32, to keep the values",
+          file=sys.stderr)
+    return image
+
+
+_MOST_BITS = {".png": 16, ".tif": 32, ".tiff": 32, ".npy": 32, ".exr": 32, ".zarr": 32}
 
 
 def _output_bits(requested, source, path):
     """The bits of an output file: ``--bits`` if given, else the ``source`` file's (None: the format's default),
-    as far as the format of ``path`` stores them."""
+    as far as the format of ``path`` stores them (an EXR: half from a half-float EXR, else float32)."""
     if requested is not None:
         return requested
     if source is None:
         return None
     from .io import image_bits
 
-    return min(image_bits(source), _MOST_BITS.get(Path(path).suffix.lower(), 8))
+    bits, suffix = image_bits(source), Path(path).suffix.lower()
+    if suffix == ".exr":
+        return 16 if bits == 16 and Path(source).suffix.lower() == ".exr" else 32
+    return min(bits, _MOST_BITS.get(suffix, 8))
+
+
+def _channel_bits(args, requested, source, target):
+    """The bits of a --channels output, by --channel-format (see :data:`CHANNEL_FORMATS`)."""
+    fmt = getattr(args, "channel_format", "same") or "same"
+    if CHANNEL_FORMATS.get(fmt):
+        return CHANNEL_FORMATS[fmt][1]
+    return _output_bits(requested if fmt == "output" else None, source, target)
+
+
+def _channel_suffix(args, source, output):
+    """The suffix of a --channels output: the channel file's own ('same', the default), the output's ('output'),
+    or --channel-format's; refused up front if texsynth cannot write it."""
+    fmt = getattr(args, "channel_format", "same") or "same"
+    suffix = source.suffix if fmt == "same" else output.suffix if fmt == "output" else CHANNEL_FORMATS[fmt][0]
+    try:
+        check_suffix(source.with_suffix(suffix))
+    except ValueError:
+        raise CommandError(f"--channels file {str(source)!r}: texsynth does not write {suffix or 'suffix-less'} "
+                           "files; pass --channel-format png16 (or tif32, exr32, output)") from None
+    return suffix
 
 
 def _channel_files(args, output, n_inputs=1):
@@ -606,18 +521,27 @@ def _channel_files(args, output, n_inputs=1):
             if len(paths) != n_inputs:
                 raise CommandError(f"--{option.replace('_', '-')} entry {part!r} has {len(paths)} file(s) for "
                                    f"{n_inputs} inputs; join one file per input with '+', e.g. ha.png+hb.png")
-            pairs.append((paths, out.with_name(f"{out.stem}_{paths[0].stem}{out.suffix}"), normal))
+            pairs.append((paths, out.with_name(f"{out.stem}_{paths[0].stem}{_channel_suffix(args, paths[0], out)}"),
+                          normal))
     targets = [out] + [t for _, t, _ in pairs]
     if len({t.resolve() for t in targets}) < len(targets):
         raise CommandError("two --channels files have the same name (or the output's); rename one of them")
     return pairs
 
 
-DEFAULT_CHUNKS = 2048
-"""Block side of ``--chunks`` when a .zarr output asks for blocks without giving their size."""
+DEFAULT_CHUNKS = 1024
+"""Block side of ``--chunks`` when a .zarr output asks for blocks without giving their size (1024: a 2048 x 2048
+output is four blocks, written on as many threads)."""
+
+CHANNEL_FORMATS = {"same": None, "output": None, "png8": (".png", 8), "png16": (".png", 16), "tif16": (".tif", 16),
+                   "tif32": (".tif", 32), "exr16": (".exr", 16), "exr32": (".exr", 32)}
+"""``--channel-format``: ``(suffix, bits)`` of the channel outputs; 'same' keeps each channel file's suffix and
+depth, 'output' takes the output's suffix (and ``--bits``)."""
 
 
-def _write(method, result, output, overwrite, bits=None, extra=None):
+def _write(method, result, output, overwrite, bits=None, extra=None, chunked_options=None):
+    """Write the result (and ``extra``: {path: (image or writer, bits)} as one set); ``chunked_options`` are
+    :func:`texsynth.io.save_chunked`'s ``attributes`` and ``zarr_format`` for a lazy result."""
     import numpy as np
 
     from .io import save_frames, save_image
@@ -632,7 +556,8 @@ def _write(method, result, output, overwrite, bits=None, extra=None):
     if hasattr(result, "dask"):  # a lazy image (chunks): block by block, never whole in memory
         from .io import save_chunked
 
-        save_chunked(out, result, bits=bits, overwrite=overwrite, progress=sys.stderr.isatty())
+        save_chunked(out, result, bits=bits, overwrite=overwrite, progress=sys.stderr.isatty(),
+                     **(chunked_options or {}))
         return [out]
     if extra:  # the output and the channels rendered through its map: all files or none
         return _write_set({out: result, **{path: image for path, (image, _) in extra.items()}}, overwrite,
@@ -698,10 +623,15 @@ def _run_method(args):
     if method.output != "volume" and not chunked:  # refuse a format that cannot be written before the synthesis runs
         check_suffix(out, frames=method.output == "frames")
     requested_bits = getattr(args, "bits", None)
-    if requested_bits == 32 and out.suffix.lower() not in {".tif", ".tiff", ".npy"}:
-        raise CommandError(f"--bits 32 (float samples) needs a .tif output, got {args.output!r}")
-    if requested_bits == 16 and out.suffix.lower() not in {".png", ".tif", ".tiff", ".npy"}:
-        raise CommandError(f"--bits 16 needs a .png or .tif output, got {args.output!r}")
+    if requested_bits == 32 and out.suffix.lower() not in {".tif", ".tiff", ".npy", ".exr", ".zarr"}:
+        raise CommandError(f"--bits 32 (float samples) needs a .tif or .exr output, got {args.output!r}")
+    if requested_bits == 16 and out.suffix.lower() not in {".png", ".tif", ".tiff", ".npy", ".exr", ".zarr"}:
+        raise CommandError(f"--bits 16 needs a .png, .tif or .exr output, got {args.output!r}")
+    if requested_bits == 8 and out.suffix.lower() == ".exr":
+        raise CommandError(f"--bits 8 cannot be stored in an .exr output (half or float samples: --bits 16 or 32), "
+                           f"got {args.output!r}")
+    if getattr(args, "zarr_format", None) is not None and out.suffix.lower() != ".zarr":
+        raise CommandError(f"--zarr-format is for a .zarr output, got {args.output!r}")
     channel_files = _channel_files(args, args.output, len(paths) if method.inputs == "images" else 1)
     channel_sources = {Path(c).resolve() for group, _, _ in channel_files for c in group}
     for group, target, _ in channel_files:
@@ -713,8 +643,11 @@ def _run_method(args):
         if target.exists() and not args.overwrite:
             raise CommandError(f"output {str(target)!r} (of --channels {str(group[0])!r}) exists; pass --overwrite "
                                "to replace it (nothing was written)")
-    map_file = _coordinates_file(args, out, paths, channel_files)
-    inputs = _load_inputs(method, paths)
+    map_file = _coordinates_file(args, out, paths, channel_files, method)
+    if method.inputs == "frames":
+        inputs, value_range = _load_inputs(method, paths), (0.0, 1.0)
+    else:  # float files outside [0, 1] (heights, HDR) scaled in, and their range restored on output
+        inputs, value_range = _load_scaled(paths)
     channels = _load_channels(channel_files, [image.shape[:2] for image in inputs])
     if method.inputs == "pair":
         inputs = _match_channels(*inputs)
@@ -725,12 +658,14 @@ def _run_method(args):
     if "progress" in params:
         kwargs["progress"] = not args.no_progress and sys.stderr.isatty()
     positional = list(inputs) if method.inputs != "images" else [inputs]
+    input_size = None if not inputs else inputs[0].shape[:2] if method.inputs != "frames" else inputs[0].shape[1:3]
+    given_size = None if getattr(args, "size", None) is None else parse_size(args.size, input_size)
     size = None
     if method.size:
-        if args.size is not None:
-            size = parse_size(args.size)
+        if given_size is not None:
+            size = given_size
         elif inputs:
-            size = inputs[0].shape[:2] if method.inputs != "frames" else inputs[0].shape[1:3]
+            size = input_size
         else:
             raise CommandError("--size is required for this method")
         if method.output == "volume" and len(size) == 2:  # a volume as deep as it is high
@@ -748,13 +683,17 @@ def _run_method(args):
         elif pname == method.flow:
             if args.size is None:
                 raise CommandError("--size is required for an animation (the flow field's size)")
-            value = parse_flow(value, parse_size(args.size))
+            value = parse_flow(value, given_size)
         elif pname in method.map_pairs and value is not None:
             value = tuple(read_grey_map(path, "--" + pname.replace("_", "-")) > 0.5 for path in value)
         elif pname in method.ramps and value == "ramp":
-            value = _ramp(size if method.size else inputs[0].shape[:2])
+            value = ramp(size if method.size else inputs[0].shape[:2])
+        elif pname == "hole" and pname in method.maps:
+            value = _hole_value(args, value, inputs[0], pname == method.mask)
         elif pname in method.maps and isinstance(value, str):
             value = read_grey_map(value, "--" + pname.replace("_", "-"))
+            if pname == method.mask and args.invert_mask:
+                value = 1.0 - value
         elif pname in method.fields and isinstance(value, str):
             value = read_field(value, pname)
         elif pname in method.files and isinstance(value, str):
@@ -773,38 +712,134 @@ def _run_method(args):
             positional.append(size)
     if channels or map_file:
         kwargs["return_info"] = True
-    result = func(*positional, **kwargs)
+    if getattr(args, "invert_mask", False) and not isinstance(getattr(args, method.mask), str) and not (
+            method.mask == "hole" and args.hole_channel):
+        flag = "--" + method.mask.replace("_", "-")
+        raise CommandError(f"--invert-mask inverts the {flag} file; pass {flag} FILE too")
+    result = _call(func, positional, kwargs, [option.name for option in _options(method, params)])
     info = None
     if isinstance(result, tuple):
         result, info = result[0], result[1]
     result = method.to_unit(result)
     source = paths[0] if paths and method.inputs != "frames" else None
     bits = _output_bits(requested_bits, source, out) if method.output == "image" else None
+    names = " and ".join(Path(p).name for p in paths)
+    if method.output == "image":
+        result = _restored(result, value_range, out, bits, names)
+    else:  # a volume (.npy and PNG slices, one set): kept in [0, 1], with the note
+        _restored(result, value_range, out.with_suffix(".png"), None, names)
     extra = None
     if channels:
         from .core.coordinates import apply_coordinates
 
         several = getattr(info, "source_index", None) is not None  # one image per source, else the first's
-        images = apply_coordinates([group if several else group[0] for group, _ in channels], info,
-                                   normals=[normal for _, normal in channels])
-        extra = {target: (np.clip(image, 0.0, 1.0), _output_bits(requested_bits, group[0], target))
-                 for (group, target, _), image in zip(channel_files, images)}
+        images = apply_coordinates([group if several else group[0] for group, _, _ in channels], info,
+                                   normals=[normal for _, normal, _ in channels])
+        extra = {}
+        for (group, target, _), (_, _, channel_range), image in zip(channel_files, channels, images):
+            channel_bits = _channel_bits(args, requested_bits, group[0], target)
+            extra[target] = (_restored(np.clip(image, 0.0, 1.0), channel_range, target, channel_bits,
+                                       " and ".join(p.name for p in group)), channel_bits)
     if map_file:
         from .io import save_coordinates
 
         extra = dict(extra or {})
-        extra[map_file] = (lambda path, overwrite: save_coordinates(path, info, overwrite=overwrite), None)
-    return _write(method, result, args.output, args.overwrite, bits, extra)
+        exemplar_size = inputs[0].shape[:2] if method.inputs != "frames" else None
+        extra[map_file] = (lambda path, overwrite: save_coordinates(
+            path, info, overwrite=overwrite,
+            exemplar_size=exemplar_size if path.suffix.lower() != ".npz" else None), None)
+    chunked_options = None
+    if chunked:
+        chunked_options = {"zarr_format": getattr(args, "zarr_format", None),
+                           "attributes": _provenance(args, paths, kwargs, value_range if bits != 32 else (0.0, 1.0))}
+    return _write(method, result, args.output, args.overwrite, bits, extra, chunked_options)
 
 
-def _coordinates_file(args, out, paths, channel_files):
-    """The ``--coordinates`` target (a .npz that is neither an input nor another output), or None."""
+def _provenance(args, paths, kwargs, value_range):
+    """What a chunked output records about how it was made (Zarr attributes, a TIFF's description)."""
+    attributes = {"method": args._method, "options": _jsonable({k: v for k, v in kwargs.items() if k != "rng"}),
+                  "seed": args.seed, "exemplar": [Path(p).name for p in paths] if len(paths) > 1 else
+                  (Path(paths[0]).name if paths else None)}
+    if value_range != (0.0, 1.0):
+        attributes["value_range"] = list(value_range)  # what 0 and 1 stand for, where the store keeps [0, 1]
+    return attributes
+
+
+def _jsonable(value):
+    """``value`` as JSON values: option groups as dicts of their fields, arrays by their shape, tuples as lists."""
+    import numpy as np
+
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _jsonable(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return f"array of shape {value.shape}"
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not np.isfinite(value):
+        return repr(value)  # JSON has no inf or nan
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    return repr(value)
+
+
+def _hole_value(args, value, image, invertible):
+    """``--hole FILE`` (white = fill) or ``--hole-channel a`` (the input's alpha < 0.5) as the function's ``hole``,
+    inverted by ``--invert-mask``."""
+    channel = getattr(args, "hole_channel", None)
+    invert = invertible and getattr(args, "invert_mask", False)
+    if channel is not None:
+        if value is not None:
+            raise CommandError("pass --hole FILE or --hole-channel a, not both")
+        if image.ndim != 3 or image.shape[-1] not in (2, 4):
+            channels = 1 if image.ndim == 2 else image.shape[-1]
+            raise CommandError(f"--hole-channel a takes the hole from the input's alpha channel, but the input has "
+                               f"{channels} channel(s) and no alpha; pass an RGBA (or grey + alpha) image, or "
+                               f"--hole FILE (white = fill)")
+        return image[..., -1] >= 0.5 if invert else "alpha"  # inverted: the opaque pixels are filled
+    if value is None:
+        raise CommandError("the hole is missing: pass --hole FILE (an image, white = fill) or --hole-channel a "
+                           "(the input's transparency)")
+    hole = read_grey_map(value, "--hole")
+    return 1.0 - hole if invert else hole
+
+
+def _call(func, positional, kwargs, names):
+    """``func(*positional, **kwargs)``: its errors, one line naming the command's flags (``names``: the options
+    shown), and its warnings printed as ``texsynth: warning: ...``."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", UserWarning)
+        try:
+            result = func(*positional, **kwargs)
+        except (ValueError, TypeError) as error:
+            message = str(error).splitlines()[0] if str(error) else type(error).__name__
+            raise CommandError(_flags_in(message, names)) from None
+    for warning in caught:
+        print(f"texsynth: warning: {_flags_in(str(warning.message), names)}", file=sys.stderr)
+    return result
+
+
+def _coordinates_file(args, out, paths, channel_files, method=None):
+    """The ``--coordinates`` target (a .npz, or an image: .png, .tif, .exr, that is neither an input nor another
+    output), or None."""
     text = getattr(args, "coordinates", None)
     if not text:
         return None
     target = Path(text)
-    if target.suffix.lower() != ".npz":
-        raise CommandError(f"--coordinates must be a .npz file, got {text!r}")
+    suffix = target.suffix.lower()
+    if suffix not in {".npz", ".png", ".tif", ".tiff", ".exr"}:
+        raise CommandError(f"--coordinates must be a .npz file, or an image (.png, .tif, .exr), got {text!r}")
+    if suffix != ".npz" and method is not None and (method.inputs == "frames" or len(paths) > 1):
+        what = "a video map" if method.inputs == "frames" else "a map of several inputs"
+        raise CommandError(f"--coordinates {text!r}: {what} cannot be saved as an image, which holds one "
+                           "exemplar's coordinates; pass a .npz file")
+    if suffix == ".exr":
+        check_suffix(target)  # an ImportError naming the exr extra, before the synthesis
     taken = {out, *(Path(p).resolve() for p in paths)} | {t.resolve() for _, t, _ in channel_files}
     if target.resolve() in taken:
         raise CommandError(f"--coordinates {text!r} is also an input or an output; choose another path")
@@ -815,15 +850,24 @@ def _coordinates_file(args, out, paths, channel_files):
 
 
 def _load_channels(channel_files, shapes):
-    """The --channels images as ``[(images, is a normal map)]``, one image per input, each of its input's shape
-    (``shapes`` None: not checked)."""
-    from .io import load_image
+    """The --channels images as ``[(images, is a normal map, value range)]``, one image per input, each of its
+    input's shape (``shapes`` None: not checked), in [0, 1]: float files outside it scaled by their joint range
+    (normal maps stored as vectors in [-1, 1] by that range, which is their usual encoding)."""
+    import numpy as np
+
+    from .io import normalize_range, restore_range
 
     out = []
     for group, _, normal in channel_files:
-        images = []
-        for path, shape in zip(group, shapes or [None] * len(group)):
-            image = load_image(path)
+        images, value_range = _load_scaled(group)
+        if normal and value_range != (0.0, 1.0):
+            if value_range[0] < -1 - 1e-6 or value_range[1] > 1 + 1e-6:
+                raise CommandError(f"--normal-maps file(s) {', '.join(map(str, group))} hold values in "
+                                   f"[{value_range[0]:.4g}, {value_range[1]:.4g}]; a normal map is encoded in [0, 1] "
+                                   "or holds unit vectors in [-1, 1]")
+            images = [normalize_range(restore_range(im, value_range), (-1.0, 1.0))[0] for im in images]
+            value_range = (-1.0, 1.0)
+        for path, image, shape in zip(group, images, shapes or [None] * len(group)):
             if shape is not None and image.shape[:2] != tuple(shape):
                 raise CommandError(f"--channels file {str(path)!r} is {image.shape[1]}x{image.shape[0]} but its input "
                                    f"is {shape[1]}x{shape[0]}; pass channels of the input's size")
@@ -831,11 +875,11 @@ def _load_channels(channel_files, shapes):
                 raise CommandError(f"--normal-maps file {str(path)!r} has "
                                    f"{1 if image.ndim == 2 else image.shape[-1]} channel(s); a normal map is RGB "
                                    "(x, y, z encoded in [0, 1])")
-            images.append(image)
-        if len({(im.dtype, im.shape[2:]) for im in images}) > 1:
+        if len({im.shape[2:] for im in images}) > 1:
             raise CommandError(f"--channels files {', '.join(map(str, group))} differ in channels; give every input's "
                                "file of one channel the same layout (all grey or all RGB)")
-        out.append((images, normal))
+        common = np.result_type(*images)
+        out.append(([im.astype(common, copy=False) for im in images], normal, value_range))
     return out
 
 
@@ -843,7 +887,28 @@ class _Parser(argparse.ArgumentParser):
     """argparse with a one-line error message (exit status 2, as argparse uses)."""
 
     def error(self, message):
-        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        self.exit(2, f"{self.prog}: error: {did_you_mean(message)} (see '{self.prog} --help')\n")
+
+
+def _refuse_unknown(parser, command, unknown):
+    """Exit 2 on options the command does not take, naming the likeliest ones (the command's own parser's
+    message); ``--scale`` also says which option sizes the output and which the elements."""
+    import difflib
+
+    sub = next((a for a in parser._actions if isinstance(a, argparse._SubParsersAction)), None)
+    target = sub.choices.get(command, parser) if sub is not None and command else parser
+    known = [o for action in target._actions for o in action.option_strings if o.startswith("--")]
+    hints = []
+    for given in (u.split("=")[0] for u in unknown if u.startswith("--")):
+        close = [c for c in known if c.startswith(given) and c != given][:3] or [  # what an abbreviation meant
+            c for c in difflib.get_close_matches(given, known, 3, 0.75) if c != given]
+        if given in ("--scale", "--zoom", "--upscale", "--factor") and "--size" in known:
+            sizes = "--size 4x makes the output four times the input's size"
+            hints.append(sizes + ("; --magnification makes the elements larger" if "--magnification" in known
+                                  else "") + (f"; or did you mean {' or '.join(close)}?" if close else ""))
+        elif close:
+            hints.append(f"{given}: did you mean {' or '.join(close)}?")
+    target.error(f"unrecognized arguments: {' '.join(unknown)}" + ("; " + "; ".join(hints) if hints else ""))
 
 
 def build_parser():
@@ -860,7 +925,7 @@ def build_parser():
     sub.add_parser("list", help="list the methods with one line each")
     demo = sub.add_parser("demo", help="write a gallery of every method on bundled sample textures")
     demo.add_argument("--out", default="texsynth-demo", help="gallery folder (default: texsynth-demo)")
-    demo.add_argument("--seed", type=int, default=0, help="random seed")
+    demo.add_argument("-s", "--seed", type=int, default=0, help="random seed")
     demo.add_argument("--only", metavar="NAME[,NAME...]",
                       help="only these gallery images, by the names the demo prints (e.g. optimize_bread,quilt_brick)")
     _add_batch_parser(sub)
@@ -875,17 +940,21 @@ def _add_apply_coordinates_parser(sub):
     apply = sub.add_parser("apply-coordinates", help="render a channel (height, normal, roughness) through a map "
                                                      "saved by METHOD ... --coordinates MAP.npz",
                            description="Render an image of the exemplar's size through a saved source-coordinate "
-                                       "map (texsynth.apply_coordinates), so that it lines up with the synthesis.")
-    apply.add_argument("map", metavar="MAP.npz", help="the map, saved with --coordinates")
+                                       "map (texsynth.apply_coordinates), so that it lines up with the synthesis. "
+                                       "Float channels outside [0, 1] (heights in metres) keep their values in a "
+                                       "float output (.exr, .tif with --bits 32).")
+    apply.add_argument("map", metavar="MAP",
+                       help="the map, saved with --coordinates: .npz, or an image map (.png, .tif, .exr; one "
+                            "without texsynth's note of the exemplar size is read at the channel's size)")
     apply.add_argument("inputs", nargs="+", metavar="CHANNEL",
                        help="the channel: an image of the exemplar's size (with a map of several inputs, as from "
-                            "'mix', one file per input in their order)")
+                            "'mix-textures', one file per input in their order)")
     apply.add_argument("-o", "--output", required=True, help="output image")
     apply.add_argument("--normal-map", action="store_true",
                        help="the channel is a tangent-space normal map: blended pixels are renormalised")
     apply.add_argument("--bits", type=int, choices=(8, 16, 32), default=None,
-                       help="bits per sample of the output: 8, 16 (PNG, TIFF) or 32 (float TIFF); default: the "
-                            "channel file's, as far as the output format allows")
+                       help="bits per sample of the output: 8, 16 (PNG, TIFF; EXR: half float) or 32 (float TIFF "
+                            "or EXR); default: the channel file's, as far as the output format allows")
     apply.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
 
 
@@ -900,8 +969,9 @@ def _run_apply_coordinates(args):
         raise CommandError(f"output {args.output!r} is also an input; choose another output path")
     if out.exists() and not args.overwrite:
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
-    saved = load_coordinates(args.map)
-    if saved.coordinates.ndim == 5:  # a video map (patchwork_video): the channel is a frame sequence
+    image_map = Path(args.map).suffix.lower() in {".png", ".tif", ".tiff", ".exr"}
+    saved = None if image_map else load_coordinates(args.map)
+    if saved is not None and saved.coordinates.ndim == 5:  # a video map (patchwork_video): the channel is frames
         if len(args.inputs) != 1:
             raise CommandError(f"{args.map!r} is a video map; pass the channel's frames as one GIF, video or folder "
                                f"of images (the input frames' order), got {len(args.inputs)} files")
@@ -911,13 +981,21 @@ def _run_apply_coordinates(args):
         save_frames(out, np.clip(rendered, 0.0, 1.0), overwrite=args.overwrite)
         return [out]
     check_suffix(out)
-    images = _load_channels([([Path(p) for p in args.inputs], out, args.normal_map)], None)[0][0]
+    suffix = out.suffix.lower()
+    if (args.bits == 8 and suffix == ".exr") or (args.bits == 16 and suffix not in {".png", ".tif", ".tiff", ".exr"}) \
+            or (args.bits == 32 and suffix not in {".tif", ".tiff", ".exr"}):
+        raise CommandError(f"--bits {args.bits} cannot be stored in a {suffix} output; 8: PNG, TIFF, JPEG...; 16: "
+                           "PNG, TIFF, EXR (half); 32: TIFF, EXR")
+    images, _, value_range = _load_channels([([Path(p) for p in args.inputs], out, args.normal_map)], None)[0]
+    if image_map:  # an image map holds coordinates divided by the exemplar's size: the channel's, unless recorded
+        saved = load_coordinates(args.map, exemplar_size=images[0].shape[:2])
     several = saved.source_index is not None
     if not several and len(images) > 1:
         raise CommandError(f"{args.map!r} maps one exemplar but {len(images)} channel files were given; pass one")
     rendered = apply_coordinates(images if several else images[0], saved, normals=args.normal_map)
     bits = _output_bits(args.bits, args.inputs[0], out)
-    save_image(out, np.clip(rendered, 0.0, 1.0), overwrite=args.overwrite, bits=bits)
+    rendered = _restored(np.clip(rendered, 0.0, 1.0), value_range, out, bits, " and ".join(args.inputs))
+    save_image(out, rendered, overwrite=args.overwrite, bits=bits)
     return [out]
 
 
@@ -926,7 +1004,7 @@ def _add_surface_parser(sub):
                                              "textures (Praun et al.)",
                              description="Synthesise a texture over a triangle mesh (texsynth.synthesize_surface) "
                                          "or paste lapped textures (texsynth.lapped_textures); docs/methods/"
-                                         "surfaces.md.")
+                                         "vertex_synthesis.md and lapped.md.")
     surface.add_argument("mesh", metavar="MESH", help="the surface: .obj or .ply (others with texsynth[mesh])")
     surface.add_argument("exemplar", metavar="EXEMPLAR", help="the texture image")
     surface.add_argument("-o", "--output", required=True, help="output mesh (.ply or .obj; a texture goes beside it)")
@@ -947,7 +1025,7 @@ def _add_surface_parser(sub):
     surface.add_argument("--order", choices=("independent", "sweep"),
                          help="vertex mode: all vertices of a level at once per pass (independent, the default "
                               "preset's) or one at a time along Turk's sweep (the paper preset's)")
-    surface.add_argument("--seed", type=int, default=None, help="random seed")
+    surface.add_argument("-s", "--seed", type=int, default=None, help="random seed")
     surface.add_argument("--preview", help="also write a rendered preview image (PNG)")
     surface.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
     surface.add_argument("--allow-outside", action="store_true",
@@ -1035,6 +1113,9 @@ def _run_batch(args):
         seeds = json.loads(args.seeds)
     except json.JSONDecodeError as exc:
         raise CommandError(f"--options and --seeds must be JSON: {exc}") from None
+    if args.size and re.fullmatch(r"[\d.]+[xX]", args.size.strip()):
+        raise CommandError(f"texsynth batch --size takes WIDTHxHEIGHT or one number N, got {args.size!r} (a factor of "
+                           "each exemplar's size is not supported here: leave --size out for the exemplar's size)")
     size = parse_size(args.size) if args.size else None
     summary = batch(args.inputs, args.output, methods=[m for m in args.methods.split(",") if m], options=options,
                     seeds=seeds, size=size, scheduler=args.scheduler, n_workers=args.workers,
@@ -1051,7 +1132,9 @@ def _run_batch(args):
 def main(argv=None):
     """Entry point of the ``texsynth`` command; returns the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:
+        _refuse_unknown(parser, getattr(args, "command", None), unknown)
     try:
         if args.command is None:
             parser.print_help()

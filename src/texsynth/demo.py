@@ -52,12 +52,16 @@ def select_entries(names):
     >>> [e.slug for e in select_entries(["wood", "marble"])]
     ['marble', 'wood']
     """
+    import difflib
+
     names = [names] if isinstance(names, str) else list(names)
-    known = {e.slug for e in ENTRIES}
+    known = [e.slug for e in ENTRIES]
     unknown = [n for n in names if n not in known]
     if unknown or not names:
-        raise ValueError(f"no gallery entry named {', '.join(map(repr, unknown)) or 'at all'}; "
-                         f"choose among {', '.join(e.slug for e in ENTRIES)}")
+        close = [m for n in unknown for m in difflib.get_close_matches(str(n), known, n=1)]
+        hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+        raise ValueError(f"no gallery entry named {', '.join(map(repr, unknown)) or 'at all'}{hint}; "
+                         f"choose among {', '.join(known)}")
     return [e for e in ENTRIES if e.slug in names]
 
 

@@ -1,7 +1,7 @@
 """Loading and saving images, volumes and frame sequences.
 
-Loading converts to float in [0, 1] with the conventions of
-:mod:`texsynth.core._validate`: 8- and 16-bit files are divided by their white
+Loading converts to float in [0, 1] with the library's conventions
+(docs/conventions.md, "Images"): 8- and 16-bit files are divided by their white
 level (255, 65535), CMYK files are converted to RGB, and integer pixel types
 without an agreed white level (signed, or wider than 16 bits) are refused
 rather than guessed.
@@ -21,6 +21,19 @@ writer (SIGKILL) left is removed by the next write of the same target. New
 files get the permissions the umask gives, as any other program's output; a
 replaced file keeps its permission bits. Nothing is overwritten unless
 ``overwrite=True``.
+
+OpenEXR files (``.exr``: half or float32 samples) are read and written through
+the ``OpenEXR`` package of the Academy Software Foundation, an optional extra
+(``pip install 'texsynth[exr]'``); without it a ``.exr`` path raises an
+ImportError naming the extra. TGA files (``.tga``, 8 bits, alpha kept) go
+through Pillow like PNG.
+
+Float data outside [0, 1] (heights, displacement, HDR colour) is refused by
+the library's functions, whose contract is images in [0, 1]; to work on such a
+file, ``load_image(path, normalize=True)`` returns the image scaled into
+[0, 1] by the file's minimum and maximum together with that ``value_range``,
+and :func:`restore_range` maps a result back (the command line does both).
+The float formats (float TIFF, EXR) store any finite values.
 """
 
 from __future__ import annotations
@@ -42,11 +55,13 @@ from .core._validate import as_array, as_float_array, as_image, check_bool, chec
 from .core.files import as_path, atomic_write, prepare_target, swap_folder
 
 __all__ = ["load_image", "save_image", "save_chunked", "load_frames", "save_frames", "to_uint", "image_bits",
-           "save_coordinates",
-           "load_coordinates"]
+           "normalize_range", "restore_range", "save_coordinates", "load_coordinates"]
 
-_EIGHT_BIT = {".png", ".jpg", ".jpeg", ".gif", ".bmp", ".ppm", ".pgm", ".webp"}
+_EIGHT_BIT = {".png", ".jpg", ".jpeg", ".gif", ".bmp", ".ppm", ".pgm", ".webp", ".tga"}
 _SIXTEEN_BIT = {".tif", ".tiff"}
+_EXR = {".exr"}  # half (bits=16) or float32 (bits=32) samples, through the OpenEXR package (the exr extra)
+_EXR_MAGIC = b"\x76\x2f\x31\x01"
+_HALF_MAX = 65504.0  # the largest finite half-float
 # formats that store no alpha channel: an alpha channel is dropped (documented in save_image)
 _NO_ALPHA = {".jpg", ".jpeg", ".bmp", ".ppm", ".pgm", ".gif"}
 # frame-sequence containers written through imageio-ffmpeg (the ``video`` extra)
@@ -91,16 +106,39 @@ def _png_chunk(kind, data):
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
 
-def _write_png16(path, pixels):
-    """Write uint16 ``(H, W)`` or ``(H, W, C)`` pixels as a 16-bit PNG (filter type 0 on every row)."""
+def _write_png16(path, pixels, text=None):
+    """Write uint16 ``(H, W)`` or ``(H, W, C)`` pixels as a 16-bit PNG (filter type 0 on every row), with
+    ``text`` (``{keyword: Latin-1 text}``) in tEXt chunks."""
     h, w = pixels.shape[:2]
     channels = 1 if pixels.ndim == 2 else pixels.shape[2]
     rows = np.ascontiguousarray(pixels, dtype=">u2").reshape(h, w * channels).view(np.uint8)
     raw = np.concatenate([np.zeros((h, 1), np.uint8), rows], axis=1)  # a filter byte (0, none) per row
     header = struct.pack(">IIBBBBB", w, h, 16, _PNG_COLOUR_TYPES[channels], 0, 0, 0)
+    notes = b"".join(_png_chunk(b"tEXt", key.encode("latin-1") + b"\0" + value.encode("latin-1"))
+                     for key, value in (text or {}).items())
     with open(path, "wb") as f:
-        f.write(_PNG_MAGIC + _png_chunk(b"IHDR", header) + _png_chunk(b"IDAT", zlib.compress(raw.tobytes(), 6))
-                + _png_chunk(b"IEND", b""))
+        f.write(_PNG_MAGIC + _png_chunk(b"IHDR", header) + notes
+                + _png_chunk(b"IDAT", zlib.compress(raw.tobytes(), 6)) + _png_chunk(b"IEND", b""))
+
+
+def _png_text(path):
+    """The tEXt chunks of a PNG file before its pixels, ``{keyword: text}``."""
+    found = {}
+    with open(path, "rb") as f:
+        if f.read(8) != _PNG_MAGIC:
+            return found
+        while True:
+            head = f.read(8)
+            if len(head) < 8:
+                return found
+            length, kind = struct.unpack(">I4s", head)
+            if kind in (b"IDAT", b"IEND"):
+                return found
+            body = f.read(length)
+            f.read(4)
+            if kind == b"tEXt" and b"\0" in body:
+                key, value = body.split(b"\0", 1)
+                found[key.decode("latin-1")] = value.decode("latin-1")
 
 
 def _file_head(path, n):
@@ -202,6 +240,85 @@ def _read_png16(path, header):
     return pixels[..., 0] if channels == 1 else pixels
 
 
+# --------------------------------------------------------------------------- #
+# OpenEXR (the exr extra: the OpenEXR package of the Academy Software Foundation)
+# --------------------------------------------------------------------------- #
+_EXR_CHANNELS = {1: ("Y",), 2: ("Y", "A"), 3: ("R", "G", "B"), 4: ("R", "G", "B", "A")}
+
+
+def _openexr():
+    """The ``OpenEXR`` module, or an ImportError naming the extra that installs it."""
+    try:
+        import OpenEXR
+    except ImportError:
+        raise ImportError("reading and writing .exr files needs the OpenEXR package: pip install 'texsynth[exr]' "
+                          "(or pip install OpenEXR); or use a float TIFF (.tif, bits=32)") from None
+    return OpenEXR
+
+
+def _has_openexr():
+    return importlib.util.find_spec("OpenEXR") is not None
+
+
+def _open_exr(path, header_only=False):
+    OpenEXR = _openexr()
+    try:
+        return OpenEXR.File(str(path), separate_channels=True, header_only=header_only)
+    except Exception as exc:  # OpenEXR raises RuntimeError for a damaged or foreign file
+        raise ValueError(f"cannot read {str(path)!r} as an OpenEXR image: {exc}") from None
+
+
+def _exr_layout(path, names):
+    """The channel names :func:`load_image` reads from an EXR file holding ``names``, in order."""
+    present = set(names)
+    if {"R", "G", "B"} <= present:
+        return ["R", "G", "B"] + (["A"] if "A" in present else [])
+    if "Y" in present:
+        return ["Y"] + (["A"] if "A" in present else [])
+    if len(names) == 1:
+        return list(names)
+    raise ValueError(f"{str(path)!r} holds the EXR channels {sorted(names)}; load_image reads R, G, B (and A), "
+                     "Y (and A) or a single channel: read the others with OpenEXR.File(path).channels()")
+
+
+def _read_exr(path):
+    """An EXR file's first part as float32 ``(H, W)`` or ``(H, W, C)`` (half samples widened to float32)."""
+    f = _open_exr(path)
+    channels = f.channels()
+    planes = []
+    for name in _exr_layout(path, list(channels)):
+        pixels = np.asarray(channels[name].pixels)
+        if not np.issubdtype(pixels.dtype, np.floating):
+            raise ValueError(f"{str(path)!r}: EXR channel {name!r} holds {pixels.dtype} samples, which have no agreed "
+                             "white level; load_image reads half and float channels")
+        planes.append(pixels.astype(np.float32))
+    if len({p.shape for p in planes}) > 1:
+        raise ValueError(f"{str(path)!r} has subsampled EXR channels ({[p.shape for p in planes]}); load_image reads "
+                         "channels of the full resolution")
+    return planes[0] if len(planes) == 1 else np.stack(planes, axis=-1)
+
+
+def _exr_bits(path):
+    """16 for an EXR file whose channels are all half floats, else 32."""
+    channels = _open_exr(path).channels()
+    names = _exr_layout(path, list(channels))
+    return 16 if all(np.asarray(channels[n].pixels).dtype == np.float16 for n in names) else 32
+
+
+def _write_exr(tmp, samples, bits, attributes=None):
+    """Write float samples ``(H, W[, C])`` as a ZIP-compressed scanline EXR (half for ``bits=16``)."""
+    OpenEXR = _openexr()
+    planes = samples[..., None] if samples.ndim == 2 else samples
+    kind = np.float16 if bits == 16 else np.float32
+    channels = {name: np.ascontiguousarray(planes[..., k], dtype=kind)
+                for k, name in enumerate(_EXR_CHANNELS[planes.shape[-1]])}
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage, **(attributes or {})}
+    try:
+        OpenEXR.File(header, channels).write(str(tmp))
+    except RuntimeError as exc:  # OpenEXR's write errors (a full disk, a read-only folder)
+        raise OSError(f"cannot write {str(tmp)!r} as an OpenEXR image: {exc}") from None
+
+
 def image_bits(path):
     """Bits per sample of an image file: 8, 16 or 32 (floating point).
 
@@ -213,8 +330,9 @@ def image_bits(path):
     Returns
     -------
     int
-        16 for 16-bit PNG, PGM/PPM and TIFF files, 32 for floating-point
-        TIFF files, 8 for everything else (palette, 1-bit and 8-bit files).
+        16 for 16-bit PNG, PGM/PPM and TIFF files and for half-float EXR
+        files, 32 for floating-point TIFF and float32 EXR files, 8 for
+        everything else (palette, 1-bit and 8-bit files, TGA).
 
     Raises
     ------
@@ -234,6 +352,8 @@ def image_bits(path):
     header = _png_header(path)
     if header is not None:
         return 16 if header[2] == 16 else 8
+    if _file_head(path, 4) == _EXR_MAGIC:
+        return _exr_bits(path)
     try:
         kind = iio.improps(path).dtype
     except Exception as exc:
@@ -315,19 +435,30 @@ def _supported_integers(data, path):
     )
 
 
-def load_image(path):
+def load_image(path, *, normalize=False):
     """Read an image file as float in [0, 1].
 
     Parameters
     ----------
     path : str or os.PathLike
-        Any format imageio reads (PNG, JPEG, PGM/PPM, TIFF, BMP, ...).
+        Any format imageio reads (PNG, JPEG, PGM/PPM, TIFF, BMP, TGA, ...),
+        and OpenEXR (``.exr``, with the ``exr`` extra).
+    normalize : bool
+        Float files whose values leave [0, 1] (heights, displacement, HDR
+        colour) are refused unless this is True; then the image is scaled
+        into [0, 1] by the file's minimum and maximum (:func:`normalize_range`)
+        and returned with that range, for :func:`restore_range`.
 
     Returns
     -------
-    numpy.ndarray
+    image : numpy.ndarray
         ``(H, W)`` for grey files, ``(H, W, C)`` otherwise (alpha kept as the
-        last channel), float64 in [0, 1] (float32 for float32 TIFFs).
+        last channel), float64 in [0, 1] (float32 for float32 TIFFs and EXR
+        files).
+    value_range : (float, float)
+        Only with ``normalize=True``: the ``(low, high)`` that 0 and 1 stand
+        for, ``(0.0, 1.0)`` for every file already in [0, 1] (integer files,
+        and float files inside it, which are returned unchanged).
 
     Raises
     ------
@@ -337,10 +468,14 @@ def load_image(path):
         If ``path`` does not exist or is a folder.
     ValueError
         If the file cannot be read as an image, holds several frames, holds
-        pixels of an integer type without an agreed white level, or claims
+        pixels of an integer type without an agreed white level, holds float
+        values outside [0, 1] and ``normalize`` is False, or claims
         more pixels than Pillow's limit against decompression bombs
         (``2 * PIL.Image.MAX_IMAGE_PIXELS``, checked from the header for
         TIFF files as Pillow does for PNG and JPEG).
+    ImportError
+        For a ``.exr`` file without the OpenEXR package
+        (``pip install 'texsynth[exr]'``).
 
     Notes
     -----
@@ -366,8 +501,18 @@ def load_image(path):
     ...     image = load_image(path)
     >>> image.shape, image.dtype, image.max()
     ((3, 4), dtype('float64'), np.float64(1.0))
+
+    A height map in metres, saved as a float TIFF, comes back scaled with its
+    range:
+
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = save_image(d + "/h.tif", np.array([[-2.0, 0.0], [1.0, 6.0]]), bits=32)
+    ...     unit, value_range = load_image(path, normalize=True)
+    >>> unit.tolist(), value_range
+    ([[0.0, 0.25], [0.375, 1.0]], (-2.0, 6.0))
     """
     path = as_path(path)
+    normalize = check_bool(normalize, "normalize")
     if path.is_dir():
         raise FileNotFoundError(f"path {str(path)!r} is a folder, not an image file; load_frames reads a folder of frames")
     if not path.is_file():
@@ -377,6 +522,8 @@ def load_image(path):
         _check_tiff_size(path)
     if header is not None and header[2] == 16 and header[3] in (2, 4, 6):  # 16-bit colour: Pillow reads 8 bits
         data = _read_png16(path, header)
+    elif _file_head(path, 4) == _EXR_MAGIC or path.suffix.lower() in _EXR:
+        data = _read_exr(path)
     else:
         data = _read(path)
     if data.ndim == 3 and data.shape[-1] == 4 and _is_cmyk(path):
@@ -386,7 +533,19 @@ def load_image(path):
     if data.ndim == 4 and data.shape[0] == 1:
         data = data[0]
     data = _supported_integers(data, path)
-    return as_image(data, name=f"image in {path.name}")
+    name = f"image in {path.name}"
+    if np.issubdtype(data.dtype, np.floating) and data.size and np.all(np.isfinite(data)):
+        lo, hi = float(data.min()), float(data.max())
+        if (lo < -_RANGE_TOLERANCE or hi > 1 + _RANGE_TOLERANCE) and not normalize:
+            raise ValueError(
+                f"{str(path)!r} holds float values in [{lo:.6g}, {hi:.6g}], outside [0, 1] (a height, displacement "
+                "or HDR file?); read it with texsynth.io.load_image(path, normalize=True), which scales it into "
+                "[0, 1] and returns its range for texsynth.io.restore_range (the command line does this for "
+                "its inputs and --channels)"
+            )
+    if normalize:
+        return _normalize(data, None, name)
+    return as_image(data, name=name)
 
 
 # --------------------------------------------------------------------------- #
@@ -446,6 +605,135 @@ def to_uint(image, bits=8):
     return data.astype(np.uint8 if bits == 8 else np.uint16)
 
 
+_RANGE_TOLERANCE = 1e-6  # as texsynth.core._validate: a float image may overshoot [0, 1] by this much
+
+
+def _check_value_range(value_range):
+    try:
+        lo, hi = (float(v) for v in value_range)
+    except (TypeError, ValueError):
+        raise TypeError(f"value_range must be a pair of numbers (low, high), got {_short.repr(value_range)}") from None
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+        raise ValueError(f"value_range must be finite numbers (low, high) with low < high, got {value_range!r}")
+    return lo, hi
+
+
+def _check_image_shape(arr, name):
+    """The shape rule of :func:`texsynth.core._validate.as_image`: ``(H, W)`` or ``(H, W, C)``, C in 1..4, not
+    empty."""
+    if not (arr.ndim == 2 or (arr.ndim == 3 and 1 <= arr.shape[-1] <= 4)):
+        raise ValueError(f"{name} must have shape (H, W) or (H, W, C) with C in 1..4, got shape {arr.shape}")
+    if arr.size == 0:
+        raise ValueError(f"{name} is empty (shape {arr.shape}); pass an image with at least one pixel")
+
+
+def _normalize(data, value_range, name):
+    arr = as_array(data, name)
+    if not np.issubdtype(arr.dtype, np.floating):  # uint8, uint16, bool: [0, 1] by their white level
+        if value_range is not None and _check_value_range(value_range) != (0.0, 1.0):
+            raise ValueError(f"{name} is {arr.dtype}, whose range is [0, 1] by its white level; pass value_range=None")
+        return as_image(arr, name), (0.0, 1.0)
+    _check_image_shape(arr, name)
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} contains NaN or infinite values; replace them (e.g. np.nan_to_num) first")
+    lo, hi = float(arr.min()), float(arr.max())
+    if value_range is None:
+        if lo >= -_RANGE_TOLERANCE and hi <= 1 + _RANGE_TOLERANCE:
+            return as_image(arr, name), (0.0, 1.0)
+        value_range = (lo, hi) if hi > lo else (lo, lo + 1.0)  # a constant image: all 0, standing for its value
+    low, high = _check_value_range(value_range)
+    slack = _RANGE_TOLERANCE * (high - low)
+    if lo < low - slack or hi > high + slack:
+        raise ValueError(f"{name} has values in [{lo:.6g}, {hi:.6g}], outside value_range=({low:.6g}, {high:.6g}); "
+                         "pass a range that holds them, or None for the data's own")
+    unit = (arr.astype(np.float64) - low) / (high - low)
+    np.clip(unit, 0.0, 1.0, out=unit)
+    return unit.astype(np.float32 if arr.dtype == np.float32 else np.float64), (low, high)
+
+
+def normalize_range(image, value_range=None):
+    """Scale float data of any range into [0, 1], and say which range 0 and 1 stand for.
+
+    The library's functions take images in [0, 1] (``docs/conventions.md``);
+    heights, displacement and HDR colour are not. This maps them in by one
+    affine map for the whole array (all channels together, so colours keep
+    their ratios), and :func:`restore_range` maps a result back. Rendering
+    through a source-coordinate map (:func:`texsynth.apply_coordinates`)
+    commutes with it exactly; a synthesis sees the scaled values (options
+    with absolute values, such as error bounds, apply to them).
+
+    Parameters
+    ----------
+    image : array_like
+        ``(H, W)`` or ``(H, W, C)`` float data (any finite values), or uint8,
+        uint16 or bool data (scaled by their white level as everywhere).
+    value_range : (float, float), optional
+        The ``(low, high)`` to map to 0 and 1 (e.g. a range shared by several
+        files); None: the data's minimum and maximum, or ``(0.0, 1.0)`` when
+        the data already lies in [0, 1] (returned unchanged).
+
+    Returns
+    -------
+    image : numpy.ndarray
+        In [0, 1], float32 for float32 data, else float64.
+    value_range : (float, float)
+        ``(low, high)``: ``low + image * (high - low)`` is the data.
+
+    Raises
+    ------
+    TypeError
+        For a non-array ``image`` or unsupported dtype, or a ``value_range``
+        that is not a pair of numbers.
+    ValueError
+        For a bad shape, NaN or infinite values, data outside a given
+        ``value_range``, or a ``value_range`` with ``low >= high``.
+
+    Examples
+    --------
+    >>> unit, value_range = normalize_range(np.array([[-0.5, 0.0], [0.5, 1.5]]))
+    >>> unit.tolist(), value_range
+    ([[0.0, 0.25], [0.5, 1.0]], (-0.5, 1.5))
+    >>> restore_range(unit, value_range).tolist()
+    [[-0.5, 0.0], [0.5, 1.5]]
+    """
+    return _normalize(image, None if value_range is None else _check_value_range(value_range), "image")
+
+
+def restore_range(image, value_range):
+    """Map an image in [0, 1] back to the range :func:`normalize_range` (or ``load_image(..., normalize=True)``) gave.
+
+    Parameters
+    ----------
+    image : array_like
+        Float in [0, 1] (or uint8/uint16/bool), any shape.
+    value_range : (float, float)
+        ``(low, high)``: 0 becomes ``low`` and 1 ``high``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``low + image * (high - low)``: float32 for float32 ``image``, else
+        float64; ``image`` as float, unchanged, for ``(0.0, 1.0)``.
+
+    Raises
+    ------
+    TypeError, ValueError
+        For an ``image`` outside [0, 1] (docs/conventions.md, "Images")
+        or a bad ``value_range``.
+
+    Examples
+    --------
+    >>> restore_range(np.array([0.0, 0.5, 1.0]), (-2.0, 6.0)).tolist()
+    [-2.0, 2.0, 6.0]
+    """
+    low, high = _check_value_range(value_range)
+    unit = as_float_array(as_array(image, "image"), "image")
+    if (low, high) == (0.0, 1.0):
+        return unit
+    data = low + unit.astype(np.float64) * (high - low)
+    return data.astype(np.float32) if unit.dtype == np.float32 else data
+
+
 def _imwrite(tmp, pixels, **kwargs):
     """``iio.imwrite(tmp, pixels, **kwargs)``, encoded in memory and then written to ``tmp`` by this function.
 
@@ -481,11 +769,13 @@ def check_suffix(path, *, frames=False):
             f"path suffix {suffix!r} is not a frame-sequence format; use '.gif', '.png' (animated PNG), a video "
             f"({', '.join(sorted(_VIDEO))}) or a path without suffix for a folder of PNG frames"
         )
-    if not frames and suffix not in _EIGHT_BIT | _SIXTEEN_BIT | {".npy"}:
+    if not frames and suffix not in _EIGHT_BIT | _SIXTEEN_BIT | _EXR | {".npy"}:
         raise ValueError(
             f"path suffix {suffix!r} is not a supported image format; use one of "
-            f"{sorted(_EIGHT_BIT | _SIXTEEN_BIT | {'.npy'})}"
+            f"{sorted(_EIGHT_BIT | _SIXTEEN_BIT | _EXR | {'.npy'})}"
         )
+    if suffix in _EXR and not frames:
+        _openexr()  # an ImportError naming the extra, before any work
     return suffix
 
 
@@ -496,13 +786,17 @@ def save_image(path, image, *, bits=None, overwrite=False):
     ----------
     path : str or os.PathLike
         Target file; its suffix chooses the format. ``.npy`` stores the float
-        array unchanged (useful for volumes).
+        array unchanged (useful for volumes); ``.exr`` (OpenEXR, with the
+        ``exr`` extra) stores float samples, named Y, YA, RGB or RGBA.
     image : array_like
         Float in [0, 1] (or uint8/uint16/bool), ``(H, W)`` or ``(H, W, C)``.
+        The float formats (TIFF with ``bits=32``, EXR) also store float data
+        outside [0, 1] as it is (e.g. :func:`restore_range`'s).
     bits : {None, 8, 16, 32}
-        Bits per sample; None means 16 for TIFF, 8 for everything else. 16
-        bits need a PNG or a TIFF (grey, grey+alpha, RGB or RGBA); 32 writes
-        float32 samples in [0, 1] and needs a TIFF.
+        Bits per sample; None means 16 for TIFF, 32 for EXR, 8 for everything
+        else. 16 bits need a PNG or a TIFF (grey, grey+alpha, RGB or RGBA),
+        or an EXR (half floats); 32 writes float32 samples and needs a TIFF
+        or an EXR.
     overwrite : bool
         Replace an existing file. Off by default: nothing is replaced by surprise.
 
@@ -517,12 +811,16 @@ def save_image(path, image, *, bits=None, overwrite=False):
         For a ``path`` that is not a str or os.PathLike, a non-array
         ``image``, a non-bool ``overwrite`` or a non-integer ``bits``.
     ValueError
-        For an unsupported suffix, a bad ``image`` (see
-        :mod:`texsynth.core._validate`), or a ``bits`` the format cannot store.
+        For an unsupported suffix, a bad ``image`` (docs/conventions.md,
+        "Images"; float data outside [0, 1] for an integer format), or a
+        ``bits`` the format cannot store.
     FileExistsError
         If ``path`` exists and ``overwrite`` is False, or is a folder.
     FileNotFoundError
         If the folder of ``path`` does not exist.
+    ImportError
+        For a ``.exr`` path without the OpenEXR package
+        (``pip install 'texsynth[exr]'``).
 
     Notes
     -----
@@ -534,6 +832,7 @@ def save_image(path, image, *, bits=None, overwrite=False):
 
     JPEG, GIF, BMP and PPM/PGM store no alpha channel: the alpha channel of a
     2- or 4-channel image is dropped and the grey or colour channels written.
+    TGA (8 bits) keeps it.
 
     Examples
     --------
@@ -552,25 +851,53 @@ def save_image(path, image, *, bits=None, overwrite=False):
         atomic_write(path, lambda tmp: _save_npy(tmp, data))
         return path
     check_suffix(path)
-    data = as_image(as_array(image, "image"), "image")
     if bits is None:
-        bits = 16 if suffix in _SIXTEEN_BIT else 8
-    if bits == 16 and suffix not in {".png", ".tif", ".tiff"}:
-        raise ValueError(f"bits=16 needs a .png or .tif path, got {suffix!r}")
-    if bits == 32 and suffix not in _SIXTEEN_BIT:
-        raise ValueError(f"bits=32 (float32 samples) needs a .tif path, got {suffix!r}; pass bits=16 for a 16-bit "
-                         "PNG, or save as .tif")
-    pixels = data.astype(np.float32) if bits == 32 else to_uint(data, bits)
+        bits = 16 if suffix in _SIXTEEN_BIT else 32 if suffix in _EXR else 8
+    if bits == 8 and suffix in _EXR:
+        raise ValueError("bits=8 cannot be stored in an .exr file (half or float samples); pass bits=16 (half) or "
+                         "32 (float), or save as .png")
+    if bits == 16 and suffix not in {".png", ".tif", ".tiff"} | _EXR:
+        raise ValueError(f"bits=16 needs a .png, .tif or .exr path, got {suffix!r}")
+    if bits == 32 and suffix not in _SIXTEEN_BIT | _EXR:
+        raise ValueError(f"bits=32 (float32 samples) needs a .tif or .exr path, got {suffix!r}; pass bits=16 for a "
+                         "16-bit PNG, or save as .tif")
+    floats = bits == 32 or suffix in _EXR
+    data = _float_samples(image)
+    if not floats and np.issubdtype(data.dtype, np.floating) and (data.min() < 0 or data.max() > 1):
+        lo, hi = float(data.min()), float(data.max())
+        hint = "; or divide 0-255 data by 255" if hi > 1.5 and lo >= 0 else ""
+        raise ValueError(f"image has values in [{lo:.6g}, {hi:.6g}] but a {suffix} file stores [0, 1]; save it as .exr "
+                         f"or .tif with bits=32 to keep the values, or scale it in with "
+                         f"texsynth.io.normalize_range{hint}")
+    if suffix in _EXR and bits == 16 and float(np.abs(data).max()) > _HALF_MAX:
+        raise ValueError(f"image has values up to {float(np.abs(data).max()):.6g} in magnitude, beyond the largest "
+                         f"half float ({_HALF_MAX:g}); pass bits=32 for float32 samples")
+    pixels = data.astype(np.float32) if floats else to_uint(data, bits)
     if pixels.ndim == 3 and pixels.shape[-1] == 1:
         pixels = pixels[..., 0]
     if suffix in _NO_ALPHA and pixels.ndim == 3 and pixels.shape[-1] in (2, 4):
         pixels = pixels[..., :-1] if pixels.shape[-1] == 4 else pixels[..., 0]
     prepare_target(path, overwrite)
-    if bits == 16 and suffix == ".png" and pixels.ndim == 3:  # imageio's Pillow writer has no 16-bit colour PNG
+    if suffix in _EXR:
+        atomic_write(path, lambda tmp: _write_exr(tmp, pixels, bits))
+    elif bits == 16 and suffix == ".png" and pixels.ndim == 3:  # imageio's Pillow writer has no 16-bit colour PNG
         atomic_write(path, lambda tmp: _write_png16(tmp, pixels))
     else:
         atomic_write(path, lambda tmp: _imwrite(tmp, pixels, extension=suffix))
     return path
+
+
+def _float_samples(image):
+    """An image for a float format: uint8/uint16/bool scaled to [0, 1], float data kept as it is (finite)."""
+    arr = as_array(image, "image")
+    if not np.issubdtype(arr.dtype, np.floating):
+        return as_image(arr, "image")
+    _check_image_shape(arr, "image")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError("image contains NaN or infinite values; replace them (e.g. np.nan_to_num) before saving")
+    if float(arr.min()) >= -_RANGE_TOLERANCE and float(arr.max()) <= 1 + _RANGE_TOLERANCE:
+        return as_image(arr, "image")  # [0, 1] data as before: the tolerance clipped away
+    return arr
 
 
 def load_frames(path):
@@ -811,14 +1138,14 @@ def _quantize(block, bits):
     return block.astype(np.float32) if bits == 32 else to_uint(block, bits)
 
 
-def save_chunked(path, image, *, bits=None, overwrite=False, progress=False):
+def save_chunked(path, image, *, bits=None, overwrite=False, progress=False, attributes=None, zarr_format=None):
     """Write an image larger than memory block by block: a Zarr store or a tiled BigTIFF.
 
     Parameters
     ----------
     path : str or os.PathLike
-        ``.zarr`` (a Zarr version 3 store: a folder, blocks compressed with
-        Zstandard) or ``.tif``/``.tiff`` (a tiled BigTIFF, Deflate-compressed,
+        ``.zarr`` (a Zarr store: a folder, version 3 unless ``zarr_format=2``)
+        or ``.tif``/``.tiff`` (a tiled BigTIFF, Deflate-compressed,
         that GDAL, QGIS, libvips and tifffile read tile by tile).
     image : dask.array.Array or array_like
         Float in [0, 1] (or uint8/uint16), ``(H, W)`` or ``(H, W, C)`` with
@@ -832,6 +1159,16 @@ def save_chunked(path, image, *, bits=None, overwrite=False, progress=False):
     progress : bool or callable
         Report progress per row of blocks (True: tqdm bar; a callable receives
         ``(step, total, info)``).
+    attributes : dict, optional
+        JSON-serialisable values (str keys) stored with the image: a Zarr
+        store's attributes (``zarr.open_array(path).attrs``), a TIFF's JSON
+        ImageDescription (``tifffile.TiffFile(path).shaped_metadata[0]``).
+        ``texsynth_version`` is always added; the command line records
+        ``method``, ``options``, ``seed`` and ``exemplar`` too.
+    zarr_format : {None, 2, 3}
+        ``.zarr`` only: the Zarr format version written (None: 3); 2 for
+        readers that know only version 2 (zarr-python 2, older GDAL,
+        Neuroglancer).
 
     Returns
     -------
@@ -843,7 +1180,10 @@ def save_chunked(path, image, *, bits=None, overwrite=False, progress=False):
     ValueError
         For another suffix, an image that is not ``(H, W[, C])``, values
         outside [0, 1] (found in the block that holds them; nothing is left
-        behind), or a ``bits`` outside 8, 16, 32.
+        behind), a ``bits`` outside 8, 16, 32, a ``zarr_format`` other than
+        2 or 3 (or any for a TIFF).
+    TypeError
+        For ``attributes`` that is not a dict of JSON-serialisable values.
     FileExistsError
         If ``path`` exists and ``overwrite`` is False.
     ImportError
@@ -877,6 +1217,16 @@ def save_chunked(path, image, *, bits=None, overwrite=False, progress=False):
     suffix = path.suffix.lower()
     if suffix not in _CHUNKED:
         raise ValueError(f"path suffix {suffix!r} is not a format written block by block; use '.zarr' or '.tif'")
+    if zarr_format is not None and suffix != ".zarr":
+        raise ValueError(f"zarr_format is for .zarr stores, got {str(path)!r}; leave it None for a TIFF")
+    if zarr_format is None:
+        zarr_format = 3
+    if isinstance(zarr_format, bool) or zarr_format not in (2, 3):
+        raise ValueError(f"zarr_format must be 2 or 3 (or None: 3), got {zarr_format!r}")
+    attributes = _check_attributes(attributes)
+    if suffix != ".zarr" and "shape" in attributes:
+        raise ValueError("attributes has a key 'shape', which a TIFF's JSON description keeps for the array's shape; "
+                         "rename it")
     if bits is None:
         bits = 8 if suffix == ".zarr" else 16
     da = require_dask("save_chunked")
@@ -897,10 +1247,27 @@ def save_chunked(path, image, *, bits=None, overwrite=False, progress=False):
             import zarr
         except ImportError:  # pragma: no cover - zarr is in the dask extra
             raise ImportError("writing .zarr needs Zarr: pip install 'texsynth[dask]'") from None
-        swap_folder(path, lambda tmp: _write_zarr(zarr, tmp, stored, progress))
+        swap_folder(path, lambda tmp: _write_zarr(zarr, tmp, stored, progress, attributes, int(zarr_format)))
     else:
-        atomic_write(path, lambda tmp: _write_tiff(tmp, stored, progress))
+        atomic_write(path, lambda tmp: _write_tiff(tmp, stored, progress, attributes))
     return path
+
+
+def _check_attributes(attributes):
+    """``attributes`` with ``texsynth_version`` added, or a TypeError if it is not a JSON-serialisable dict."""
+    import json
+
+    from .core._version import __version__
+
+    if attributes is None:
+        attributes = {}
+    if not isinstance(attributes, dict) or not all(isinstance(k, str) for k in attributes):
+        raise TypeError(f"attributes must be a dict with str keys, got {_short.repr(attributes)}")
+    try:
+        text = json.dumps(attributes, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"attributes must hold JSON-serialisable values (str, numbers, lists, dicts): {exc}") from None
+    return {**json.loads(text), "texsynth_version": __version__}
 
 
 def _block_rows(stored, progress):
@@ -917,13 +1284,14 @@ def _block_rows(stored, progress):
             bar.advance()
 
 
-def _write_zarr(zarr, folder, stored, progress):
+def _write_zarr(zarr, folder, stored, progress, attributes=None, zarr_format=3):
     # Zarr writes on threads of its own, which go on writing when an exception (SIGTERM, Ctrl-C) ends the main
     # thread's wait for them: a block landing after the clean-up would leave a partial store. So every Zarr
     # call runs on a thread of ours, which leaving the ``with`` waits for, before the store is removed.
     with ThreadPoolExecutor(1) as writer:
         array = writer.submit(zarr.create_array, store=str(folder), shape=stored.shape, dtype=stored.dtype,
-                              chunks=tuple(c[0] for c in stored.chunks), zarr_format=3, overwrite=True).result()
+                              chunks=tuple(c[0] for c in stored.chunks), zarr_format=zarr_format,
+                              attributes=attributes or {}, overwrite=True).result()
         for r0, blocks in _block_rows(stored, progress):
             c0 = 0
             for block in blocks:
@@ -932,7 +1300,7 @@ def _write_zarr(zarr, folder, stored, progress):
                 c0 += block.shape[1]
 
 
-def _write_tiff(tmp, stored, progress):
+def _write_tiff(tmp, stored, progress, attributes=None):
     import tifffile
 
     th, tw = stored.chunks[0][0], stored.chunks[1][0]
@@ -946,29 +1314,144 @@ def _write_tiff(tmp, stored, progress):
     channels = 1 if stored.ndim == 2 else stored.shape[2]
     tifffile.imwrite(tmp, tiles(), shape=stored.shape, dtype=stored.dtype, tile=(th, tw), bigtiff=True,
                      photometric="rgb" if channels >= 3 else "minisblack", compression="zlib",
-                     extrasamples=("unassalpha",) if channels in (2, 4) else None)
+                     extrasamples=("unassalpha",) if channels in (2, 4) else None,
+                     metadata=attributes or {})
 
 
 # --------------------------------------------------------------------------- #
 # source-coordinate maps
 # --------------------------------------------------------------------------- #
 _MAP_ARRAYS = ("coordinates", "weights", "source_index")
+# image files for a map: 16-bit PNG, float32 TIFF, float32 EXR; R = (col + 0.5) / width, G = (row + 0.5) / height
+_MAP_IMAGES = {".png", ".tif", ".tiff", ".exr"}
+_MAP_KEY = "texsynth"  # the PNG tEXt keyword / EXR header attribute / TIFF JSON description key of the map's metadata
+_PNG_MAP_LARGEST = 32768  # exemplar sides a 16-bit PNG map addresses exactly (1/65535 steps, < half a pixel)
 
 
-def save_coordinates(path, coordinates, weights=None, *, source_index=None, overwrite=False):
-    """Write a source-coordinate map atomically as a ``.npz`` file, to re-render channels later.
+def _map_suffix(path):
+    suffix = path.suffix.lower()
+    if suffix != ".npz" and suffix not in _MAP_IMAGES:
+        raise ValueError(f"a source-coordinate map is saved as .npz (every slot and weight), or as an image: .png "
+                         f"(16 bits), .tif (float32) or .exr (float32); got {str(path)!r}")
+    return suffix
+
+
+def _check_exemplar_size(exemplar_size):
+    if isinstance(exemplar_size, numbers.Integral) and not isinstance(exemplar_size, bool):
+        exemplar_size = (exemplar_size, exemplar_size)
+    try:
+        h, w = exemplar_size
+        ok = all(isinstance(v, numbers.Integral) and not isinstance(v, bool) and v >= 1 for v in (h, w))
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"exemplar_size must be the exemplar's (height, width) in pixels (or an int), got "
+                         f"{_short.repr(exemplar_size)}; pass exemplar.shape[:2]")
+    return int(h), int(w)
+
+
+def _encode_map(coords, size, suffix):
+    """``(H, W, 2)`` (row, col) coordinates as RGB(A) samples in [0, 1] (alpha 0 where the map has no source)."""
+    h, w = size
+    missing = np.any(coords < 0, axis=-1)
+    rows, cols = coords[..., 0], coords[..., 1]
+    if np.any(rows[~missing] >= h) or np.any(cols[~missing] >= w):
+        raise ValueError(f"coordinates point outside the exemplar of exemplar_size={size}: rows up to "
+                         f"{int(rows.max())}, columns up to {int(cols.max())}; pass the size of the exemplar the "
+                         "map was made from")
+    kind = np.float64 if suffix == ".png" else np.float32
+    samples = np.zeros(coords.shape[:2] + (4 if missing.any() else 3,), kind)
+    samples[..., 0] = (cols + 0.5) / w
+    samples[..., 1] = (rows + 0.5) / h
+    if missing.any():
+        samples[..., 3] = ~missing
+        samples[missing, :2] = 0
+    return samples
+
+
+def _decode_map(samples, size):
+    """:func:`_encode_map` undone: ``(H, W, 2)`` int64 (row, col), -1 where alpha < 0.5."""
+    h, w = size
+    cols = np.clip(np.floor(samples[..., 0].astype(np.float64) * w), 0, w - 1).astype(np.int64)
+    rows = np.clip(np.floor(samples[..., 1].astype(np.float64) * h), 0, h - 1).astype(np.int64)
+    coords = np.stack([rows, cols], axis=-1)
+    if samples.shape[-1] == 4:
+        coords[samples[..., 3] < 0.5] = -1
+    return coords
+
+
+def _save_map_image(path, suffix, coords, size, overwrite):
+    import json
+
+    if suffix == ".png" and max(size) > _PNG_MAP_LARGEST:
+        raise ValueError(f"a 16-bit PNG map addresses exemplars up to {_PNG_MAP_LARGEST} pixels a side exactly, got "
+                         f"exemplar_size={size}; save the map as .exr or .tif (float32)")
+    samples = _encode_map(coords, size, suffix)
+    note = json.dumps({"exemplar_size": list(size), "encoding": "R = (col + 0.5) / width, G = (row + 0.5) / height, "
+                       "origin top left; A = 0: no source"})
+    prepare_target(path, overwrite)
+    if suffix == ".png":
+        pixels = to_uint(samples, 16)
+        atomic_write(path, lambda tmp: _write_png16(tmp, pixels, {_MAP_KEY: note}))
+    elif suffix == ".exr":
+        atomic_write(path, lambda tmp: _write_exr(tmp, samples, 32, {_MAP_KEY: note}))
+    else:
+        import tifffile
+
+        atomic_write(path, lambda tmp: tifffile.imwrite(
+            tmp, samples, photometric="rgb", compression="zlib", metadata={_MAP_KEY: json.loads(note)},
+            extrasamples=("unassalpha",) if samples.shape[-1] == 4 else None))
+
+
+def _map_image_size(path, suffix):
+    """The exemplar size a map image records, or None (a file re-saved by another program)."""
+    import json
+
+    note = None
+    try:
+        if suffix == ".png":
+            note = _png_text(path).get(_MAP_KEY)
+        elif suffix == ".exr":
+            note = _open_exr(path, header_only=True).header().get(_MAP_KEY)
+        else:
+            import tifffile
+
+            with tifffile.TiffFile(path) as tif:
+                found = (tif.shaped_metadata or [{}])[0].get(_MAP_KEY)
+            note = None if found is None else json.dumps(found)
+        size = json.loads(note)["exemplar_size"] if note else None
+        return None if size is None else _check_exemplar_size(tuple(size))
+    except (ValueError, KeyError, TypeError, OSError):
+        return None
+
+
+def save_coordinates(path, coordinates, weights=None, *, source_index=None, exemplar_size=None, overwrite=False):
+    """Write a source-coordinate map atomically: a ``.npz`` file, or an image for a shader.
 
     Parameters
     ----------
     path : str or os.PathLike
-        A ``.npz`` file.
+        A ``.npz`` file (every slot, weight and source index: the exact map),
+        or an image: ``.png`` (16-bit RGB), ``.tif`` (float32 RGB) or ``.exr``
+        (float32 RGB, with the ``exr`` extra). An image holds one exemplar
+        pixel per output pixel, normalised by the exemplar's size: R =
+        ``(col + 0.5) / width`` and G = ``(row + 0.5) / height`` (texel
+        centres, origin at the top left: a shader's UV with ``v`` down), B =
+        0, and an alpha channel, 0 where a pixel has no source (-1 in the
+        map), only when there are such pixels. A blend map (``K`` sources a
+        pixel) is stored as its dominant source, ``coordinates[:, :, 0]``.
     coordinates : array_like or info
         The map (``docs/conventions.md``), or an info of a synthesis, whose
         ``coordinates``, ``weights`` and ``source_index`` are saved; a video
-        map of :func:`texsynth.patchwork_video` (``(N, H, W, K, 2)``) too.
+        map of :func:`texsynth.patchwork_video` (``(N, H, W, K, 2)``) too
+        (``.npz`` only).
     weights, source_index : array_like, optional
         As in :func:`texsynth.apply_coordinates` (taken from the info when
-        ``coordinates`` is one).
+        ``coordinates`` is one). A map with ``source_index`` (several
+        exemplars) is saved as ``.npz`` only.
+    exemplar_size : int or (int, int), optional
+        The exemplar's ``(height, width)``: needed for an image (whose
+        values are divided by it, and which records it), unused by ``.npz``.
     overwrite : bool
         Replace an existing file.
 
@@ -980,8 +1463,10 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
     Raises
     ------
     ValueError, TypeError
-        For a map :func:`texsynth.apply_coordinates` would refuse, a suffix
-        other than ``.npz``, or an existing file without ``overwrite``.
+        For a map :func:`texsynth.apply_coordinates` would refuse, another
+        suffix, an image without ``exemplar_size`` (or of a map of several
+        exemplars or frames, or coordinates outside ``exemplar_size``), or
+        an existing file without ``overwrite``.
 
     Examples
     --------
@@ -990,14 +1475,16 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
     >>> out, info = texsynth.quilt(data.load("bread")[:48, :48], 64, block=16, rng=0, return_info=True)
     >>> with tempfile.TemporaryDirectory() as d:
     ...     saved = load_coordinates(save_coordinates(d + "/map.npz", info))
+    ...     as_png = load_coordinates(save_coordinates(d + "/map.png", info, exemplar_size=48))
     >>> bool(np.array_equal(texsynth.apply_coordinates(data.load("bread")[:48, :48], saved), out))
+    True
+    >>> bool(np.array_equal(as_png.coordinates, info.coordinates))
     True
     """
     from .core.coordinates import check_map, check_sources, video_map
 
     path = as_path(path)
-    if path.suffix.lower() != ".npz":
-        raise ValueError(f"a source-coordinate map is saved as .npz, got {str(path)!r}; pass a path ending in .npz")
+    suffix = _map_suffix(path)
     if hasattr(coordinates, "coordinates"):  # an info of a synthesis
         info = coordinates
         weights = getattr(info, "weights", None) if weights is None else weights
@@ -1013,12 +1500,24 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
     else:
         coords, w = check_map(coordinates, weights)
         check_sources(source_index, coords)
+    check_bool(overwrite, "overwrite")
+    if suffix in _MAP_IMAGES:
+        if np.ndim(coordinates) == 5 or source_index is not None:
+            what = "a video map" if np.ndim(coordinates) == 5 else "a map of several exemplars (source_index)"
+            raise ValueError(f"{what} cannot be saved as an image, which holds one exemplar's coordinates; save it "
+                             f"as .npz, got {str(path)!r}")
+        if exemplar_size is None:
+            raise ValueError(f"an image map stores coordinates divided by the exemplar's size; pass "
+                             f"exemplar_size=exemplar.shape[:2] to save {str(path)!r}")
+        if suffix == ".exr":
+            _openexr()
+        _save_map_image(path, suffix, coords[:, :, 0], _check_exemplar_size(exemplar_size), overwrite)
+        return path
     arrays = {"coordinates": as_array(coordinates, "coordinates")}
     if w is not None:
         arrays["weights"] = as_array(weights, "weights")
     if source_index is not None:
         arrays["source_index"] = as_array(source_index, "source_index")
-    check_bool(overwrite, "overwrite")
     prepare_target(path, overwrite)
 
     def write(tmp):
@@ -1029,24 +1528,62 @@ def save_coordinates(path, coordinates, weights=None, *, source_index=None, over
     return path
 
 
-def load_coordinates(path):
-    """Read a map written by :func:`save_coordinates`.
+def load_coordinates(path, *, exemplar_size=None):
+    """Read a map written by :func:`save_coordinates` (a ``.npz`` file or an image).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.npz`` map, or an image map (``.png``, ``.tif``, ``.exr``) in the
+        layout :func:`save_coordinates` describes, also one re-saved or
+        painted in another program (any bit depth :func:`load_image` reads).
+    exemplar_size : int or (int, int), optional
+        Image maps only: the exemplar's ``(height, width)``, needed when the
+        file does not record it (texsynth's own maps do: PNG tEXt, TIFF
+        description, EXR header); if both are there, they must agree.
 
     Returns
     -------
     types.SimpleNamespace
         ``coordinates``, ``weights`` and ``source_index`` (the last two None
-        when not saved): pass it to :func:`texsynth.apply_coordinates` as
-        the map.
+        when not saved, and always for an image map, whose ``coordinates``
+        are ``(H, W, 2)`` int64): pass it to :func:`texsynth.apply_coordinates`
+        as the map.
 
     Raises
     ------
     ValueError
-        If the file is not a map (missing ``coordinates``, other arrays).
+        If the file is not a map (missing ``coordinates``, other arrays; an
+        image without two colour channels), an image map's exemplar size is
+        unknown or disagrees with ``exemplar_size``, or ``exemplar_size`` is
+        given for a ``.npz`` map.
     """
     from types import SimpleNamespace
 
     path = as_path(path)
+    suffix = _map_suffix(path)
+    if suffix in _MAP_IMAGES:
+        recorded = _map_image_size(path, suffix) if path.is_file() else None
+        given = None if exemplar_size is None else _check_exemplar_size(exemplar_size)
+        if recorded is not None and given is not None and recorded != given:
+            raise ValueError(f"{str(path)!r} is a map of an exemplar of {recorded[1]}x{recorded[0]} pixels, but "
+                             f"exemplar_size={given} was given; pass channels of the exemplar's size")
+        size = recorded or given
+        samples = load_image(path)
+        if size is None:
+            raise ValueError(f"{str(path)!r} does not record the exemplar's size (a file saved by another program?); "
+                             "pass exemplar_size=(height, width) of the exemplar the map was made from")
+        if samples.ndim != 3 or samples.shape[-1] < 3:
+            channels = 1 if samples.ndim == 2 else samples.shape[-1]
+            raise ValueError(f"{str(path)!r} is not a coordinate map: it has {channels} channel(s), where a map has "
+                             "R (column), G (row), B and optionally A")
+        if image_bits(path) == 8 and max(size) > 255:
+            raise ValueError(f"{str(path)!r} is an 8-bit image, which cannot address the pixels of a "
+                             f"{size[1]}x{size[0]} exemplar exactly; save the map as a 16-bit PNG, .tif or .exr")
+        return SimpleNamespace(coordinates=_decode_map(samples, size), weights=None, source_index=None)
+    if exemplar_size is not None:
+        raise ValueError(f"exemplar_size is for image maps; {str(path)!r} is a .npz map, which holds exemplar "
+                         "pixels as they are: pass exemplar_size=None")
     with np.load(path, allow_pickle=False) as data:
         unknown = sorted(set(data.files) - set(_MAP_ARRAYS))
         if "coordinates" not in data.files or unknown:

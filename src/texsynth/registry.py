@@ -4,8 +4,14 @@ Each :class:`Method` names a public function, its paper and its docs page, how
 ``texsynth NAME`` exposes it, and the gallery images ``texsynth demo`` makes of
 it. Adding a method to the library is: its module in its family's folder, its
 name in the family's ``__init__`` and in ``texsynth/__init__.py``, and one entry
-here; then a docs page, tests, and a row of the README table, which
-``tests/test_registry.py`` holds against this list. See ``docs/architecture.md``.
+here; then a docs page, tests, and a row of the table in ``docs/methods/index.md``,
+which ``tests/test_registry.py`` holds against this list. See ``docs/architecture.md``.
+
+One stem per algorithm: the module ``<family>/_X.py`` has its page
+``docs/methods/X.md`` (``page="X"``), its tests ``tests/test_X.py`` (more:
+``test_X_<topic>.py``) and its benchmark ``benchmarks/bench_X.py``; the command
+is the function's name with dashes (``synthesize_pixels`` -> ``texsynth
+synthesize-pixels``). ``tests/test_architecture.py`` holds the stems to it.
 """
 
 from __future__ import annotations
@@ -14,12 +20,12 @@ import dataclasses
 import importlib
 import inspect
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, NamedTuple
 
 from . import data
 
-__all__ = ["Method", "Demo", "METHODS", "SURFACE_DEMOS", "demos", "is_group", "group_fields", "option_holder",
-           "group_options"]
+__all__ = ["Method", "Demo", "METHODS", "SURFACE_DEMOS", "demos", "methods", "MethodEntry", "MethodList",
+           "is_group", "group_fields", "option_holder", "group_options"]
 
 
 def is_group(default):
@@ -90,7 +96,8 @@ class Method:
     paper : str
         The paper, with its DOI.
     page : str
-        Its page under ``docs/methods`` (without ``.md``).
+        Its page under ``docs/methods`` (without ``.md``): the stem of the module
+        of its algorithm (``"kwatra"`` for ``optimization/_kwatra.py``).
     inputs : str
         ``"image"`` (one input image), ``"images"`` (one or more),
         ``"frames"`` (a GIF, video or folder of frames), ``"pair"`` (two images)
@@ -119,12 +126,18 @@ class Method:
         ignored), e.g. masks.
     map_pairs : tuple of str
         Parameters that take two binary maps, given as ``--NAME FILE1 FILE2``.
+    mask : str or None
+        The one map of ``maps`` that ``--invert-mask`` inverts (``1 - map``
+        as read from its file): the command's hole or mask, for masks drawn
+        the other way round. A map named ``hole`` also gets
+        ``--hole-channel a`` (the input's transparency as the hole).
     fields : tuple of str
-        Orientation and scale fields over the output (``orientation`` in
-        radians, ``scale`` factors): on the command line a number, a ``.npy``
-        array of the output's size, or a grey image file mapped by
+        Orientation and magnification fields over the output
+        (``orientation`` in radians, ``magnification`` factors of the
+        elements): on the command line a number, a ``.npy`` array of the
+        output's size, or a grey image file mapped by
         :func:`texsynth.cli.read_field` (grey 0..1 -> 0..2 pi for
-        ``orientation``, 0.5..2 geometrically for ``scale``).
+        ``orientation``, 0.5..2 geometrically for ``magnification``).
     spatial : str or None
         Parameter that is a number or a map of numbers at the output size.
         Besides ``--NAME`` it gets ``--NAME-map FILE`` (a grey image of
@@ -155,6 +168,7 @@ class Method:
     mixing: str | None = None
     maps: tuple = ()
     map_pairs: tuple = ()
+    mask: str | None = None
     fields: tuple = ()
     spatial: str | None = None
     demos: tuple = ()
@@ -295,7 +309,7 @@ def _controlled(exemplar, seed):
     def grow(rows, cols):  # elements from 0.8x at the left to 2x at the right
         return 0.8 + 1.2 * cols / 192.0
 
-    return synthesize_controlled(exemplar[:96, :96], 192, orientation=vortex, scale=grow, rng=seed)
+    return synthesize_controlled(exemplar[:96, :96], 192, orientation=vortex, magnification=grow, rng=seed)
 
 
 def _interpolate(exemplar, seed):
@@ -378,91 +392,69 @@ def _m(target, summary, paper, page, demos=(), **cli):
 
 _PROCEDURAL = dict(inputs="none", skip=("points", "offset", "dtype"))
 
-#: Every method, in the order ``texsynth list`` and the gallery show them.
+#: Every method, in the order ``texsynth list``, the gallery and the docs show them: the example-based
+#: families first (pixel, optimization, patch, statistical), the procedural ones (no exemplar) last.
 METHODS: dict[str, Method] = {
-    "perlin": _m("procedural:perlin", "Perlin gradient noise (2-D image, or 3-D volume with --size WxHxD)",
-                 _PERLIN, "procedural", values=(-1.0, 1.0), **_PROCEDURAL),
-    "turbulence": _m("procedural:turbulence", "Perlin turbulence: sum of |noise| octaves to the band limit",
-                     _PERLIN, "procedural", values=(0.0, 2.0), **_PROCEDURAL),
-    "fbm": _m("procedural:fbm", "fractional Brownian motion: signed sum of noise octaves", _PERLIN, "procedural",
-              values=(-1.0, 1.0), **_PROCEDURAL),
-    "marble": _m("procedural:marble", "Perlin marble: sin(x + turbulence) through a colour map (2-D or 3-D)",
-                 _PERLIN, "procedural", inputs="none", skip=("dtype",),
-                 demos=[("marble", "Perlin marble: sin(x + turbulence) through a colour map", None,
-                         _call("procedural:marble", (192, 192)))]),
-    "wood": _m("procedural:wood", "wood rings: sin(radius + turbulence) through a colour map (2-D or 3-D)",
-               _PERLIN, "procedural", inputs="none", skip=("dtype",),
-               demos=[("wood", "Solid wood rings: sin(radius + turbulence)", None,
-                       _call("procedural:wood", (192, 192)))]),
-    "reaction-diffusion": _m(
-        "procedural:reaction_diffusion", "Turk 1991 reaction-diffusion: spots or labyrinth stripes (two chemicals)",
-        _TURK, "procedural", inputs="none", skip=("dtype", "record_every"),
-        demos=[("reaction_diffusion", "Turk reaction-diffusion spots", None,
-                _call("procedural:reaction_diffusion", (192, 192), steps=6000)),
-               ("reaction_diffusion_stripes", "Turk's two-chemical system far above the Turing threshold: stripes",
-                None, _call("procedural:reaction_diffusion", (192, 192), preset="stripes", steps=10000))]),
-    "meinhardt-stripes": _m("procedural:meinhardt_stripes",
-                            "Meinhardt's five-chemical stripe system, as Turk's 1991 program used", _TURK,
-                            "procedural", inputs="none", skip=("dtype", "record_every")),
-    "gray-scott": _m("procedural:gray_scott",
-                     "Gray-Scott reaction-diffusion presets: spots, stripes, mazes, coral, mitosis, holes", _PEARSON,
-                     "procedural", inputs="none", skip=("dtype", "record_every", "seeds"),
-                     demos=[("gray_scott_mazes", "Gray-Scott reaction-diffusion, 'mazes' preset", None,
-                             _call("procedural:gray_scott", (192, 192), preset="mazes", steps=6000))]),
-    "pixels": _m("pixel:synthesize_pixels",
-                 "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)", _WEI_LEVOY,
-                 "wei_levoy",
-                 demos=[("pixels_bread", "Wei-Levoy pixel synthesis (scanline, 3 levels, causal 5x5 neighbourhoods)",
-                         "bread", _call("pixel:synthesize_pixels", (160, 160), crop=64)),
-                        ("pixels_kcoherent_brick", "Wei-Levoy with k-coherent candidates (Ashikhmin's search, k=1): "
-                         "bricks copied in pieces", "brick", _call("pixel:synthesize_pixels", (192, 192),
-                                                                    candidates="k-coherent"))]),
-    "mix": _m("pixel:mix_textures", "Wei 2002: mixture of two or more textures (--weights equal | ramp | w1.png,w2.png)",
-              _WEI, "wei_2002", inputs="images", mixing="weights",
-              demos=[("mix_brick_bread", "Wei texture mixture, ramp weights: brick (left) turning into bread (right)",
-                      "brick", _mixture)]),
-    "solid": _m("pixel:synthesize_solid",
-                "Wei 2002: solid texture from 1-3 views along z, y, x (.npy volume plus PNG slices)", _WEI,
-                "wei_2002", inputs="images", output="volume",
-                demos=[("solid_bread", "Wei solid texture from one 2-D view: three faces of a 32^3 cube (x, y and "
-                        "z slices)", "bread", _solid)]),
-    "controlled": _m("pixel:synthesize_controlled",
-                     "Zhang et al. 2003: texton masks keep elements whole; --orientation and --scale (a number, "
-                     "a .npy field or a grey image) turn and grow them; --exemplar-b B with --blend X | --blend-map "
-                     "M | --transition varies one into the other", _ZHANG, "texton", files=("exemplar_b",),
-                     maps=("blend",), ramps=("blend",), fields=("orientation", "scale"), spatial="blend",
-                     demos=[("controlled_vortex_reptile", "Zhang et al. texton-mask synthesis with a vortex "
-                             "orientation field and a scale growing from 0.8 (left) to 2.0 (right): the scales "
-                             "turn along circles and grow, whole", "reptile", _controlled)]),
+    "synthesize-pixels": _m(
+        "pixel:synthesize_pixels",
+        "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)", _WEI_LEVOY,
+        "wei_levoy",
+        demos=[("pixels_bread", "Wei-Levoy pixel synthesis (scanline, 3 levels, causal 5x5 neighbourhoods)",
+                "bread", _call("pixel:synthesize_pixels", (160, 160), crop=64)),
+               ("pixels_kcoherent_brick", "Wei-Levoy with k-coherent candidates (Ashikhmin's search, k=1): "
+                "bricks copied in pieces", "brick", _call("pixel:synthesize_pixels", (192, 192),
+                                                           candidates="k-coherent"))]),
+    "mix-textures": _m(
+        "pixel:mix_textures", "Wei 2002: mixture of two or more textures (--weights equal | ramp | w1.png,w2.png)",
+        _WEI, "wei_2002", inputs="images", mixing="weights",
+        demos=[("mix_brick_bread", "Wei texture mixture, ramp weights: brick (left) turning into bread (right)",
+                "brick", _mixture)]),
+    "synthesize-solid": _m(
+        "pixel:synthesize_solid",
+        "Wei 2002: solid texture from 1-3 views along z, y, x (.npy volume plus PNG slices)", _WEI,
+        "wei_2002", inputs="images", output="volume",
+        demos=[("solid_bread", "Wei solid texture from one 2-D view: three faces of a 32^3 cube (x, y and "
+                "z slices)", "bread", _solid)]),
+    "synthesize-controlled": _m(
+        "pixel:synthesize_controlled",
+        "Zhang et al. 2003: texton masks keep elements whole; --orientation and --magnification (a number, "
+        "a .npy field or a grey image) turn and grow them; --exemplar-b B with --blend X | --blend-map "
+        "M | --transition varies one into the other", _ZHANG, "texton", files=("exemplar_b",),
+        maps=("blend",), ramps=("blend",), fields=("orientation", "magnification"), spatial="blend",
+        demos=[("controlled_vortex_reptile", "Zhang et al. texton-mask synthesis with a vortex "
+                "orientation field and a magnification growing from 0.8 (left) to 2.0 (right): the scales "
+                "turn along circles and grow, whole", "reptile", _controlled)]),
     "efros-leung": _m("pixel:efros_leung",
                       "Efros-Leung 1999: non-parametric sampling, grown pixel by pixel from a seed; "
                       "--target/--mask for hole filling", _EFROS_LEUNG, "efros_leung", files=("target",),
-                      maps=("mask", "exemplar_mask"),
+                      maps=("mask", "exemplar_mask"), mask="mask",
                       demos=[("efros_leung_text", "Efros-Leung on text, 15x15 window (64x64 -> 96x96): words, "
                               "some copied whole from the exemplar", "text",
                               _call("pixel:efros_leung", (96, 96), crop=64, neighborhood_size=15))]),
-    "optimize": _m("optimization:optimize_texture",
-                   "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling; "
-                   "--orientation/--scale fields", _KWATRA,
-                   "optimization", files=("target", "init"), maps=("mask", "exemplar_mask", "exemplar_guide", "output_guide"),
-                   fields=("orientation", "scale"),
-                   demos=[("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
-                           "bread", _call("optimization:optimize_texture", (128, 128))),
-                          ("optimize_text_complete", "Kwatra texture optimization with the completeness term of the "
-                           "bidirectional similarity and a copy limit (completeness_weight=1, copy_limit=0.2): all "
-                           "of the 96x96 exemplar, in pieces of at most a third of it", "text", _text_complete),
-                          ("style_transfer_water", "Style transfer as guided synthesis (Hertzmann et al. 2001, "
-                           "doi:10.1145/383259.383295): the photograph's luminance is the output guide, the "
-                           "water's (remapped) luminance the exemplar guide", "water", _style_transfer)]),
-    "animate": _m("optimization:animate_texture",
-                  "Kwatra 2005: flow-guided animation, e.g. --flows sink:1.5 --n-frames 16 --size 128",
-                  f"{_KWATRA}, Section 4.1", "optimization", output="frames", size=None, flow="flows",
-                  files=("first_frame",),
-                  demos=[("animate_bumpy", "Kwatra flow-guided animation, rotation 0.06 rad/frame: frames 1, 4 and 8 "
-                          "(elements follow the flow; they soften over the frames)", "bumpy", _animate)]),
+    "optimize-texture": _m(
+        "optimization:optimize_texture",
+        "Kwatra 2005: texture optimization (EM + IRLS); --mask/--target for hole filling; "
+        "--orientation/--magnification fields", _KWATRA,
+        "kwatra", files=("target", "init"), maps=("mask", "exemplar_mask", "exemplar_guide", "output_guide"),
+        mask="mask", fields=("orientation", "magnification"),
+        demos=[("optimize_bread", "Kwatra texture optimization (EM + IRLS, 3 levels, sizes 32/16/8)",
+                "bread", _call("optimization:optimize_texture", (128, 128))),
+               ("optimize_text_complete", "Kwatra texture optimization with the completeness term of the "
+                "bidirectional similarity and a copy limit (completeness_weight=1, copy_limit=0.2): all "
+                "of the 96x96 exemplar, in pieces of at most a third of it", "text", _text_complete),
+               ("style_transfer_water", "Style transfer as guided synthesis (Hertzmann et al. 2001, "
+                "doi:10.1145/383259.383295): the photograph's luminance is the output guide, the "
+                "water's (remapped) luminance the exemplar guide", "water", _style_transfer)]),
+    "animate-texture": _m(
+        "optimization:animate_texture",
+        "Kwatra 2005: flow-guided animation, e.g. --flows sink:1.5 --n-frames 16 --size 128",
+        f"{_KWATRA}, Section 4.1", "kwatra", output="frames", size=None, flow="flows",
+        files=("first_frame",),
+        demos=[("animate_bumpy", "Kwatra flow-guided animation, rotation 0.06 rad/frame: frames 1, 4 and 8 "
+                "(elements follow the flow; they soften over the frames)", "bumpy", _animate)]),
     "inpaint": _m("optimization:inpaint", "Hole filling by texture optimization with hard constraints "
-                  "(IMAGE --hole MASK [--sample-mask MASK])", _KWATRA, "completion", size=None,
-                  maps=("hole", "sample_mask"),
+                  "(IMAGE --hole MASK, white = fill; or --hole-channel a)", _KWATRA, "completion", size=None,
+                  maps=("hole", "sample_mask"), mask="hole",
                   demos=[("inpaint_bread", "Hole filling (a 40 px disc of the bread photo, filled from the rest)",
                           "bread", _inpaint)]),
     "make-tileable": _m("optimization:make_tileable", "Make a photo tile seamlessly: re-synthesise a band along "
@@ -470,15 +462,17 @@ METHODS: dict[str, Method] = {
                         demos=[("make_tileable_brick", "Make tileable: the brick photo (77x96 px) tiled 2x2, before "
                                 "and after (a 9 px band along its edges re-synthesised)", "brick", _make_tileable)]),
     "uncrop": _m("optimization:uncrop", "Uncrop: extend an image beyond its borders by texture optimization "
-                 "(--size WxH)", _KWATRA, "completion", maps=("sample_mask",), skip=("position",),
+                 "(--size WxH or 1.5x)", _KWATRA, "completion", maps=("sample_mask",), mask="sample_mask",
+                 skip=("position",),
                  demos=[("uncrop_bread", "Uncrop: the bread photo (64 px, centre) extended to 96 px",
                          "bread", _call("optimization:uncrop", (96, 96), crop=64))]),
-    "interpolate": _m("optimization:interpolate_textures",
-                      "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --transition | --alpha-map map.png; "
-                      "--features FA FB)", _RUITERS, "interpolation", inputs="pair", skip=("rpm_options",),
-                      maps=("alpha",), ramps=("alpha",), map_pairs=("features",), spatial="alpha",
-                      demos=[("interpolate_brick_bumpy", "Ruiters texture interpolation, alpha = 0.5: brick halfway "
-                              "to bumpy plaster (small: 64x64, stages (2, 17), (1, 17))", "brick", _interpolate)]),
+    "interpolate-textures": _m(
+        "optimization:interpolate_textures",
+        "Ruiters 2010: texture interpolation (A B --alpha 0.5 | --transition | --alpha-map map.png; "
+        "--features FA FB)", _RUITERS, "ruiters", inputs="pair", skip=("rpm_options",),
+        maps=("alpha",), ramps=("alpha",), map_pairs=("features",), spatial="alpha",
+        demos=[("interpolate_brick_bumpy", "Ruiters texture interpolation, alpha = 0.5: brick halfway "
+                "to bumpy plaster (small: 64x64, stages (2, 17), (1, 17))", "brick", _interpolate)]),
     "patchwork": _m("patch:patchwork", "Harrison 2002: Voronoi patchwork with invisible joins (fast, tileable)",
                     _HARRISON, "patchwork",
                     demos=[("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", "water",
@@ -510,24 +504,27 @@ METHODS: dict[str, Method] = {
                          skip=("correspondence",),
                          demos=[("quilt_transfer_bread", "Quilting texture transfer: the camera in bread "
                                  "(3 passes, blocks 16/11/7)", "bread", _quilt_transfer)]),
-    "graphcut": _m("patch:graphcut_texture", "Kwatra et al. 2003: graph-cut textures, patches matched and joined "
-                   "along min-cuts, seams refined (tileable)", _KWATRA_2003, "graphcut",
-                   demos=[("graphcut_brick", "Graph-cut textures (blocks of 48 px, entire patch matching, 2 "
-                           "refinement passes)", "brick", _call("patch:graphcut_texture", (192, 192), crop=96))]),
+    "graphcut-texture": _m(
+        "patch:graphcut_texture", "Kwatra et al. 2003: graph-cut textures, patches matched and joined "
+        "along min-cuts, seams refined (tileable)", _KWATRA_2003, "graphcut",
+        demos=[("graphcut_brick", "Graph-cut textures (blocks of 48 px, entire patch matching, 2 "
+                "refinement passes)", "brick", _call("patch:graphcut_texture", (192, 192), crop=96))]),
     "graphcut-merge": _m("patch:graphcut_merge", "Kwatra et al. 2003: interactive merging of two images along a "
                          "min-cut (A B --from-a MASK_A --from-b MASK_B)", _KWATRA_2003,
                          "graphcut", inputs="pair", size=None, maps=("from_a", "from_b")),
-    "seam-carve": _m("patch:carve_seams", "Avidan-Shamir 2007: seam carving, content-aware resizing (--size WxH) "
-                     "and object removal (--remove-mask MASK, --protect-mask MASK)", _AVIDAN_SHAMIR, "seam_carving",
-                     maps=("remove_mask", "protect_mask"),
-                     demos=[("seam_carve_astronaut", "Seam carving a photograph (128 px): the input, 32 columns "
-                             "removed, 32 columns inserted", None, _seam_carve)]),
-    "wang-tiles": _m("patch:wang_texture", "Cohen et al. 2003: Wang tiles quilted from diamonds, tiled at random "
-                     "to any --size (--tile, --colors)", _COHEN, "wang_tiles",
-                     demos=[("wang_tiles_bread", "Wang tiles: 8 tiles of 40 px (2 colours per direction) tiled at "
-                             "random", "bread", _call("patch:wang_texture", (240, 240), tile=40)),
-                            ("wang_tiles_tileable_bread", "Wang tiles, tileable=True: a 120 px toroidal tiling shown "
-                             "tiled 2x2 (no seam where the copies meet)", "bread", _wang_tileable)]),
+    "carve-seams": _m(
+        "patch:carve_seams", "Avidan-Shamir 2007: seam carving, content-aware resizing (--size WxH) "
+        "and object removal (--remove-mask MASK, --protect-mask MASK)", _AVIDAN_SHAMIR, "seam_carving",
+        maps=("remove_mask", "protect_mask"), mask="remove_mask",
+        demos=[("seam_carve_astronaut", "Seam carving a photograph (128 px): the input, 32 columns "
+                "removed, 32 columns inserted", None, _seam_carve)]),
+    "wang-texture": _m(
+        "patch:wang_texture", "Cohen et al. 2003: Wang tiles quilted from diamonds, tiled at random "
+        "to any --size (--tile, --colors)", _COHEN, "wang_tiles",
+        demos=[("wang_tiles_bread", "Wang tiles: 8 tiles of 40 px (2 colours per direction) tiled at "
+                "random", "bread", _call("patch:wang_texture", (240, 240), tile=40)),
+               ("wang_tiles_tileable_bread", "Wang tiles, tileable=True: a 120 px toroidal tiling shown "
+                "tiled 2x2 (no seam where the copies meet)", "bread", _wang_tileable)]),
     "patch-sampling": _m("patch:patch_sampling", "Liang et al. 2001: patch-based sampling, boundary zones feathered "
                          "(tileable)", _LIANG, "patch_sampling",
                          demos=[("patch_sampling_bread", "Patch-based sampling (patches of 25 px, zones of 4 px, "
@@ -547,29 +544,60 @@ METHODS: dict[str, Method] = {
                                      for sample, title in (("reptile", "Portilla-Simoncelli: structured texture"),
                                                            ("text", "Portilla-Simoncelli: text (letter-like strokes, "
                                                                     "no words)"))]),
-    "random-phase": _m("statistical:random_phase_noise",
-                       "Galerne et al. 2011: random phase noise / ADSN, micro-textures in one FFT (--process adsn)",
-                       _GGM, "random_phase",
-                       demos=[(f"random_phase_{sample}", title, sample,
-                               _call("statistical:random_phase_noise", (256, 256), **options))
-                              for sample, title, options in (
-                                  ("metal", "Random phase noise: micro-texture (works)", {}),
-                                  ("bread", "ADSN: the same colour noise for every channel (works)",
-                                   {"process": "adsn"}),
-                                  ("brick", "Random phase noise: structured texture (fails: edges are phases)", {}))]),
-    "tile-blend": _m("statistical:tile_and_blend",
-                     "Heitz-Neyret 2018: infinite by-example noise, tiling and histogram-preserving blending",
-                     _HEITZ, "tiling_blending",
-                     demos=[(f"tile_blend_{sample}", title, sample, _call("statistical:tile_and_blend", (384, 384)))
-                            for sample, title in (("bumpy", "Tiling and blending: stochastic texture (works)"),
-                                                  ("brick", "Tiling and blending: structured texture (fails: "
-                                                            "ghosted bricks)"))]),
+    "random-phase-noise": _m(
+        "statistical:random_phase_noise",
+        "Galerne et al. 2011: random phase noise / ADSN, micro-textures in one FFT (--process adsn)",
+        _GGM, "random_phase",
+        demos=[(f"random_phase_{sample}", title, sample,
+                _call("statistical:random_phase_noise", (256, 256), **options))
+               for sample, title, options in (
+                   ("metal", "Random phase noise: micro-texture (works)", {}),
+                   ("bread", "ADSN: the same colour noise for every channel (works)",
+                    {"process": "adsn"}),
+                   ("brick", "Random phase noise: structured texture (fails: edges are phases)", {}))]),
+    "tile-and-blend": _m(
+        "statistical:tile_and_blend",
+        "Heitz-Neyret 2018: infinite by-example noise, tiling and histogram-preserving blending",
+        _HEITZ, "tiling_blending",
+        demos=[(f"tile_blend_{sample}", title, sample, _call("statistical:tile_and_blend", (384, 384)))
+               for sample, title in (("bumpy", "Tiling and blending: stochastic texture (works)"),
+                                     ("brick", "Tiling and blending: structured texture (fails: "
+                                               "ghosted bricks)"))]),
+    "perlin": _m("procedural:perlin", "Perlin gradient noise (2-D image, or 3-D volume with --size WxHxD)",
+                 _PERLIN, "noise", values=(-1.0, 1.0), **_PROCEDURAL),
+    "turbulence": _m("procedural:turbulence", "Perlin turbulence: sum of |noise| octaves to the band limit",
+                     _PERLIN, "patterns", values=(0.0, 2.0), **_PROCEDURAL),
+    "fbm": _m("procedural:fbm", "fractional Brownian motion: signed sum of noise octaves", _PERLIN, "patterns",
+              values=(-1.0, 1.0), **_PROCEDURAL),
+    "marble": _m("procedural:marble", "Perlin marble: sin(x + turbulence) through a colour map (2-D or 3-D)",
+                 _PERLIN, "patterns", inputs="none", skip=("dtype",),
+                 demos=[("marble", "Perlin marble: sin(x + turbulence) through a colour map", None,
+                         _call("procedural:marble", (192, 192)))]),
+    "wood": _m("procedural:wood", "wood rings: sin(radius + turbulence) through a colour map (2-D or 3-D)",
+               _PERLIN, "patterns", inputs="none", skip=("dtype",),
+               demos=[("wood", "Solid wood rings: sin(radius + turbulence)", None,
+                       _call("procedural:wood", (192, 192)))]),
+    "reaction-diffusion": _m(
+        "procedural:reaction_diffusion", "Turk 1991 reaction-diffusion: spots or labyrinth stripes (two chemicals)",
+        _TURK, "reaction_diffusion", inputs="none", skip=("dtype", "record_every"),
+        demos=[("reaction_diffusion", "Turk reaction-diffusion spots", None,
+                _call("procedural:reaction_diffusion", (192, 192), steps=6000)),
+               ("reaction_diffusion_stripes", "Turk's two-chemical system far above the Turing threshold: stripes",
+                None, _call("procedural:reaction_diffusion", (192, 192), preset="stripes", steps=10000))]),
+    "meinhardt-stripes": _m("procedural:meinhardt_stripes",
+                            "Meinhardt's five-chemical stripe system, as Turk's 1991 program used", _TURK,
+                            "reaction_diffusion", inputs="none", skip=("dtype", "record_every")),
+    "gray-scott": _m("procedural:gray_scott",
+                     "Gray-Scott reaction-diffusion presets: spots, stripes, mazes, coral, mitosis, holes", _PEARSON,
+                     "reaction_diffusion", inputs="none", skip=("dtype", "record_every", "seeds"),
+                     demos=[("gray_scott_mazes", "Gray-Scott reaction-diffusion, 'mazes' preset", None,
+                             _call("procedural:gray_scott", (192, 192), preset="mazes", steps=6000))]),
 }
 
 #: Methods whose ``info.coordinates`` is a source-coordinate map (``texsynth.apply_coordinates``):
 #: the command line offers them ``--channels`` (extra channels rendered through the synthesis).
-COORDINATE_METHODS = ("pixels", "mix", "efros-leung", "optimize", "patchwork", "quilt", "quilt-transfer", "graphcut",
-                      "wang-tiles", "patch-sampling", "seam-carve")
+COORDINATE_METHODS = ("synthesize-pixels", "mix-textures", "efros-leung", "optimize-texture", "patchwork", "quilt",
+                      "quilt-transfer", "graphcut-texture", "wang-texture", "patch-sampling", "carve-seams")
 
 #: Methods that record a video map (one map per output frame, the input frames as sources): their command takes
 #: ``--coordinates`` (``texsynth apply-coordinates`` renders a channel's frames through it), not ``--channels``.
@@ -610,3 +638,102 @@ SURFACE_DEMOS = [
 def demos():
     """Every gallery image, in the order of :data:`METHODS`, then the surface previews."""
     return [d for method in METHODS.values() for d in method.demos] + SURFACE_DEMOS
+
+
+# --------------------------------------------------------------------------- texsynth.methods()
+class MethodEntry(NamedTuple):
+    """One method as :func:`texsynth.methods` lists it."""
+
+    function: str
+    """The Python function, e.g. ``"texsynth.optimize_texture"``."""
+    command: str
+    """Its command line, e.g. ``"texsynth optimize-texture"``."""
+    summary: str
+    """What it does, in one line."""
+    paper: str
+    """The paper it implements, with its DOI."""
+
+
+class MethodList(list):
+    """A list of :class:`MethodEntry` that prints as a table (one line per method), and as an HTML table
+    in Jupyter."""
+
+    def __str__(self):
+        if not self:
+            return "(no methods)"
+        widths = [max(len(row[i]) for row in self) for i in (0, 1)]
+        return "\n".join(f"{e.function:<{widths[0]}}  {e.command:<{widths[1]}}  {e.summary} "
+                         f"({_short_paper(e.paper)})" for e in self)
+
+    __repr__ = __str__
+
+    def _repr_html_(self):
+        import html
+
+        head = "".join(f"<th>{name}</th>" for name in MethodEntry._fields)
+        rows = "".join("<tr>" + "".join(f"<td>{html.escape(value)}</td>" for value in entry) + "</tr>"
+                       for entry in self)
+        return f"<table><tr>{head}</tr>{rows}</table>"
+
+
+def _short_paper(paper):
+    """``"Kwatra et al., SIGGRAPH 2005"`` from ``"Kwatra et al., SIGGRAPH 2005, doi:..."`` (the first paper)."""
+    return paper.split(";")[0].split(", doi:")[0]
+
+
+def _short_summary(summary):
+    """A registry summary without its command-line details and its "Author YEAR: " prefix (the paper says it)."""
+    import re
+
+    text = re.sub(r"\s*\([^()]*(--|IMAGE|TEXTURE|\bA B\b)[^()]*\)", "", summary)  # "(IMAGE --hole MASK)"
+    text = re.split(r"; |, e\.g\. --", text)[0].replace("any --size", "any size")
+    text = re.sub(r"^[A-Z][\w.&\- ]{0,40}\b(19|20)\d\d: ", "", text)  # "Kwatra 2005: " -> ""
+    return text[:1].upper() + text[1:]
+
+
+_SURFACE_METHODS = (
+    MethodEntry("texsynth.synthesize_surface", "texsynth surface",
+                "Texture synthesis on a mesh: vertex colours matched over a retiled mesh hierarchy, along a "
+                "tangent field", _TURK),
+    MethodEntry("texsynth.lapped_textures", "texsynth surface --mode lapped",
+                "Lapped textures: patches of the exemplar pasted over a mesh along a tangent field, baked into "
+                "an atlas", _PRAUN),
+)
+
+
+def methods():
+    """The methods of texsynth, one line each: function, command, summary and paper.
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> found = texsynth.methods()           # print(found): a table, one line per method
+    >>> [m.function for m in found if m.command == "texsynth quilt"]
+    ['texsynth.quilt']
+    >>> found[0].paper
+    'Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009'
+
+    The same list as ``texsynth list`` on the command line, read from
+    :data:`texsynth.registry.METHODS`: example-based methods first,
+    procedural ones last, then the two methods on meshes.
+
+    Returns
+    -------
+    MethodList
+        A list of :class:`MethodEntry` named tuples ``(function, command,
+        summary, paper)``. It prints as a table of one line per method
+        (``print(texsynth.methods())``) and shows as an HTML table in Jupyter.
+
+    See Also
+    --------
+    texsynth.demo.run_demo : ``texsynth demo``, each method on a bundled sample.
+    """
+    top_level = set(importlib.import_module("texsynth").__all__)
+    entries = MethodList()
+    for name, method in METHODS.items():
+        module, function = method.target.split(":")
+        where = "texsynth" if function in top_level else f"texsynth.{module}"
+        entries.append(MethodEntry(f"{where}.{function}", f"texsynth {name}", _short_summary(method.summary),
+                                   method.paper))
+    entries.extend(_SURFACE_METHODS)
+    return entries

@@ -11,6 +11,8 @@ Conventions (see ``docs/conventions.md``):
   volumes are ``(D, H, W[, C])``, videos ``(T, H, W[, C])``;
 - uint8, uint16 and bool are scaled to [0, 1]; float32 stays float32, every
   other accepted dtype becomes float64 (as scikit-image does);
+- a ``str`` or ``pathlib.Path`` where an image is expected is read from the
+  file (:func:`texsynth.io.load_image`; frames: :func:`texsynth.io.load_frames`);
 - an alpha channel (``C == 4`` or ``C == 2``) is treated as one more channel:
   algorithms synthesise it like colour. Drop it with ``image[..., :3]`` first
   if it is not wanted.
@@ -133,9 +135,10 @@ def as_image(image, name="image", *, spatial_dims=2, min_size=1):
 
     Parameters
     ----------
-    image : array_like
+    image : array_like, str or os.PathLike
         ``spatial_dims`` spatial axes, optionally followed by a channel axis of
-        length 1 to 4.
+        length 1 to 4; or a file to read: an image (:func:`texsynth.io.load_image`)
+        or, with ``spatial_dims=3``, frames (:func:`texsynth.io.load_frames`).
     name : str
         Parameter name used in error messages.
     spatial_dims : int
@@ -157,6 +160,8 @@ def as_image(image, name="image", *, spatial_dims=2, min_size=1):
     ...
     ValueError: image must have shape (H, W) or (H, W, C) with C in 1..4, got shape (5,)
     """
+    if isinstance(image, (str, os.PathLike)):
+        image = _read_file(image, name, spatial_dims)
     arr = as_array(image, name)
     axes = "(H, W)" if spatial_dims == 2 else "(D, H, W)"
     full = axes[:-1] + ", C)"
@@ -171,6 +176,24 @@ def as_image(image, name="image", *, spatial_dims=2, min_size=1):
             f"{name} has spatial shape {spatial}; every axis must be at least {min_size} pixels"
         )
     return as_float_array(arr, name)
+
+
+def _read_file(path, name, spatial_dims):
+    """An image (or, with 3 spatial axes, frames) given as a file name: read by texsynth.io; a missing or
+    unreadable file is a FileNotFoundError or ValueError naming the parameter.
+
+    The one import of a tool by the core (docs/architecture.md): imported here, on first use, since
+    texsynth.io imports this module.
+    """
+    from ..io import load_frames, load_image
+
+    try:
+        return load_image(path) if spatial_dims == 2 else load_frames(path)
+    except FileNotFoundError as exc:
+        raise FileNotFoundError(f"{name}: {exc} (a str or pathlib.Path given for {name} is read as an image "
+                                f"file; pass an array or an existing file)") from None
+    except ValueError as exc:
+        raise ValueError(f"{name}: {exc}") from None
 
 
 def with_channels(image, spatial_dims=2):

@@ -11,7 +11,7 @@ allocated: write the array with :func:`texsynth.io.save_chunked` (Zarr or a
 tiled BigTIFF) or compute any part of it. Each method's block is
 bit-identical to the same pixels of its in-memory result.
 
-Dask is an optional dependency (``pip install texsynth[dask]``); without it,
+Dask is an optional dependency (``pip install '.[dask]'`` in a checkout); without it,
 ``chunks=`` raises an ImportError that says so.
 """
 

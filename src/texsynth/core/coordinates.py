@@ -250,6 +250,15 @@ def _render(parts, flats, weights, blended, normal, name, average=False):
 def apply_coordinates(channels, coordinates, weights=None, *, source_index=None, normals=False):
     """Render images of the exemplar's size through a synthesis's source-coordinate map.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> albedo = texsynth.data.load("bread")[:64, :64]
+    >>> height = albedo.mean(-1)  # any image of the exemplar's size
+    >>> out, info = texsynth.quilt(albedo, 96, block=24, rng=0, return_info=True)
+    >>> texsynth.apply_coordinates([albedo, height], info)[1].shape
+    (96, 96)
+
     One synthesis, a consistent set of channels: synthesise the albedo with
     ``return_info=True``, then render the normal, roughness and height maps
     of the same material through ``info``; every channel copies (or blends)
@@ -322,42 +331,34 @@ def apply_coordinates(channels, coordinates, weights=None, *, source_index=None,
     weights sum to 1 (the mean term vanishes), and patchwork's
     variance-preserving eq. 2 otherwise. Rendering the exemplar itself
     reproduces the synthesis: exactly for copying methods, to rounding for
-    blending ones (see each method's ``info.coordinates``).
+    blending ones (see each method's ``info.coordinates``). In the example
+    above:
 
-    ``benchmarks/bench_coordinates.py`` measures a 2048 x 2048 map applied
-    to four channels against one fancy-indexing copy and
-    ``scipy.ndimage.map_coordinates`` (``docs/benchmarks.md``).
-
-    Examples
-    --------
-    >>> import texsynth
-    >>> from texsynth import data
-    >>> albedo = data.load("bread")[:64, :64]
-    >>> height = albedo.mean(-1)  # any image of the exemplar's size
-    >>> out, info = texsynth.quilt(albedo, 96, block=24, rng=0, return_info=True)
     >>> info.coordinates.shape
     (96, 96, 2)
-    >>> bool(np.array_equal(apply_coordinates(albedo, info), out))
+    >>> bool(np.array_equal(texsynth.apply_coordinates(albedo, info), out))
     True
-    >>> apply_coordinates([albedo, height], info)[1].shape
-    (96, 96)
 
     A mixture of two materials renders each channel from both:
 
-    >>> wood = data.load("wood")[:48, :48]
+    >>> wood = texsynth.data.load("wood")[:48, :48]
     >>> mix, info = texsynth.mix_textures([albedo, wood], 32, neighborhood=texsynth.Neighborhood(levels=2), rng=0,
     ...                                   return_info=True)
     >>> info.coordinates.shape, info.source_index.shape
     ((32, 32, 2, 2), (32, 32, 2))
-    >>> bool(np.allclose(apply_coordinates([albedo, wood], info), mix))
+    >>> bool(np.allclose(texsynth.apply_coordinates([albedo, wood], info), mix))
     True
 
     A video texture renders a sequence, one image per input frame:
 
     >>> clip = np.stack([np.roll(albedo, 2 * t, axis=1) for t in range(4)])
     >>> video, info = texsynth.patchwork_video(clip, 32, 6, grid_spacing=16, rng=0, return_info=True)
-    >>> apply_coordinates(list(clip.mean(-1)), info).shape
+    >>> texsynth.apply_coordinates(list(clip.mean(-1)), info).shape
     (6, 32, 32)
+
+    ``benchmarks/bench_coordinates.py`` measures a 2048 x 2048 map applied
+    to four channels against one fancy-indexing copy and
+    ``scipy.ndimage.map_coordinates`` (``docs/benchmarks.md``).
     """
     if hasattr(coordinates, "coordinates"):  # an info of a synthesis
         info = coordinates

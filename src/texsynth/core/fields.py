@@ -1,7 +1,7 @@
-"""Orientation and scale fields over an output, and bilinear sampling in local frames.
+"""Orientation and magnification fields over an output, and bilinear sampling in local frames.
 
 Zhang et al. 2003 [1]_ control a synthesis with an orientation field
-``theta`` and a scale field ``S`` over the output ("local size control" and
+``theta`` and a magnification field ``S`` over the output ("local size control" and
 "vector field control" of the lecture's *Synthesis with Local Size/Vector
 Field Control*): the neighbourhood of output pixel ``p`` is read at
 ``p + S(p) R(theta(p)) d`` for every footprint offset ``d``, so the exemplar
@@ -30,10 +30,11 @@ import numbers
 
 import numpy as np
 
-__all__ = ["SCALE_RANGE", "as_field", "level_field", "frames", "taps", "bilinear", "sample", "splat", "scatter"]
+__all__ = ["MAGNIFICATION_RANGE", "as_field", "level_field", "frames", "taps", "bilinear", "sample", "splat",
+           "scatter"]
 
-#: The scale factors a field may hold.
-SCALE_RANGE = (1e-3, 1e3)
+#: The magnification factors a field may hold.
+MAGNIFICATION_RANGE = (1e-3, 1e3)
 
 
 def as_field(value, size, name, *, positive=False):
@@ -50,7 +51,7 @@ def as_field(value, size, name, *, positive=False):
     name : str
         The parameter's name, for the error messages.
     positive : bool
-        A scale factor: every value must lie in :data:`SCALE_RANGE`.
+        A magnification factor: every value must lie in :data:`MAGNIFICATION_RANGE`.
 
     Returns
     -------
@@ -62,16 +63,16 @@ def as_field(value, size, name, *, positive=False):
     ValueError, TypeError
         For another shape than ``size``, NaN or infinite values, a callable
         that fails on arrays, or (``positive``) values outside
-        :data:`SCALE_RANGE`; each message names ``name`` and the fix.
+        :data:`MAGNIFICATION_RANGE`; each message names ``name`` and the fix.
 
     Examples
     --------
-    >>> as_field(lambda r, c: 1 + c / 2, (2, 3), "scale", positive=True)[0].tolist()
+    >>> as_field(lambda r, c: 1 + c / 2, (2, 3), "magnification", positive=True)[0].tolist()
     [1.0, 1.5, 2.0]
-    >>> as_field(0.0, (2, 3), "scale", positive=True)
+    >>> as_field(0.0, (2, 3), "magnification", positive=True)
     Traceback (most recent call last):
     ...
-    ValueError: scale must be positive everywhere (a scale factor), got a minimum of 0
+    ValueError: magnification must be positive everywhere (a factor: 2 doubles the elements), got a minimum of 0
     """
     if value is None:
         return None
@@ -106,9 +107,11 @@ def as_field(value, size, name, *, positive=False):
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{what} contains NaN or infinite values")
     if positive and arr.min() <= 0:
-        raise ValueError(f"{what} must be positive everywhere (a scale factor), got a minimum of {arr.min():.4g}")
-    if positive and (arr.min() < SCALE_RANGE[0] or arr.max() > SCALE_RANGE[1]):
-        raise ValueError(f"{what} must lie in [{SCALE_RANGE[0]:g}, {SCALE_RANGE[1]:g}] (a texture magnified or "
+        raise ValueError(f"{what} must be positive everywhere (a factor: 2 doubles the elements), got a minimum "
+                         f"of {arr.min():.4g}")
+    low, high = MAGNIFICATION_RANGE
+    if positive and (arr.min() < low or arr.max() > high):
+        raise ValueError(f"{what} must lie in [{low:g}, {high:g}] (a texture magnified or "
                          f"shrunk more shows one pixel or nothing), got values in [{arr.min():.4g}, {arr.max():.4g}]")
     return arr
 
@@ -128,10 +131,10 @@ def level_field(output_field, level, shape):
     return np.ascontiguousarray(output_field[::step, ::step][: shape[0], : shape[1]])
 
 
-def frames(orientation, scale):
+def frames(orientation, magnification):
     """Per pixel the matrix ``A = S R(orientation)`` (exemplar offsets to output offsets) and its inverse.
 
-    ``orientation`` and ``scale`` are arrays of one shape (angles in radians, magnifications).
+    ``orientation`` and ``magnification`` (``S``) are arrays of one shape (angles in radians, factors).
     ``R(orientation)`` turns the texture counter-clockwise as the image is shown
     (rows down): the exemplar's rightward offset ``(0, 1)`` becomes
     ``(-sin, cos)``, upward for 90 degrees. Returns ``(A, A^-1)``, each ``(N, 2, 2)``.
@@ -143,8 +146,8 @@ def frames(orientation, scale):
     [-2.0, 0.0]
     """
     cos, sin = np.cos(orientation), np.sin(orientation)
-    a = np.stack([np.stack([cos, -sin], -1), np.stack([sin, cos], -1)], -2) * scale[..., None, None]
-    inverse = np.stack([np.stack([cos, sin], -1), np.stack([-sin, cos], -1)], -2) / scale[..., None, None]
+    a = np.stack([np.stack([cos, -sin], -1), np.stack([sin, cos], -1)], -2) * magnification[..., None, None]
+    inverse = np.stack([np.stack([cos, sin], -1), np.stack([-sin, cos], -1)], -2) / magnification[..., None, None]
     return a.reshape(-1, 2, 2), inverse.reshape(-1, 2, 2)
 
 

@@ -2,8 +2,8 @@
 
 This is the shared layer every patch- and pixel-based algorithm stands on.
 Images here are channels-last ``(H, W, C)`` float arrays (public functions
-convert user input with :func:`texsynth.core._validate.as_image` and
-:func:`~texsynth.core._validate.with_channels` first).
+convert user input to float in [0, 1] and add a channel axis to grey
+images first; docs/conventions.md).
 
 Positions are patch *centres* ``(row, col)``; a patch of size ``(h, w)``
 centred at ``(r, c)`` covers rows ``r - h//2 ... r - h//2 + h - 1`` (for even

@@ -1,8 +1,8 @@
 """Pyramids: Gaussian, Laplacian and steerable, plus the periodic-plus-smooth split.
 
 The shared multi-scale layer of texsynth. Every function here works on arrays
-that the public API has already converted with :func:`texsynth.core._validate.as_image`
-(floating point, channels last); nothing here rescales values.
+that the public API has already converted to floating point (docs/conventions.md,
+"Images"), channels last; nothing here rescales values.
 
 Gaussian and Laplacian pyramids (Burt & Adelson 1983)
 -----------------------------------------------------

@@ -25,7 +25,7 @@ from .pyramid import periodic_smooth_decomposition
 
 __all__ = ["feature_scale", "octave_energy", "scale_schedule", "SCALE_ENERGY"]
 
-#: Fraction of the energy below the feature scale (measured on the shared textures: 0.85 puts
+#: Fraction of the energy below the feature scale (measured on texture photographs: 0.85 puts
 #: pebbles at about 20 px, paving cells at about 35 px, bricks at about 50 px of a 192 px photo).
 SCALE_ENERGY = 0.85
 

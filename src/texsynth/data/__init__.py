@@ -2,13 +2,14 @@
 
 See ``ATTRIBUTION.md`` in this folder for sources and licences (MIT and
 Apache-2.0 photographs from the Efros-Leung, Portilla-Simoncelli and
-Embark Studios sample sets).
+Embark Studios sample sets). ``bricks_hole`` is a colour image with an alpha
+channel whose transparent disc is a hole to fill.
 
 Examples
 --------
 >>> from texsynth import data
 >>> data.names()
-('bread', 'brick', 'bumpy', 'metal', 'reptile', 'text', 'water', 'wood')
+('bread', 'brick', 'bricks_hole', 'bumpy', 'ink', 'metal', 'nuts', 'reptile', 'text', 'water', 'wood')
 >>> data.load("metal").shape
 (256, 256)
 """
@@ -24,8 +25,11 @@ __all__ = ["load", "names", "path"]
 _FILES = {
     "bread": "bread.png",
     "brick": "brick.png",
+    "bricks_hole": "bricks_hole.png",
     "bumpy": "bumpy.png",
+    "ink": "ink.png",
     "metal": "metal.pgm",
+    "nuts": "nuts.pgm",
     "reptile": "reptil_skin.pgm",
     "text": "text.pgm",
     "water": "water.jpg",
@@ -36,8 +40,11 @@ _FILES = {
 KINDS = {
     "bread": "colour, stochastic",
     "brick": "colour, structured",
+    "bricks_hole": "colour with alpha, structured, a transparent hole to fill",
     "bumpy": "colour, stochastic",
+    "ink": "colour, stochastic",
     "metal": "grey, stochastic",
+    "nuts": "grey, objects",
     "reptile": "grey, structured",
     "text": "grey, text",
     "water": "colour, stochastic",
@@ -58,5 +65,6 @@ def path(name):
 
 
 def load(name):
-    """Load a bundled texture as float in [0, 1] (``(H, W)`` grey or ``(H, W, 3)`` colour)."""
+    """Load a bundled texture as float in [0, 1] (``(H, W)`` grey, ``(H, W, 3)`` colour or, for
+    ``bricks_hole``, ``(H, W, 4)`` colour and alpha)."""
     return load_image(path(name))

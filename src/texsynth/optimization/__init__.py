@@ -6,7 +6,7 @@
   :class:`~texsynth.core.em.Terms`, :class:`~texsynth.core.search.Search`,
   :class:`~texsynth.core.em.Constraints`, :class:`~texsynth.core.em.Guides`,
   :class:`~texsynth.core.em.Fields` (importable from here too) and
-  :class:`Animation`; their results are :class:`~texsynth.core.em.OptimizationInfo`
+  :class:`~texsynth.core.em.Animation`; their results are :class:`~texsynth.core.em.OptimizationInfo`
   and :class:`~texsynth.core.em.AnimationInfo`.
 - :func:`interpolate_textures`: Ruiters et al. 2010, patch-based texture
   interpolation (with :func:`interpolate_neighborhoods`, the feature maps
@@ -22,9 +22,10 @@
 """
 
 from ..core._lazy import attach
-from ..core.em import AnimationInfo, Constraints, Fields, Guides, OptimizationInfo, Schedule, StageInfo, Terms
-from ..core.search import Search
-from ._kwatra import Animation, animate_texture, optimize_texture
+from ..core.em import (Animation, AnimationInfo, Constraints, Fields, Guides, OptimizationInfo, Schedule,  # noqa: F401
+                       StageInfo, Terms)  # the option groups and results, importable from here too
+from ..core.search import Search  # noqa: F401
+from ._kwatra import animate_texture, optimize_texture
 from ._completion import inpaint, make_tileable, uncrop
 
 # Ruiters et al. load on first use: their module imports the statistical family (0.1 s), which
@@ -35,7 +36,7 @@ _RUITERS = ("interpolate_textures", "interpolate_neighborhoods", "ridge_feature_
 __getattr__ = attach(__name__, names={name: "._ruiters" for name in _RUITERS})[0]
 
 __all__ = [
-    "optimize_texture", "animate_texture", "Animation", "inpaint", "uncrop",
+    "optimize_texture", "animate_texture", "inpaint", "uncrop",
     "make_tileable",
     "interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
     "linear_blend", "transition_alpha_map", "InterpolationInfo", "InterpolationSchedule", "Correspondences",

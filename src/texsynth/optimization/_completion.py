@@ -60,7 +60,7 @@ the largest, 16 for 64: a last stage of small neighbourhoods joins the fill
 to the known pixels: 6-24 % lower boundary seams on seven photographs)
 and at least enough levels that the coarsest sees the hole narrower than its
 largest neighbourhood (otherwise nothing carries structure across the hole:
-``docs/methods/optimization.md``, hole filling); the output equals the input
+``docs/methods/kwatra.md``, hole filling); the output equals the input
 outside the hole, bit for bit.
 
 References
@@ -79,6 +79,8 @@ References
 from __future__ import annotations
 
 import math
+import os
+import warnings
 
 import numpy as np
 
@@ -137,6 +139,26 @@ def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
     return sizes, min(wanted, 1 + int(math.log2(max(1, min(exemplar.shape[:2]) // min(sizes)))))
 
 
+def _hole(hole, channels, grey):
+    """``inpaint``'s hole as an ``(H, W)`` bool map: a map or an image file (white, > 0.5 = fill), or "alpha"
+    (the image's alpha < 0.5)."""
+    shape = channels.shape[:2]
+    if isinstance(hole, str) and hole == "alpha":
+        if grey or channels.shape[-1] not in (2, 4):
+            layout = "grey" if grey or channels.shape[-1] == 1 else f"{channels.shape[-1]} channels"
+            raise ValueError(f"hole='alpha' takes the hole from the image's alpha channel (alpha < 0.5 = fill), but "
+                             f"the image has none ({layout}); pass an RGBA or grey + alpha image, or a hole map")
+        return channels[..., -1] < 0.5
+    if isinstance(hole, (str, os.PathLike)):  # a file: grey, or colour channels averaged, alpha ignored
+        if isinstance(hole, str) and not os.path.exists(hole):
+            raise ValueError(f"hole must be an (H, W) map, an image file or 'alpha', got {hole!r} (no such file)")
+        picture = as_image(hole, "hole")
+        if picture.ndim == 3:
+            picture = picture[..., 0] if picture.shape[-1] <= 2 else picture[..., :3].mean(axis=-1)
+        hole = picture
+    return check_mask(hole, shape, "hole") > 0.5
+
+
 def _check_sources(allowed, smallest, name):
     """Refuse a sampling area with no whole neighbourhood of the smallest size."""
     if not patches_within(allowed > 0.5, smallest).any():
@@ -173,21 +195,46 @@ def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels=
             blend_width=BLEND_WIDTH, method="auto", rng=None, progress=False, return_info=False):
     """Fill a hole of an image with texture taken from the rest of it (Kwatra et al. 2005, Section 4).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> image = texsynth.data.load("bread")[:48, :48]
+    >>> hole = np.zeros((48, 48), bool); hole[18:30, 18:30] = True
+    >>> out = texsynth.inpaint(image, hole, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
+    >>> bool(np.array_equal(out[~hole], image[~hole]))
+    True
+
+    Texture optimization (Kwatra et al. 2005, Section 4 [1]_) with the known
+    pixels as hard constraints and the rest of the image as the exemplar, the
+    form of Wexler et al.'s space-time completion [2]_; the fill is then
+    blended into the image in the gradient domain (``blend_width``).
+
     Parameters
     ----------
-    image : array_like
+    image : array_like, str or os.PathLike
         ``(H, W)`` or ``(H, W, C)`` image with a hole (the values inside the
-        hole are ignored).
-    hole : array_like of bool
-        ``(H, W)``: True where pixels are to be filled.
+        hole are ignored), or its file.
+    hole : array_like, str, os.PathLike or "alpha"
+        Where to fill: an image file or an ``(H, W)`` map, white (> 0.5,
+        True) = fill. A file's colour channels are averaged and its alpha
+        channel ignored. ``"alpha"``: the hole is the image's own
+        transparency, alpha < 0.5 = fill (an RGBA or grey + alpha image;
+        the filled pixels take the alpha of the pixels they copy). A hole
+        over more than half of the image gives a UserWarning: a mask drawn
+        the other way round (black = fill, as Embark's) is inverted with
+        ``~hole`` (``--invert-mask`` on the command line).
     sample_mask : array_like of bool, optional
-        ``(H, W)``: True where pixels may be copied into the hole (the
-        sampling area); default every pixel outside the hole. Pixels of the
-        hole are never copied.
-    neighborhood_sizes, levels : "auto" or as in :func:`~texsynth.optimize_texture`
-        ``"auto"``: the default preset's sizes (from the image's feature
-        scale), and levels enough that the coarsest level sees the hole no
-        wider than the largest neighbourhood.
+        Where pixels may be copied into the hole (the sampling area): an
+        ``(H, W)`` map, white (> 0.5, True) = may be copied; default every
+        pixel outside the hole. Pixels of the hole are never copied.
+    neighborhood_sizes : sequence of int or "auto"
+        As in :func:`~texsynth.optimize_texture`, but ``"auto"`` is the
+        default preset's sizes (from the image's feature scale) halved on
+        down to 8 pixels.
+    levels : int or "auto"
+        As in :func:`~texsynth.optimize_texture`, but ``"auto"`` gives
+        levels enough that the coarsest level sees the hole no wider than
+        the largest neighbourhood.
     blend_width : int
         Width in pixels of the band of filled pixels that is blended into
         the known ones in the gradient domain (Pérez et al. 2003's seamless
@@ -212,23 +259,30 @@ def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels=
     ------
     ValueError, TypeError
         For a ``hole`` or ``sample_mask`` of another shape, a hole with no
-        pixel or with no known pixel around it, a sampling area without a
-        whole neighbourhood, and the errors of
-        :func:`~texsynth.optimize_texture`.
+        pixel or with no known pixel around it, ``hole="alpha"`` for an
+        image without an alpha channel, a sampling area without a whole
+        neighbourhood, and the errors of :func:`~texsynth.optimize_texture`.
 
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> img = load("bread")[:48, :48]
-    >>> hole = np.zeros((48, 48), bool); hole[18:30, 18:30] = True
-    >>> out = inpaint(img, hole, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
-    >>> bool(np.array_equal(out[~hole], img[~hole]))
-    True
+    Warns
+    -----
+    UserWarning
+        When the hole covers more than half of the image, naming its share.
+
+    References
+    ----------
+    .. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization for
+       example-based synthesis", SIGGRAPH 2005. :doi:`10.1145/1073204.1073263`
+    .. [2] Y. Wexler, E. Shechtman and M. Irani, "Space-time completion of video",
+       IEEE TPAMI 29(3), 2007. :doi:`10.1109/TPAMI.2007.60`
     """
     img = as_image(image, "image")
     channels, grey = with_channels(img)
     shape = channels.shape[:2]
-    hole = check_mask(hole, shape, "hole") > 0.5
+    hole = _hole(hole, channels, grey)
+    share = float(hole.mean())
+    if 0.5 < share < 1.0:
+        warnings.warn(f"the hole covers {100 * share:.0f} % of the image (white, True = fill); if white marks what "
+                      f"to keep, invert it: ~hole (on the command line --invert-mask)", UserWarning, stacklevel=2)
     if not hole.any():
         raise ValueError("hole marks no pixel; pass a boolean (H, W) mask that is True where pixels are to be filled")
     if hole.all():
@@ -246,6 +300,19 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
            max_iterations=5, blend_width=BLEND_WIDTH, method="auto", rng=None, progress=False, return_info=False):
     """Extend an image beyond its borders with texture taken from it (uncrop, outpainting).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> image = texsynth.data.load("bread")[:32, :32]
+    >>> out = texsynth.uncrop(image, 48, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
+    >>> out.shape, bool(np.array_equal(out[8:40, 8:40], image))
+    ((48, 48, 3), True)
+
+    The image is placed in a canvas of ``size`` and everything around it is
+    synthesised from it, as :func:`inpaint` fills a hole: texture
+    optimization (Kwatra et al. 2005, Section 4 [1]_) with the image as hard
+    constraints (resynthesizer's "Uncrop").
+
     Parameters
     ----------
     image : array_like
@@ -258,7 +325,8 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
         (default), or ``(row, col)`` (``(0, 0)``: extend to the bottom and
         right only).
     sample_mask : array_like of bool, optional
-        ``(h, w)``: True where the image's pixels may be copied; default all.
+        Where the image's pixels may be copied: an ``(h, w)`` map, white
+        (> 0.5, True) = may be copied; default all.
     neighborhood_sizes, levels, max_iterations, blend_width, method, rng, progress, return_info
         As in :func:`inpaint`.
 
@@ -277,13 +345,10 @@ def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_siz
         whole neighbourhood, and the errors of
         :func:`~texsynth.optimize_texture`.
 
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> img = load("bread")[:32, :32]
-    >>> out = uncrop(img, 48, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
-    >>> out.shape, bool(np.array_equal(out[8:40, 8:40], img))
-    ((48, 48, 3), True)
+    References
+    ----------
+    .. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization for
+       example-based synthesis", SIGGRAPH 2005. :doi:`10.1145/1073204.1073263`
     """
     img = as_image(image, "image")
     channels, grey = with_channels(img)
@@ -329,9 +394,17 @@ def make_tileable(image, *, band="auto", neighborhood_sizes="auto", levels="auto
                   method="auto", rng=None, progress=False, return_info=False):
     """Make a photo tile seamlessly by re-synthesising a band along its edges (its interior is kept).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> image = texsynth.data.load("bread")[:48, :48]
+    >>> out = texsynth.make_tileable(image, band=8, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
+    >>> bool(np.array_equal(out[8:-8, 8:-8], image[8:-8, 8:-8]))
+    True
+
     The pixels within ``band`` of the image's edges are unknown, the rest
     are hard constraints, and the whole image is the exemplar of a
-    *tileable* (toroidal) texture optimization: the band is filled so that
+    *tileable* (toroidal) texture optimization [1]_: the band is filled so that
     its neighbourhoods, which wrap round from the right edge to the left and
     from the bottom to the top, look like neighbourhoods of the photo. The
     result's opposite edges meet without a seam, so it can be repeated
@@ -369,13 +442,10 @@ def make_tileable(image, *, band="auto", neighborhood_sizes="auto", levels="auto
         the smallest neighbourhood), and the errors of
         :func:`~texsynth.optimize_texture`.
 
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> img = load("bread")[:48, :48]
-    >>> out = make_tileable(img, band=8, neighborhood_sizes=(8,), levels=1, max_iterations=2, rng=0)
-    >>> bool(np.array_equal(out[8:-8, 8:-8], img[8:-8, 8:-8]))
-    True
+    References
+    ----------
+    .. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization for
+       example-based synthesis", SIGGRAPH 2005. :doi:`10.1145/1073204.1073263`
     """
     img = as_image(image, "image")
     channels, grey = with_channels(img)

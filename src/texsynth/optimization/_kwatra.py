@@ -33,7 +33,7 @@ leaves a hole this is hole filling. Section 4.1 animates a texture along a
 flow (eq. 3), frame by frame, with the previous frame warped along the flow
 as the soft-constraint target (:func:`animate_texture`).
 
-Not in the paper: orientation and scale fields (the local frames of Zhang et
+Not in the paper: orientation and magnification fields (the local frames of Zhang et
 al. 2003, :mod:`texsynth.core.fields`) turn and magnify the texture locally:
 the M-step samples every ``x_p`` on a grid turned and scaled around its
 centre, the E-step splats ``z_p`` back there (:class:`WarpedPatches`; the Notes of
@@ -59,7 +59,7 @@ from ..core._progress import Progress
 from ..core._validate import MAX_ITERATIONS
 from ..core._validate import (as_rng, check_bool, check_choice, check_group, check_in_range, check_memory,
                               check_positive_float, check_positive_int, restore_channels)
-from ..core.em import (MAX_WEIGHT, AnimationInfo, Average, Completeness, Constraints, ExemplarPatches, Fields, Guides,
+from ..core.em import (MAX_WEIGHT, Animation, AnimationInfo, Average, Completeness, Constraints, ExemplarPatches, Fields, Guides,
                        Occurrence, Schedule, SearchMemo, StageInfo, Terms, WarpedPatches, carried_field,
                        check_constraint_memory, check_like, check_sizes, coarse_to_fine, confidence_weights,
                        expectation_maximization, field_step, frame_step, frame_terms, free_inside, histogram_groups,
@@ -68,9 +68,9 @@ from ..core.em import (MAX_WEIGHT, AnimationInfo, Average, Completeness, Constra
 from ..core.flows import flow_sequence, warp, warp_coordinates
 from ..core.neighborhood import gaussian_falloff, grid_centers
 from ..core.scale import scale_schedule
-from ..core.search import Search, check_field_method, coherence_sets, is_auto, resolve_field
+from ..core.search import ExemplarAtlas, Search, check_field_method, coherence_sets, is_auto, refuse_augment, resolve_field
 
-__all__ = ["optimize_texture", "animate_texture", "Animation", "PRESETS"]
+__all__ = ["optimize_texture", "animate_texture", "PRESETS"]
 
 # animate_texture: the stop test of the energy when the schedule's tolerance is "auto", and the terms its frames
 # (Algorithm 2 with the warped previous frame as the target) leave off
@@ -88,14 +88,14 @@ _DEFAULT_TOLERANCE = 5e-3
 # at every level but the finest from there on: on the finest level too its votes blurred large flat
 # areas of cobblestones at 4x, while without it at the coarse levels the arrangement kept coming back
 # to a few parts of the exemplar (completeness 1.4-3.8 times a random-block mosaic's on the tuning
-# photos at 4x, 1.1-2.4 with it; docs/methods/optimization.md)
+# photos at 4x, 1.1-2.4 with it; docs/methods/kwatra.md)
 _COMPLETE_BELOW = 4.0
 # preset "default": copy_limit (largest copies at 4x measured 0.66-0.77 of the exemplar without it)
 _DEFAULT_COPY_LIMIT = 0.25
 # preset "default" without the completeness term: the copy limit at the finest level, which otherwise
 # only refines the coarser levels' arrangement (0.25 there cut blocks and stones mid-element at 4x; 0.3
 # cuts only the outlying copies: cobblestones_2 0.35 -> 0.30, bricks_2 at 8x 0.36 -> 0.31, no visible
-# change; docs/methods/optimization.md)
+# change; docs/methods/kwatra.md)
 _FINE_COPY_LIMIT = 0.3
 # PatchMatch M-step: iterations of propagation and random search in a stage's first M-step (from the
 # previous stage's field carried over, or from random neighbourhoods) and in each later one (from the
@@ -132,6 +132,7 @@ class _Options:
     coarse_completeness: bool = False  # the completeness term at every level but the finest
     fields: bool = False  # orientation / scale fields: rotated, scaled neighbourhoods (the index M-step)
     confidence: float | None = None  # Wexler's γ: neighbourhoods weighed by their confidence (hard constraints)
+    augment: str = "none"  # Search.augment: the exemplar's flipped and rotated copies are searched too (an atlas)
 
     @property
     def frame(self):
@@ -351,8 +352,10 @@ def _check_options(schedule, terms, search, *, tileable, k=4, fields=False, conf
         # it goes where PatchMatch goes
         clash = ("gradient_weight > 0 (the gradient energy takes the index M-step)" if terms.gradient_weight else
                  "preset='paper' (the paper's M-step searches a tree)" if paper else
-                 "orientation/scale fields (rotated neighbourhoods take their own M-step)" if fields else
+                 "orientation/magnification fields (rotated neighbourhoods take their own M-step)" if fields else
                  f"method={method!r} (an index M-step)" if method not in ("auto", "patchmatch") else None)
+        if clash is None and search.augment != "none":
+            clash = f"augment={search.augment!r} (the k-coherence sets are those of the exemplar itself)"
         if clash is not None:
             raise ValueError(f"candidates='k-coherent' does not combine with {clash}; pass candidates='all'")
     if confidence is not None and check_positive_float(confidence, "confidence", maximum=MAX_WEIGHT) <= 1:
@@ -375,7 +378,7 @@ def _check_options(schedule, terms, search, *, tileable, k=4, fields=False, conf
         copy_limit=None if copy_limit is None else check_in_range(copy_limit, "copy_limit", 0.0, 1.0, low_open=True),
         completeness=check_positive_float(terms.completeness_weight, "completeness_weight", allow_zero=True,
                                           maximum=MAX_WEIGHT),
-        candidates=candidates, k=k,
+        candidates=candidates, k=k, augment=search.augment,
     )
 
 
@@ -402,6 +405,7 @@ def _preset(preset, problem, schedule, terms):
     schedule = dataclasses.replace(schedule, tolerance=out.pop("tolerance"))
     return schedule, dataclasses.replace(terms, **out), flags
 
+
 def _check_memory(shape, channels, opts, frames=1):
     """Refuse an output whose arrays cannot fit. With an index M-step the largest stage holds every
     neighbourhood of the w/4 grid (``1 / spacing^2`` copies of the image: ``z_p``, their weighted
@@ -422,19 +426,28 @@ def optimize_texture(exemplar, size, *, preset="default", schedule=Schedule(), t
                      progress=False, return_info=False):
     """Synthesise a texture by texture optimization (Kwatra et al. 2005).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> exemplar = texsynth.data.load("bumpy")[:32, :32]
+    >>> schedule = texsynth.Schedule(neighborhood_sizes=(16, 8), levels=1, max_iterations=2)
+    >>> out, info = texsynth.optimize_texture(exemplar, 40, schedule=schedule, rng=0, return_info=True)
+    >>> out.shape, [(s.level, s.size) for s in info.stages]
+    ((40, 40, 3), [(0, 16), (0, 8)])
+
     Minimises the texture energy (eq. 1) of the output over its
     neighbourhoods on a sparse grid by alternating a weighted-average E-step
     and a nearest-neighbour M-step (Algorithm 1), with robust IRLS weights
     (Section 3.1), coarse-to-fine over resolution levels and neighbourhood
     sizes (Section 3.2), an optional gradient term, and optional soft
     constraints (Section 4, Algorithm 2) for controlled synthesis and hole
-    filling.
+    filling [1]_.
 
     Parameters
     ----------
     exemplar : array_like
-        ``(h, w)`` grey or ``(h, w, C)`` input texture ``Z``, any accepted
-        dtype (see :func:`texsynth.core._validate.as_image`).
+        ``(h, w)`` grey or ``(h, w, C)`` input texture ``Z``: uint8, uint16,
+        bool or float, converted to float in [0, 1] (docs/conventions.md).
     size : int or (int, int)
         Output size ``(H, W)``, independent of the exemplar's size.
     preset : {"default", "paper"}
@@ -477,6 +490,8 @@ def optimize_texture(exemplar, size, *, preset="default", schedule=Schedule(), t
         (``"auto"``: 4) neighbourhoods, for the colour energy without soft
         constraints or fields, preset ``"default"``. The M-step never accepts
         a worse ``z_p``, so no backend can raise the energy within a stage.
+        ``augment``: every M-step also searches the exemplar's flipped or
+        rotated copies (not with ``"k-coherent"``).
     constraints : Constraints
         Eq. 2 (:class:`~texsynth.core.em.Constraints`): ``mask``, ``target``,
         ``constraint_weight`` (``λ``; ``float("inf")``: hard constraints,
@@ -488,9 +503,9 @@ def optimize_texture(exemplar, size, *, preset="default", schedule=Schedule(), t
         :class:`~texsynth.core.em.Guides`): ``exemplar_guide``,
         ``output_guide`` and ``guide_weight``.
     fields : Fields
-        Orientation and scale fields over the output (after Zhang et al.
-        2003, :class:`~texsynth.core.em.Fields`): ``orientation`` and
-        ``scale``; see Notes.
+        Orientation and magnification fields over the output (after Zhang
+        et al. 2003, :class:`~texsynth.core.em.Fields`): ``orientation`` and
+        ``magnification`` (of the elements, not of the output); see Notes.
     init : array_like, optional
         Output-shaped initial image; the coarsest level starts from its
         down-sampled version instead of random neighbourhoods.
@@ -528,7 +543,7 @@ def optimize_texture(exemplar, size, *, preset="default", schedule=Schedule(), t
     Notes
     -----
     The Notes of :class:`~texsynth.core.em.Terms` (copy limit),
-    :class:`~texsynth.core.em.Fields` (orientation and scale fields) and
+    :class:`~texsynth.core.em.Fields` (orientation and magnification fields) and
     :class:`~texsynth.core.em.Schedule` (sizes per level) describe those
     options; :mod:`texsynth.core.em` states what the implementation
     guarantees about the energy.
@@ -550,13 +565,16 @@ def optimize_texture(exemplar, size, *, preset="default", schedule=Schedule(), t
     such a search can gain by twice that move; the others keep ``z_p``, so
     the step still never raises the energy). At full resolution most
     neighbourhoods have converged after an iteration or two, so most
-    searches are skipped (docs/methods/optimization.md measures it).
+    searches are skipped (docs/methods/kwatra.md measures it).
     Soft constraints, eq. (2), ``E_c(x; x^c) = sum_{k in C} (x(k) -
     x^c(k))^2``, enter the E-step as a weighted average with the targets
     and the M-step as ``argmin_v ||x_p - v||^2 + λ ||v - x^c_p||^2_C``
     (Algorithm 2). For ``λ = 0`` (and without ``occurrence_weight`` and
     ``copy_limit``) the energy provably never rises within a stage (module
-    docstring).
+    docstring); in the example above:
+
+    >>> bool(np.all(np.diff(info.energy[info.stage == 1]) <= 1e-9 * info.energy[0]))
+    True
 
     Presets. ``preset="default"`` chooses the schedule from the exemplar
     (:func:`texsynth.core.scale.feature_scale`: the wavelength below which
@@ -584,18 +602,6 @@ def optimize_texture(exemplar, size, *, preset="default", schedule=Schedule(), t
     .. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization
        for example-based synthesis", ACM Transactions on Graphics (SIGGRAPH
        2005) 24(3), pp. 795-802. :doi:`10.1145/1073204.1073263`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> ex = data.load("bumpy")[:32, :32]
-    >>> from texsynth.core.em import Schedule
-    >>> out, info = optimize_texture(ex, 40, schedule=Schedule(neighborhood_sizes=(16, 8), levels=1,
-    ...                              max_iterations=2), rng=0, return_info=True)
-    >>> out.shape, [(s.level, s.size) for s in info.stages]
-    ((40, 40, 3), [(0, 16), (0, 8)])
-    >>> bool(np.all(np.diff(info.energy[info.stage == 1]) <= 1e-9 * info.energy[0]))
-    True
     """
     t_start = time.perf_counter()
     preset = check_choice(preset, "preset", PRESETS)
@@ -608,7 +614,7 @@ def optimize_texture(exemplar, size, *, preset="default", schedule=Schedule(), t
                       auto_schedule=scale_schedule if preset == "default" else None)
     sched, terms, flags = _preset(preset, problem, sched, terms)
     problem = with_guides(problem, guides.exemplar_guide, guides.output_guide, guides.guide_weight)
-    problem = with_fields(problem, fields.orientation, fields.scale)
+    problem = with_fields(problem, fields.orientation, fields.magnification)
     tileable = check_bool(tileable, "tileable")
     margin = 0 if tileable or preset == "paper" or free_inside(problem) else problem.sizes[0] // 2
     opts = _check_options(sched, terms, search, tileable=tileable or margin > 0, k=search.resolved_k(4),
@@ -620,7 +626,7 @@ def optimize_texture(exemplar, size, *, preset="default", schedule=Schedule(), t
         raise ValueError("candidates='k-coherent' does not combine with soft constraints (Algorithm 2 takes the "
                          "index M-step); pass candidates='all', or constraint_weight=float('inf') for hard ones")
     if opts.fields and opts.mu > 0:
-        raise ValueError(f"gradient_weight={opts.mu:g} does not combine with orientation/scale fields (the "
+        raise ValueError(f"gradient_weight={opts.mu:g} does not combine with orientation/magnification fields (the "
                          f"gradient E-step solves on the pixel grid, not in rotated frames); pass "
                          f"gradient_weight=0 or no fields")
     shape = problem.shape
@@ -650,63 +656,20 @@ def _synthesize(problem, opts, rng, *, progress=False, cache=None, desc, coordin
     neighbourhoods and their indexes across calls (animation frames). ``coordinates=False`` leaves the info's
     source-coordinate map out (nobody will see it)."""
     cache = {} if cache is None else cache
+    # Search(augment=...): every level searches the atlas of its flipped and rotated copies, laid out alike
+    atlas = None if opts.augment == "none" else ExemplarAtlas(problem.ex.shape[:2], opts.augment,
+                                                              levels=problem.levels)
 
     def patches(level, w, image, valid):
         if (level, w) not in cache:
             cache[level, w] = ExemplarPatches(image, valid, w, gradient_weight=opts.mu, falloff=opts.falloff,
                                               method=opts.index_method, rng=rng, frame=opts.frame,
-                                              guided=problem.guide is not None)
+                                              guided=problem.guide is not None, atlas=atlas, level=level)
         return cache[level, w]
 
     return coarse_to_fine(problem, functools.partial(_run_stage, opts, rng, problem.labels), patches,
                           iterations=opts.max_iterations, wrap=opts.tileable, progress=progress, desc=desc,
                           coordinates=coordinates)
-
-
-@dataclass(frozen=True)
-class Animation:
-    """How :func:`animate_texture` synthesises frames 2..L (Kwatra et al. 2005, Section 4.1).
-
-    Parameters
-    ----------
-    frame_sizes : sequence of int or "auto"
-        Neighbourhood sizes of the single-resolution synthesis of frames
-        2..L; ``"auto"`` (default): the last two of the schedule's
-        ``neighborhood_sizes`` (16, 8): the warped frame is already a good
-        texture, so the large size, which rearranges whole elements, is not
-        needed to repair it.
-    max_frame_iterations : int
-        EM iterations per size for frames 2..L at most (default 3); a size
-        also stops when ``{z_p}`` no longer changes or the energy falls by
-        less than the schedule's ``tolerance``.
-    constraint_weight : float
-        ``λ`` of the flow term: how strongly a frame keeps the warped previous
-        frame (default 3; the paper gives no value, and λ = 1 lets the
-        texture wash out into flat regions: docs/methods/optimization.md).
-    warp_order : int
-        Spline order of the warp (default 3, cubic): a bilinear warp blurs a
-        little at every frame and the blur accumulates over the sequence.
-    frame_falloff : float or None
-        ``σ`` of the Gaussian fall-off with which the E-step of frames 2..L
-        averages the overlapping ``z_p``, in units of the grid spacing
-        ``w/4``. Default 0.25: each pixel comes mostly from the ``z_p``
-        centred nearest to it, so neighbourhoods that disagree by a pixel
-        (inevitable when the texture moves by fractions of a pixel) are not
-        averaged into blur. ``None`` uses the M-step's fall-off (σ = w/4),
-        the plain Algorithm 2, with which the frames wash out into flat
-        smeared regions; the paper gives no σ.
-
-    Examples
-    --------
-    >>> Animation(constraint_weight=5.0).frame_sizes
-    'auto'
-    """
-
-    frame_sizes: object = "auto"
-    max_frame_iterations: int = 3
-    constraint_weight: float = 3.0
-    warp_order: int = 3
-    frame_falloff: object = 0.25
 
 
 def _first_sources(x, problem, size, opts, rng, cache):
@@ -718,21 +681,27 @@ def _first_sources(x, problem, size, opts, rng, cache):
     return source_map(centers, exm.centers(zidx), x.shape[:2])
 
 
-def animate_texture(exemplar, flows, *, n_frames=None, schedule=Schedule(neighborhood_sizes=(32, 16, 8), levels=3,
-                    tolerance=5e-3), terms=Terms(), search=Search(), animation=Animation(), tileable=False,
-                    first_frame=None, rng=None, progress=False, return_info=False):
+def animate_texture(exemplar, flows, *, n_frames=None, schedule=Schedule(), terms=Terms(), search=Search(),
+                    animation=Animation(), tileable=False, first_frame=None, rng=None, progress=False,
+                    return_info=False):
     """Animate a texture along a flow field (Kwatra et al. 2005, Section 4.1).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> exemplar = texsynth.data.load("bumpy")[:32, :32]
+    >>> flow = texsynth.core.flows.translation((24, 24), (0.0, 2.0))  # 2 pixels right per frame
+    >>> schedule = texsynth.Schedule(neighborhood_sizes=(8,), levels=1, max_iterations=2)
+    >>> video = texsynth.animate_texture(exemplar, flow, n_frames=3, schedule=schedule,
+    ...                                  animation=texsynth.Animation(max_frame_iterations=1), rng=0)
+    >>> video.shape
+    (3, 24, 24, 3)
 
     Frame 1 is an ordinary multi-level synthesis (:func:`optimize_texture`).
     Each next frame ``i + 1`` is initialised by warping frame ``i`` along the
     flow ``f_i`` and synthesised at a single resolution with the warped frame
     as the soft-constraint target (eq. 3 treated as eq. 2, Algorithm 2), so
-    texture elements move with the flow but keep their shape. The exemplar
-    indexes are built once for the whole sequence, and frame ``i``'s
-    correspondence with the exemplar (where each ``z_p`` came from), carried
-    along ``f_i`` by :func:`texsynth.core.flows.warp_coordinates`, gives every
-    neighbourhood of frame ``i + 1`` coherent candidates, so the index is
-    searched only once per neighbourhood size and frame.
+    texture elements move with the flow but keep their shape [1]_.
 
     Parameters
     ----------
@@ -747,12 +716,12 @@ def animate_texture(exemplar, flows, *, n_frames=None, schedule=Schedule(neighbo
     n_frames : int, optional
         Number of frames ``L``; required for a single flow or a callable.
     schedule, terms, search
-        As in :func:`optimize_texture`, for frame 1 (its ``"auto"`` values
-        as preset ``"paper"``; of ``terms`` only ``irls_exponent``,
-        ``gradient_weight`` and ``falloff``, of ``search`` only ``method``,
-        also the frames' index: a kd-tree re-ranking 4 candidates with
-        ``eps = 2`` when ``"auto"`` chooses the kd-tree). ``tolerance`` also
-        ends the EM of each size of frames 2..L.
+        As in :func:`optimize_texture`, for frame 1 (``"auto"``: sizes 32, 16,
+        8 over 3 levels as preset ``"paper"``, and a ``tolerance`` of 5e-3,
+        which also ends the EM of each size of frames 2..L). Of ``terms``
+        only ``irls_exponent``, ``gradient_weight`` and ``falloff`` apply,
+        of ``search`` only ``method``, also for the frames' index (a kd-tree
+        re-ranking 4 candidates with ``eps = 2`` when ``"auto"`` chooses it).
     animation : Animation
         The synthesis of frames 2..L (:class:`Animation`):
         ``frame_sizes``, ``max_frame_iterations``, ``constraint_weight``
@@ -787,6 +756,12 @@ def animate_texture(exemplar, flows, *, n_frames=None, schedule=Schedule(neighbo
     the previous frame warped along ``f_i`` as the target ``x^c``. Warping
     is backward with :func:`texsynth.core.flows.warp`.
 
+    The exemplar indexes are built once for the whole sequence, and frame
+    ``i``'s correspondence with the exemplar (where each ``z_p`` came from),
+    carried along ``f_i`` by :func:`texsynth.core.flows.warp_coordinates`,
+    gives every neighbourhood of frame ``i + 1`` coherent candidates, so the
+    index is searched only once per neighbourhood size and frame.
+
     The M-step of a frame ranks, for every ``x_p``, the current ``z_p``, the
     previous frame's ``z`` carried along the flow, the ``z`` of the four grid
     neighbours shifted by the offset to them (coherent candidates, Ashikhmin
@@ -800,18 +775,6 @@ def animate_texture(exemplar, flows, *, n_frames=None, schedule=Schedule(neighbo
     .. [1] V. Kwatra, I. Essa, A. Bobick and N. Kwatra, "Texture optimization
        for example-based synthesis", ACM Transactions on Graphics (SIGGRAPH
        2005) 24(3), pp. 795-802. :doi:`10.1145/1073204.1073263`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> from texsynth.core import flows
-    >>> ex = data.load("bumpy")[:32, :32]
-    >>> f = flows.translation((24, 24), (0.0, 2.0))
-    >>> from texsynth.core.em import Schedule
-    >>> video = animate_texture(ex, f, n_frames=3, schedule=Schedule(neighborhood_sizes=(8,), levels=1,
-    ...                         max_iterations=2), animation=Animation(max_frame_iterations=1), rng=0)
-    >>> video.shape
-    (3, 24, 24, 3)
     """
     t_start = time.perf_counter()
     if not callable(flows) and np.ndim(flows) not in (3, 4):
@@ -820,6 +783,8 @@ def animate_texture(exemplar, flows, *, n_frames=None, schedule=Schedule(neighbo
     sched, terms, search = (check_group(schedule, Schedule, "schedule"), check_group(terms, Terms, "terms"),
                             check_group(search, Search, "search"))
     anim = check_group(animation, Animation, "animation")
+    refuse_augment(search.augment, "animate_texture", "each frame continues the last one's correspondence with the "
+                   "exemplar itself")
     unused = [f"{name}={getattr(terms, name)!r}" for name, off in _FRAME_TERMS_OFF.items()
               if getattr(terms, name) != off and not is_auto(getattr(terms, name))]
     unused += [f"{name}={getattr(search, name)!r}" for name in ("candidates", "k")
@@ -829,8 +794,9 @@ def animate_texture(exemplar, flows, *, n_frames=None, schedule=Schedule(neighbo
                          f"warped previous frame as the target); leave them at their defaults")
     seq = flow_sequence(flows, n_frames)
     shape = seq.shape[1:3]
-    sizes = (32, 16, 8) if is_auto(sched.neighborhood_sizes) else check_sizes(sched.neighborhood_sizes)
-    fsizes = sizes[-2:] if is_auto(anim.frame_sizes) else check_sizes(anim.frame_sizes, "frame_sizes")
+    # "auto" sizes and levels: the paper's (32, 16, 8) over 3 levels
+    problem = prepare(exemplar, shape, sched.neighborhood_sizes, sched.levels, constraint_weight=anim.constraint_weight)
+    fsizes = problem.sizes[-2:] if is_auto(anim.frame_sizes) else check_sizes(anim.frame_sizes, "frame_sizes")
     max_frame_iterations = check_positive_int(anim.max_frame_iterations, "max_frame_iterations")
     warp_order = check_positive_int(anim.warp_order, "warp_order", minimum=0)
     if warp_order > 5:
@@ -838,7 +804,6 @@ def animate_texture(exemplar, flows, *, n_frames=None, schedule=Schedule(neighbo
     frame_falloff = anim.frame_falloff
     if frame_falloff is not None:
         frame_falloff = check_positive_float(frame_falloff, "frame_falloff")
-    problem = prepare(exemplar, shape, sizes, sched.levels, constraint_weight=anim.constraint_weight)
     prepare(exemplar, shape, fsizes, 1, sizes_name="frame_sizes")  # frame_sizes against the frame size
     sched = dataclasses.replace(sched, tolerance=_FRAME_TOLERANCE if is_auto(sched.tolerance) else sched.tolerance)
     opts = _check_options(sched, dataclasses.replace(terms, **_FRAME_TERMS_OFF), search, tileable=tileable)

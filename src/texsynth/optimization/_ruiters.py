@@ -164,6 +164,13 @@ def linear_blend(a, b, alpha):
 class InterpolationSchedule:
     """The stages of an interpolation and the iterations of each (Ruiters et al. 2010, Pseudocode 1, Section 4.4).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> schedule = texsynth.InterpolationSchedule(stages=((1, 9),))  # one stage, full resolution, 9x9
+    >>> schedule.max_iterations
+    10
+
     An option group of :func:`~texsynth.interpolate_textures`
     (``schedule=InterpolationSchedule(...)``); on the command line its fields
     are flags (``--stages``, ``--max-iterations``, ...).
@@ -188,12 +195,6 @@ class InterpolationSchedule:
     candidate_stride : int
         Spacing of the candidate centres tried inside each cell; 1 tries
         every pixel as the paper does, 2 (default) a quarter of them.
-
-    Examples
-    --------
-    >>> from texsynth.optimization import InterpolationSchedule
-    >>> InterpolationSchedule(stages=((1, 9),)).max_iterations
-    10
     """
 
     stages: tuple = ((2, 33), (2, 17), (1, 17))
@@ -206,6 +207,13 @@ class InterpolationSchedule:
 @dataclass(frozen=True)
 class InterpolationUpdate:
     """How each iteration of an interpolation updates the pixels (Ruiters et al. 2010, Sections 4.4-4.5).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> update = texsynth.InterpolationUpdate(statistics_step=False)  # no Portilla-Simoncelli step
+    >>> update.mean_shift_iterations
+    3
 
     The steps of an iteration besides the search: the relaxation of the
     pasted neighbourhoods, the per-pixel mean shift that turns them into
@@ -233,12 +241,6 @@ class InterpolationUpdate:
         statistics per iteration (Section 4.5); in the last stage it is
         weighted by ``2 min(alpha, 1 - alpha)`` (Notes of
         :func:`~texsynth.interpolate_textures`).
-
-    Examples
-    --------
-    >>> from texsynth.optimization import InterpolationUpdate
-    >>> InterpolationUpdate(statistics_step=False).mean_shift_iterations
-    3
     """
 
     relaxation_radius: int = 2
@@ -251,6 +253,12 @@ class InterpolationUpdate:
 @dataclass(frozen=True)
 class VaryingAlpha:
     """How a spatially varying interpolation is synthesised (Ruiters et al. 2010, Section 4.5).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.VaryingAlpha(alpha_steps=5)
+    VaryingAlpha(alpha_steps=5, alpha_weight=4.0, statistics_bands=5)
 
     Used only when ``alpha`` is a distribution map (a transition strip,
     Figure 4, or any grey image, Figure 7). An option group of
@@ -271,12 +279,6 @@ class VaryingAlpha:
         distribution map, each run "only on the relevant parts of the image"
         (the pixels nearest to its alpha); the results are blended by alpha
         (Section 4.5).
-
-    Examples
-    --------
-    >>> from texsynth.optimization import VaryingAlpha
-    >>> VaryingAlpha(alpha_steps=5)
-    VaryingAlpha(alpha_steps=5, alpha_weight=4.0, statistics_bands=5)
     """
 
     alpha_steps: int = 20
@@ -507,6 +509,22 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, schedule=Inte
                          progress=False, return_info=False):
     """Interpolate two textures by warping and blending their neighbourhoods (Ruiters et al. 2010).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> a, b = texsynth.data.load("bumpy")[:24, :24], texsynth.data.load("bread")[:24, :24]
+    >>> schedule = texsynth.InterpolationSchedule(stages=((1, 9),), max_iterations=1)
+    >>> out = texsynth.interpolate_textures(a, b, 0.5, schedule=schedule, rng=0,
+    ...                                     neighborhood_set=texsynth.NeighborhoodSet(max_neighborhoods=32))
+    >>> out.shape
+    (24, 24, 3)
+
+    Pairs every neighbourhood of ``a`` with its most similar one in ``b``
+    (and back), aligns each pair by a thin-plate-spline warp (TPS-RPM),
+    blends the warped pairs at ``alpha`` into a set ``N'`` of interpolated
+    neighbourhoods, and synthesises the output from ``N'`` by texture
+    optimization with a Portilla-Simoncelli step per iteration [1]_.
+
     Parameters
     ----------
     a, b : array_like
@@ -566,7 +584,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, schedule=Inte
         iteration from random matches (which gives the search something to
         continue); the ``n_correspondences`` nearest found are kept.
         Approximate, and cheaper where the other texture has many
-        neighbourhoods (see docs/methods/interpolation.md).
+        neighbourhoods (see docs/methods/ruiters.md).
     rng : None, int or numpy.random.Generator
         Noise initialisation, feature subsampling, search indices.
     progress : bool or callable
@@ -592,6 +610,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, schedule=Inte
 
     Notes
     -----
+
     Correspondences use ``||W_C (N_i^(1) - N_j^(2))||_2`` over colour and
     distance channels (Section 4.1), searched in both directions through
     :mod:`texsynth.core.search` (profile ``"correspondence"``: exact up to
@@ -618,7 +637,7 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, schedule=Inte
     synthesized with the colour (so the output's features are matched too)
     and dropped at the end.
 
-    Departures for quality, each measured on ``docs/methods/interpolation.md``:
+    Departures for quality, each measured on ``docs/methods/ruiters.md``:
 
     - the synthesis starts from a random tiling of ``N'`` rather than noise
       (the nearest neighbourhoods of noise are the flattest ones, and the
@@ -673,14 +692,6 @@ def interpolate_textures(a, b, alpha, *, size=None, features=None, schedule=Inte
     .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
        a histogram-preserving blending operator", HPG 2018.
        :doi:`10.1145/3233304`
-
-    Examples
-    --------
-    >>> x = np.indices((24, 24)).sum(0) % 6 / 5.0
-    >>> out = interpolate_textures(x, x.T, 0.5, schedule=InterpolationSchedule(stages=((1, 9),), max_iterations=1),
-    ...                            update=InterpolationUpdate(statistics_step=False), rng=0)
-    >>> out.shape
-    (24, 24)
     """
     t_start = time.perf_counter()
     info = InterpolationInfo()

@@ -40,7 +40,8 @@ from scipy import ndimage
 
 from ..core._validate import (as_image, as_rng, check_group, check_in_range, check_positive_float,
                               check_positive_int, with_channels)
-from ..core.search import PatchIndex, Search, check_candidates, check_method, coherence_sets, patchmatch_features
+from ..core.search import (PatchIndex, Search, check_candidates, check_method, coherence_sets, patchmatch_features,
+                           refuse_augment)
 from ..core.neighborhood import all_patches
 from ..core.tps import tps_rpm
 
@@ -60,6 +61,13 @@ _CORRESPONDENCE_ITERATIONS = 3
 @dataclass(frozen=True)
 class Correspondences:
     """How corresponding neighbourhoods are found, aligned and compared (Ruiters et al. 2010, Sections 4.1-4.2).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> correspondences = texsynth.Correspondences(max_feature_points=12)  # cheaper TPS-RPM
+    >>> correspondences.n_correspondences
+    1
 
     An option group of :func:`~texsynth.interpolate_textures` and
     :func:`~texsynth.optimization.interpolate_neighborhoods`
@@ -88,12 +96,6 @@ class Correspondences:
         iterations_per_temperature=3, sinkhorn_iterations=10``) and hold the
         affine part 1000 times stiffer (``affine_lambda_init=10``; theirs
         is 0.01, see Notes of :func:`~texsynth.interpolate_textures`).
-
-    Examples
-    --------
-    >>> from texsynth.optimization import Correspondences
-    >>> Correspondences(max_feature_points=12).n_correspondences
-    1
     """
 
     n_correspondences: int = 1
@@ -106,6 +108,12 @@ class Correspondences:
 @dataclass(frozen=True)
 class NeighborhoodSet:
     """Which interpolated neighbourhoods make up ``N'``, and how many (Ruiters et al. 2010, Section 4.2).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.NeighborhoodSet(max_neighborhoods=256)
+    NeighborhoodSet(keep_fraction=0.5, max_neighborhoods=256, max_set_size=16384)
 
     An option group of :func:`~texsynth.interpolate_textures` and
     :func:`~texsynth.optimization.interpolate_neighborhoods`
@@ -134,12 +142,6 @@ class NeighborhoodSet:
         Cap on the size of ``N'`` per stage (all alphas together): the
         number of shifted copies per kept pair is reduced to stay below it.
         Larger sets cost search time in every iteration.
-
-    Examples
-    --------
-    >>> from texsynth.optimization import NeighborhoodSet
-    >>> NeighborhoodSet(max_neighborhoods=256)
-    NeighborhoodSet(keep_fraction=0.5, max_neighborhoods=256, max_set_size=16384)
     """
 
     keep_fraction: float = 0.5
@@ -560,6 +562,8 @@ def check_inputs(a, b, features, correspondences, neighborhood_set, search):
     corr = check_group(correspondences, Correspondences, "correspondences")
     nset = check_group(neighborhood_set, NeighborhoodSet, "neighborhood_set")
     search = check_group(search, Search, "search")
+    refuse_augment(search.augment, "interpolate_textures", "its correspondences pair the neighbourhoods of a and b "
+                   "as they are")
     a, grey_a = with_channels(as_image(a, "a", min_size=8))
     b, grey_b = with_channels(as_image(b, "b", min_size=8))
     if a.shape[-1] != b.shape[-1]:

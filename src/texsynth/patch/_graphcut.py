@@ -46,9 +46,8 @@ search runs over the exemplar's windows (the same question with the roles of
 output and exemplar exchanged, which lets the block be smaller than the
 exemplar: the whole input is copied in large verbatim pieces).
 
-What could not be checked against the paper's text (it is not in
-``../shared/papers``; this follows its published description as summarised in
-``../shared/notes/algorithms.md``): the discretisation of the
+What could not be checked against the paper's text (it was not at hand;
+this follows its published description): the discretisation of the
 gradients in ``M'`` (here the finite difference along each arc, see
 :func:`~texsynth.core.seams.gradient_matching_cost`), the size of the error
 region and sub-patch (here half the block), how refinement regions are ranked
@@ -620,6 +619,19 @@ def graphcut_texture(exemplar, size, *, preset="default", placement="auto", bloc
                      progress=False):
     """Synthesise a texture by graph-cut textures (Kwatra et al. 2003).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> brick = texsynth.data.load("brick")[:64, :64]
+    >>> out, info = texsynth.graphcut_texture(brick, 96, block=32, refine=1, rng=0, return_info=True)
+    >>> out.shape, info.block
+    ((96, 96, 3), 32)
+
+    Covers the output with patches of the exemplar, each placed where it
+    matches what is already there (Section 4) and joined to it along the
+    cheapest seam, a minimum graph cut (Section 3), then pastes further
+    patches over the costliest seams (refinement) [1]_.
+
     Parameters
     ----------
     exemplar : array_like
@@ -647,9 +659,10 @@ def graphcut_texture(exemplar, size, *, preset="default", placement="auto", bloc
         reaches back over what is filled, ``1 <= overlap < block``.
         ``"auto"``: a third of the block.
     temperature : float or "auto"
-        The paper's ``k`` of ``P(t) ∝ exp(-C(t) / (k σ²))``, the temperature
-        of the draw relative to the exemplar's variance ``σ²``: small values
-        take the best matches only, large ones approach random placement (the
+        How random the choice of patch positions is: small values take the
+        best matches only, large ones approach random placement. It is the
+        paper's ``k`` of ``P(t) ∝ exp(-C(t) / (k σ²))``, the temperature of
+        the draw relative to the exemplar's variance ``σ²`` (the
         paper varies it from 0.001 to 1). ``"auto"``: 0.02 (``"paper"``: 0.01).
     edge_cost : {"plain", "gradient", "auto"} or callable
         The cost of a seam between neighbours: the paper's ``M``
@@ -727,7 +740,11 @@ def graphcut_texture(exemplar, size, *, preset="default", placement="auto", bloc
     the seam nodes connect its inside to ``B`` ("surrounded regions"), so the
     cut keeps the old output unless the new patch lowers the seam cost; with
     ``M`` (a metric, so the seam nodes charge exactly the seams kept) the
-    total seam cost (``info.energy``) never rises there.
+    total seam cost (``info.energy``) never rises there, as in the example
+    above:
+
+    >>> bool(np.all(np.diff(info.energy[info.stage == 1]) <= 1e-9))
+    True
 
     *Blocks and the whole input.* The paper pastes the whole input at an
     output translation (``block="whole"``: the translations that cover the
@@ -751,14 +768,6 @@ def graphcut_texture(exemplar, size, *, preset="default", placement="auto", bloc
     .. [1] V. Kwatra, A. Schödl, I. Essa, G. Turk and A. Bobick, "Graphcut
        textures: image and video synthesis using graph cuts", ACM TOG 22(3)
        (SIGGRAPH 2003), pp. 277-286. :doi:`10.1145/882262.882264`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> brick = data.load("brick")[:64, :64]
-    >>> out, info = graphcut_texture(brick, 96, block=32, refine=1, rng=0, return_info=True)
-    >>> out.shape, info.block, bool(np.all(np.diff(info.energy[info.stage == 1]) <= 1e-9))
-    ((96, 96, 3), 32, True)
     """
     started = time.perf_counter()
     image = as_image(exemplar, "exemplar")
@@ -853,6 +862,21 @@ def graphcut_texture(exemplar, size, *, preset="default", placement="auto", bloc
 def graphcut_merge(a, b, *, from_a, from_b, edge_cost="gradient", return_info=False):
     """Merge two images along the cheapest seam, keeping the pixels the user marked (Kwatra et al. 2003).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> a, b = texsynth.data.load("brick")[:48, :64], texsynth.data.load("wood")[:48, :64]
+    >>> from_a, from_b = np.zeros((48, 64), bool), np.zeros((48, 64), bool)
+    >>> from_a[:, :8], from_b[:, -8:] = True, True  # the left strip from a, the right one from b
+    >>> merged, info = texsynth.graphcut_merge(a, b, from_a=from_a, from_b=from_b, return_info=True)
+    >>> bool(np.array_equal(merged[:, :8], a[:, :8])), info.labels.shape
+    (True, (48, 64))
+
+    Every pixel comes from ``a`` or ``b``: one minimum graph cut puts the
+    seam between them where it costs least under ``edge_cost`` and keeps the
+    marked pixels from their image (the interactive merging of graph-cut
+    textures [1]_).
+
     Parameters
     ----------
     a, b : array_like
@@ -886,6 +910,7 @@ def graphcut_merge(a, b, *, from_a, from_b, edge_cost="gradient", return_info=Fa
 
     Notes
     -----
+
     The paper's interactive merging (the lecture's "Interactive Merging"):
     one graph cut (:func:`texsynth.core.seams.graph_cut`) over
     every pixel with ``a`` as the source terminal and ``b`` as the sink, the
@@ -898,15 +923,6 @@ def graphcut_merge(a, b, *, from_a, from_b, edge_cost="gradient", return_info=Fa
     .. [1] V. Kwatra, A. Schödl, I. Essa, G. Turk and A. Bobick, "Graphcut
        textures: image and video synthesis using graph cuts", ACM TOG 22(3)
        (SIGGRAPH 2003), pp. 277-286. :doi:`10.1145/882262.882264`
-
-    Examples
-    --------
-    >>> a, b = np.zeros((4, 6)), np.ones((4, 6))
-    >>> left, right = np.zeros((4, 6), bool), np.zeros((4, 6), bool)
-    >>> left[:, 0], right[:, -1] = True, True
-    >>> merged, info = graphcut_merge(a, b, from_a=left, from_b=right, return_info=True)
-    >>> bool(merged[:, 0].max() == 0 and merged[:, -1].min() == 1), info.labels.shape
-    (True, (4, 6))
     """
     started = time.perf_counter()
     ia, ib = as_image(a, "a"), as_image(b, "b")

@@ -24,8 +24,8 @@ approximation of it; see ``docs/methods/patch_sampling.md`` for why (speed and
 memory measured in ``benchmarks/bench_quilting.py``). The block grid and its
 raster loop are image quilting's (:mod:`texsynth.patch._quilting`).
 
-Not checked against the paper's text (it is not in ``../shared/papers``; this
-follows its published description and ``../shared/notes/algorithms.md``):
+Not checked against the paper's text (it was not at hand; this follows its
+published description: abstract, lecture slides, secondary summaries):
 the exact normalisation of ``d`` and ``d_max`` (here over pixels and
 channels), the default boundary zone ``w_E = w_B / 6`` and ``ε = 0.2`` as the
 paper's own values, and the feathering weights (here linear in the distance
@@ -39,10 +39,11 @@ import time
 import numpy as np
 
 from ..core._validate import as_image, as_rng, as_size, check_bool, with_channels
-from ..core.search import WindowSearch, within_radius
+from ..core.search import window_search, within_radius
 from ._quilting import (
     Grid,
     QuiltInfo,
+    augmented_info,
     check_block,
     check_canvas_memory,
     check_overlap,
@@ -95,9 +96,21 @@ def feather_weights(known):
     return ramp(h, top, bottom)[:, None] * ramp(w, left, right)[None, :]
 
 
-def patch_sampling(exemplar, size, *, block="auto", overlap="auto", error_tolerance=EPSILON, tileable=False, rng=None,
-                   return_info=False, progress=False):
+def patch_sampling(exemplar, size, *, block="auto", overlap="auto", error_tolerance=EPSILON, tileable=False,
+                   augment="none", rng=None, return_info=False, progress=False):
     """Synthesise a texture by patch-based sampling (Liang et al. 2001).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> bread = texsynth.data.load("bread")[:96, :96]
+    >>> out, info = texsynth.patch_sampling(bread, 128, block=32, rng=0, return_info=True)
+    >>> out.shape, info.overlap, int(info.candidates.min()) >= 1
+    ((128, 128, 3), 5, True)
+
+    Pastes square patches of the exemplar in scanline order, each drawn at
+    random among those whose boundary zone matches the output's within a
+    tolerance, and feathers the boundary zones where patches overlap [1]_.
 
     Parameters
     ----------
@@ -120,6 +133,14 @@ def patch_sampling(exemplar, size, *, block="auto", overlap="auto", error_tolera
     tileable : bool
         Make the output tile seamlessly: the patch grid wraps around, so the
         last patches of a row (column) also match and blend with the first.
+    augment : {"none", "flips", "rotations", "both"}
+        Also paste patches of the exemplar's mirror images (``"flips"``),
+        quarter turns (``"rotations"``) or both, each patch from one copy,
+        as ``Search(augment=...)`` does for the neighbourhood-matching
+        methods (:func:`~texsynth.core.search.augmented_set`). Default
+        ``"none"``. ``info.sources`` and ``info.coordinates`` still point
+        into the exemplar (a source: the exemplar pixel that the patch's
+        top-left pixel shows).
     rng : None, int or numpy.random.Generator
         Random source for the choice of patches; an int seed reproduces the
         output bit for bit.
@@ -146,6 +167,7 @@ def patch_sampling(exemplar, size, *, block="auto", overlap="auto", error_tolera
 
     Notes
     -----
+
     The boundary-zone distance of an exemplar patch ``B`` and the output's
     zone ``E_out`` of ``A`` pixels (``C`` channels) is
 
@@ -172,14 +194,6 @@ def patch_sampling(exemplar, size, *, block="auto", overlap="auto", error_tolera
     .. [1] L. Liang, C. Liu, Y.-Q. Xu, B. Guo and H.-Y. Shum, "Real-time
        texture synthesis by patch-based sampling", ACM Transactions on
        Graphics 20(3), 2001, pp. 127-150. :doi:`10.1145/501786.501787`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> bread = data.load("bread")[:96, :96]
-    >>> out, info = patch_sampling(bread, 128, block=32, rng=0, return_info=True)
-    >>> out.shape, info.overlap, int(info.candidates.min()) >= 1
-    ((128, 128, 3), 5, True)
     """
     started = time.perf_counter()
     image = as_image(exemplar, "exemplar")
@@ -191,14 +205,13 @@ def patch_sampling(exemplar, size, *, block="auto", overlap="auto", error_tolera
     grid = Grid(size, B, w_E, check_bool(tileable, "tileable"))
     gen = as_rng(rng)
     check_canvas_memory(grid, ex.shape[2], ex.shape[:2], value=size)
-    exf = ex.astype(np.float64)
-    search = WindowSearch(exf, (B, B))
-    n_positions = search.shape[0] * search.shape[1]
+    search, atlas = window_search(ex.astype(np.float64), (B, B), augment)  # atlas: the exemplar's copies too
+    exf = search.image
 
     def choose(window, region, known):
         if not known.any():  # the first patch: any
-            top, left = divmod(int(gen.integers(n_positions)), search.shape[1])
-            return top, left, 0.0, 0.0, n_positions
+            top, left = search.draw(gen)
+            return top, left, 0.0, 0.0, search.n_positions
         d2 = search.sq_distances(region, known)  # A C d(E_B, E_out)^2 for every patch B
         values = known.sum() * ex.shape[2]  # A C
         zone_energy = float(np.einsum("ij,ijc,ijc->", known, region, region))  # A C (d_max / ε)^2
@@ -214,6 +227,6 @@ def patch_sampling(exemplar, size, *, block="auto", overlap="auto", error_tolera
                                                        return_info)
     out = finish(canvas, size, image.dtype, grey)
     if return_info:
-        info = quilt_info(grid, records, w_E, started, searching, sources, size)
+        info = augmented_info(quilt_info(grid, records, w_E, started, searching, sources, size), atlas)
         return out, PatchSamplingInfo(**vars(info))
     return out

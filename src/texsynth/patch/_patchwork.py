@@ -747,16 +747,32 @@ def patchwork(
 ):
     """Synthesise a texture from random Voronoi patches with invisible joins (Harrison 2002, Section 3).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> metal = texsynth.data.load("metal")
+    >>> out, info = texsynth.patchwork(metal, 96, grid_spacing=32, rng=0, return_info=True)
+    >>> out.shape, info.grid_shape, info.cells.shape
+    ((96, 96), (3, 3), (96, 96))
+    >>> bool(abs(out.mean() - metal.mean()) < 0.05)
+    True
+
+    Gives every point of a jittered grid over the output a random patch of
+    the exemplar and blends the patches with weights that fall with the
+    distance to their point (eq. 1), normalised so that the blend keeps the
+    exemplar's contrast (eq. 2) [1]_.
+
     Parameters
     ----------
     exemplar : array_like
-        Input texture ``I``: ``(H, W)`` grey or ``(H, W, C)``; any accepted
-        dtype (see :func:`texsynth.core._validate.as_image`).
+        Input texture ``I``: ``(H, W)`` grey or ``(H, W, C)``; uint8, uint16,
+        bool or float, converted to float in [0, 1] (docs/conventions.md).
     size : int or (int, int)
         Output size ``(height, width)``; any size.
     grid_spacing : int or "auto"
-        Spacing of the jittered grid of points ``p_i``, about the size of a
-        patch (paper: 64 pixels, Figure 4). Must not exceed the exemplar.
+        Spacing of the jittered grid of patch centres, about the size of a
+        patch (paper: 64 pixels, Figure 4; the points ``p_i``). Must not
+        exceed the exemplar.
         ``"auto"`` (default): the paper's 64, or less where the exemplar is
         too small for whole cells: the largest spacing whose cells, with the
         region "in or near" them where they still weigh (about 4 spacings
@@ -766,8 +782,8 @@ def patchwork(
         exemplar warns: their far parts copy the mirrored exemplar, which
         shows as mirror-symmetric motifs.
     sharpness : float
-        ``f`` in eq. 1, the sharpness of the patch borders (paper: 6; Figure 2
-        shows 2, 6 and 20). Must be > 0.
+        Sharpness of the patch borders, > 0 (paper: 6; Figure 2 shows 2, 6
+        and 20). It is ``f`` in eq. 1.
     tileable : bool
         Make the output tile seamlessly: the jittered grid wraps around and the
         distance ``d`` is toroidal. The grid spacing is then adjusted to
@@ -794,7 +810,7 @@ def patchwork(
         cells that reach it. Write it with :func:`texsynth.io.save_chunked`.
         Every block equals the same pixels of the in-memory result bit for
         bit. Not with ``return_info`` or ``progress``. Needs Dask
-        (``pip install 'texsynth[dask]'``).
+        (the ``dask`` extra: ``pip install '.[dask]'`` in a checkout).
 
     Returns
     -------
@@ -813,6 +829,7 @@ def patchwork(
 
     Notes
     -----
+
     Each cell ``i`` weighs its patch by (eq. 1)
 
     .. math:: w_i(x) = d(x, p_i)^{-f}
@@ -863,16 +880,6 @@ def patchwork(
        Monash University, 2002. (No DOI; see also P. Harrison, "A
        non-hierarchical procedure for re-synthesis of complex textures",
        WSCG 2001.)
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> metal = data.load("metal")
-    >>> out, info = patchwork(metal, 96, grid_spacing=32, rng=0, return_info=True)
-    >>> out.shape, info.grid_shape, info.cells.shape
-    ((96, 96), (3, 3), (96, 96))
-    >>> bool(abs(out.mean() - metal.mean()) < 0.05)
-    True
     """
     start = time.perf_counter()
     image = as_image(exemplar, "exemplar")

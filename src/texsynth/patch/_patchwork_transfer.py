@@ -98,11 +98,20 @@ def patchwork_transfer(
 ):
     """Texture transfer: render a pattern image in a texture (Harrison 2002, Section 5).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> metal = texsynth.data.load("metal")
+    >>> pattern = np.zeros((48, 48)); pattern[12:36, 12:36] = 1.0  # a bright square
+    >>> out = texsynth.patchwork_transfer(metal, pattern, grid_spacing=8, n_candidates=16, rng=0)
+    >>> out.shape, bool(out[16:32, 16:32].mean() > out[:8].mean())
+    ((48, 48), True)
+
     The output has the pattern's size. Its Voronoi cells copy texture patches
     chosen, among ``n_candidates`` random positions per cell, to best match the
     pattern around each ``p_i`` (sum of squared differences), and are joined
     with eq. 7, which blends the local patch averages ``a_i`` so the output
-    follows the pattern's light and dark regions.
+    follows the pattern's light and dark regions [1]_.
 
     Parameters
     ----------
@@ -157,6 +166,7 @@ def patchwork_transfer(
 
     Notes
     -----
+
     Eq. 7:
 
     .. math:: O(x) = \\frac{\\sum_i (I(x - p_i + q_i) - a_i) w_i(x)}
@@ -187,15 +197,6 @@ def patchwork_transfer(
     ----------
     .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
        Monash University, 2002, Section 5.
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> metal = data.load("metal")
-    >>> pattern = np.zeros((48, 48)); pattern[12:36, 12:36] = 1.0  # a bright square
-    >>> out = patchwork_transfer(metal, pattern, grid_spacing=8, n_candidates=16, rng=0)
-    >>> out.shape, bool(out[16:32, 16:32].mean() > out[:8].mean())
-    ((48, 48), True)
     """
     start = time.perf_counter()
     is_video = n_frames is not None

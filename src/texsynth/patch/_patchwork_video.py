@@ -210,13 +210,21 @@ def patchwork_video(
 ):
     """Synthesise a looping video texture (Harrison 2002, Section 4).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> metal = texsynth.data.load("metal")[:64, :64]
+    >>> clip = np.stack([np.roll(metal, t, axis=1) for t in range(6)])  # drifting texture
+    >>> loop, info = texsynth.patchwork_video(clip, 48, 8, grid_spacing=16, rng=0, return_info=True)
+    >>> loop.shape
+    (8, 48, 48)
+
     Patches are fixed in space; each cell plays its own *intermediate
     sequence*, a chain of input clips joined by cosine transitions (eqs. 3-6),
     and every output frame pieces the cells' frames together with eq. 2.
     Static parts of the input stay static. The output loops seamlessly: its
-    last frame leads into its first as smoothly as any two consecutive frames.
-    Intermediate pixels are computed only where and when needed, so memory
-    is proportional to the input plus the output.
+    last frame leads into its first as smoothly as any two consecutive
+    frames [1]_.
 
     Parameters
     ----------
@@ -278,6 +286,9 @@ def patchwork_video(
     sqrt(w_1^2 + w_2^2) + A``: the temporal variation about ``A`` keeps its
     standard deviation through a transition.
 
+    Intermediate pixels are computed only where and when needed, so memory
+    is proportional to the input plus the output.
+
     Eq. 6 is linear in the input, ``N = c_1 I_1 + c_2 I_2 + c_A A``, so eq. 2
     over the cells' ``N_i`` is a weighted sum of input pixels, each in some
     input frame, plus the mean ``a``: ``info.coordinates`` records it per
@@ -285,27 +296,18 @@ def patchwork_video(
     average frame ``A``, source -1), and rendering the input frames through
     it (``apply_coordinates(list(frames), info)``) reproduces the video up
     to the cells of coefficient below 1/512 and the clipping to [0, 1]
-    (``tests/test_coordinates.py``). Another channel of the same clip (a
-    height or normal sequence, one image per input frame) then animates
-    exactly as the colour did.
+    (``tests/test_coordinates.py``); in the example above:
+
+    >>> bool(np.abs(np.clip(texsynth.apply_coordinates(list(clip), info), 0, 1) - loop).max() < 0.01)
+    True
+
+    Another channel of the same clip (a height or normal sequence, one
+    image per input frame) then animates exactly as the colour did.
 
     References
     ----------
     .. [1] P. Harrison, "Patchwork texture synthesis", Technical report,
        Monash University, 2002, Section 4.
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> metal = data.load("metal")[:64, :64]
-    >>> clip = np.stack([np.roll(metal, t, axis=1) for t in range(6)])  # drifting texture
-    >>> loop = patchwork_video(clip, 48, 8, grid_spacing=16, rng=0)
-    >>> loop.shape
-    (8, 48, 48)
-    >>> loop, info = patchwork_video(clip, 48, 8, grid_spacing=16, rng=0, return_info=True)
-    >>> from texsynth import apply_coordinates
-    >>> bool(np.abs(np.clip(apply_coordinates(list(clip), info), 0, 1) - loop).max() < 0.01)
-    True
     """
     start = time.perf_counter()
     video = check_video(frames)

@@ -28,9 +28,9 @@ suggestion for speed; the cuts are :func:`texsynth.core.seams.minimum_error_boun
 The block grid and its raster loop here are shared with patch-based sampling
 (:mod:`texsynth.patch._patch_sampling`), which blends its boundary zones instead.
 
-What could not be checked against the paper's text (it is not in
-``../shared/papers``; the steps and defaults follow its published description
-and the notes in ``../shared/notes/algorithms.md``): the exact form of the
+What could not be checked against the paper's text (it was not at hand;
+the steps and defaults follow its published description, as an ETH report
+and tutorial pages quote it): the exact form of the
 tolerance (taken on the squared error), how the L-shaped cuts are combined
 (here: the block keeps the pixels beyond both cuts), the number of transfer
 passes (3 here), and the weighting of overlap and correspondence errors
@@ -61,7 +61,7 @@ from ..core._validate import (
     with_channels,
 )
 from ..core.seams import minimum_error_boundary, seam_mask
-from ..core.search import WindowSearch, is_auto, within_tolerance
+from ..core.search import WindowSearch, is_auto, window_search, within_tolerance
 from ._patchwork_transfer import prescale_pattern
 
 __all__ = ["QuiltInfo", "QuiltTransferInfo", "quilt", "quilt_transfer"]
@@ -431,8 +431,21 @@ def finish(canvas, size, dtype, was_grey):
 
 
 def quilt(exemplar, size, *, block="auto", overlap="auto", error_tolerance=ERROR_TOLERANCE, cut=True, tileable=False,
-          rng=None, return_info=False, progress=False):
+          augment="none", rng=None, return_info=False, progress=False):
     """Synthesise a texture by image quilting (Efros & Freeman 2001, Section 2).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> brick = texsynth.data.load("brick")[:96, :96]
+    >>> out, info = texsynth.quilt(brick, 160, block=32, rng=0, return_info=True)
+    >>> out.shape[:2], info.block, info.overlap, len(info.sources)
+    ((160, 160), 32, 5, 36)
+
+    Pastes square blocks of the exemplar in raster order, each drawn among
+    those that match the output best where they overlap it, and joins each
+    block to the output along the minimum-error boundary cut through the
+    overlap [1]_.
 
     Parameters
     ----------
@@ -464,6 +477,14 @@ def quilt(exemplar, size, *, block="auto", overlap="auto", error_tolerance=ERROR
         Make the output tile seamlessly: the block grid wraps around, so the
         last blocks of a row (column) are matched and cut against the first
         ones as well. Needs a ``size`` of at least about twice the block.
+    augment : {"none", "flips", "rotations", "both"}
+        Also paste blocks of the exemplar's mirror images (``"flips"``),
+        quarter turns (``"rotations"``) or both, each block from one copy,
+        as ``Search(augment=...)`` does for the neighbourhood-matching
+        methods (:func:`~texsynth.core.search.augmented_set`). Default
+        ``"none"``. ``info.sources`` and ``info.coordinates`` still point
+        into the exemplar (a source: the exemplar pixel that the block's
+        top-left pixel shows).
     rng : None, int or numpy.random.Generator
         Random source for the choice of blocks; an int seed reproduces the
         output bit for bit.
@@ -491,6 +512,7 @@ def quilt(exemplar, size, *, block="auto", overlap="auto", error_tolerance=ERROR
 
     Notes
     -----
+
     Blocks are placed in raster order with a step of ``B - O``; the first is
     drawn at random. For each later block, every ``B x B`` block ``b`` of the
     exemplar is scored by its overlap error with the output ``o`` in the
@@ -527,14 +549,6 @@ def quilt(exemplar, size, *, block="auto", overlap="auto", error_tolerance=ERROR
     .. [1] A. A. Efros and W. T. Freeman, "Image quilting for texture
        synthesis and transfer", SIGGRAPH 2001, pp. 341-346.
        :doi:`10.1145/383259.383296`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> brick = data.load("brick")[:96, :96]
-    >>> out, info = quilt(brick, 160, block=32, rng=0, return_info=True)
-    >>> out.shape[:2], info.block, info.overlap, len(info.sources)
-    ((160, 160), 32, 5, 36)
     """
     started = time.perf_counter()
     image = as_image(exemplar, "exemplar")
@@ -547,21 +561,29 @@ def quilt(exemplar, size, *, block="auto", overlap="auto", error_tolerance=ERROR
     grid = Grid(size, B, O, check_bool(tileable, "tileable"))
     gen = as_rng(rng)
     check_canvas_memory(grid, ex.shape[2], ex.shape[:2], value=size)
-    exf = ex.astype(np.float64)
-    search = WindowSearch(exf, (B, B))
-    n_positions = search.shape[0] * search.shape[1]
+    search, atlas = window_search(ex.astype(np.float64), (B, B), augment)  # atlas: the exemplar's copies too
+    exf = search.image
 
     def choose(window, region, known):
         if not known.any():  # nothing to match: any block
-            top, left = divmod(int(gen.integers(n_positions)), search.shape[1])
-            return top, left, 0.0, 0.0, n_positions
+            top, left = search.draw(gen)
+            return top, left, 0.0, 0.0, search.n_positions
         return _draw(search.sq_distances(region, known), tolerance, gen)
 
     canvas, records, searching, sources = paste_blocks(exf, grid, choose, join, progress, "quilt", return_info)
     out = finish(canvas, size, image.dtype, grey)
     if return_info:
-        return out, quilt_info(grid, records, O, started, searching, sources, size)
+        return out, augmented_info(quilt_info(grid, records, O, started, searching, sources, size), atlas)
     return out
+
+
+def augmented_info(info, atlas):
+    """``info`` with its sources and coordinates in the exemplar's pixels when blocks came from an ``atlas`` of its
+    flipped and rotated copies (:func:`~texsynth.core.search.window_search`); ``info`` itself without one."""
+    if atlas is not None:
+        info.sources = atlas.to_exemplar(info.sources)
+        info.coordinates = atlas.to_exemplar(info.coordinates)
+    return info
 
 
 # --------------------------------------------------------------------------
@@ -622,6 +644,20 @@ def quilt_transfer(texture, pattern, *, block="auto", overlap="auto", iterations
                    return_info=False, progress=False):
     """Render a pattern image in a texture by image quilting (Efros & Freeman 2001, Section 3).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> texture = texsynth.data.load("bread")[:96, :96]
+    >>> pattern = np.tile(np.linspace(0, 1, 64), (48, 1))  # a ramp
+    >>> out, info = texsynth.quilt_transfer(texture, pattern, block=24, rng=0, return_info=True)
+    >>> out.shape, [p.block for p in info.passes], info.alphas.tolist()
+    ((48, 64, 3), [24, 16, 11], [0.1, 0.5, 0.9])
+
+    Quilts the pattern's size in passes of shrinking blocks, choosing each
+    block by its overlap error with the output (the texture) weighed against
+    how well its correspondence map (luminance) matches the pattern under
+    it [1]_.
+
     Parameters
     ----------
     texture : array_like
@@ -678,6 +714,7 @@ def quilt_transfer(texture, pattern, *, block="auto", overlap="auto", iterations
 
     Notes
     -----
+
     Pass ``i`` quilts the pattern's size with blocks of ``B_i = B (2/3)^(i-1)``
     and scores every texture block ``b`` at an output position by
 
@@ -702,15 +739,6 @@ def quilt_transfer(texture, pattern, *, block="auto", overlap="auto", iterations
     .. [1] A. A. Efros and W. T. Freeman, "Image quilting for texture
        synthesis and transfer", SIGGRAPH 2001, pp. 341-346.
        :doi:`10.1145/383259.383296`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> texture = data.load("bread")[:96, :96]
-    >>> pattern = np.tile(np.linspace(0, 1, 64), (48, 1))  # a ramp
-    >>> out, info = quilt_transfer(texture, pattern, block=24, rng=0, return_info=True)
-    >>> out.shape, [p.block for p in info.passes], info.alphas.tolist()
-    ((48, 64, 3), [24, 16, 11], [0.1, 0.5, 0.9])
     """
     started = time.perf_counter()
     tex_image = as_image(texture, "texture")

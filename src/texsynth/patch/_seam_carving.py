@@ -27,11 +27,11 @@ changed it (two pixels per row), so a seam costs one DP and one copy of the
 image. The *forward energy* of Rubinstein, Shamir & Avidan 2008 (the cost of
 the new edges a removal creates) is an option.
 
-What could not be checked against the paper's text (it is not in
-``../shared/papers``; the steps follow its published description and
-``../shared/notes/algorithms.md``): the discretisation of the gradient (here
+What could not be checked against the paper's text (it was not at hand;
+the steps follow its published description, a slide deck of the paper and
+public implementations): the discretisation of the gradient (here
 central differences with replicated borders, halved), the exact form of the
-transport-map recurrence (the notes' internally consistent form is used), the
+transport-map recurrence (an internally consistent form is used), the
 averaging rule of inserted seams (here: the seam pixel stays and a new pixel,
 the mean of it and its right or lower neighbour, follows it), the fraction of
 the size by which one insertion step may enlarge (here at most half), the
@@ -464,6 +464,20 @@ def carve_seams(image, size=None, *, energy="backward", order="optimal", enlarge
                 protect_mask=None, return_info=False, progress=False):
     """Resize an image by seam carving: remove or insert seams of least energy (Avidan & Shamir 2007).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> photo = texsynth.data.load("wood")[:64, :64]
+    >>> out, info = texsynth.carve_seams(photo, (56, 48), return_info=True)
+    >>> out.shape, info.n_removed, len(info.seams)
+    ((56, 48, 3), (8, 16), 24)
+    >>> texsynth.carve_seams(photo, (64, 80)).shape  # 16 columns inserted
+    (64, 80, 3)
+
+    Removes (or inserts) one 8-connected path of pixels across the image at
+    a time, the one of least energy (eq. 1), found by dynamic programming,
+    so the image changes size where its content is least noticeable [1]_.
+
     Parameters
     ----------
     image : array_like
@@ -525,6 +539,7 @@ def carve_seams(image, size=None, *, energy="backward", order="optimal", enlarge
 
     Notes
     -----
+
     The energy (eq. 1) is
 
     .. math:: e_1(I) = \\left|\\frac{\\partial I}{\\partial x}\\right| + \\left|\\frac{\\partial I}{\\partial y}\\right|
@@ -577,16 +592,6 @@ def carve_seams(image, size=None, *, energy="backward", order="optimal", enlarge
     .. [2] M. Rubinstein, A. Shamir and S. Avidan, "Improved seam carving for
        video retargeting", ACM TOG 27(3) (SIGGRAPH 2008), article 16.
        :doi:`10.1145/1360612.1360615`
-
-    Examples
-    --------
-    >>> from skimage import data as skdata
-    >>> photo = skdata.astronaut()[::8, ::8]  # 64 x 64
-    >>> out, info = carve_seams(photo, (56, 48), return_info=True)
-    >>> out.shape, info.n_removed, len(info.seams)
-    ((56, 48, 3), (8, 16), 24)
-    >>> carve_seams(photo, (64, 80)).shape  # 16 columns inserted
-    (64, 80, 3)
     """
     started = time.perf_counter()
     img = as_image(image, "image")

@@ -33,9 +33,9 @@ one sheared column per row follows the diagonal; it is pinned to the tile's
 corners, so that no pixel of an edge but the corner pixels comes from another
 diamond.
 
-What could not be checked against the paper's text (it is not in
-``../shared/papers``; the construction follows its published description,
-public implementations and ``../shared/notes/algorithms.md``): the size of the
+What could not be checked against the paper's text (it was not at hand;
+the construction follows its published description, public implementations
+and secondary summaries): the size of the
 diamonds' overlap (here ``overlap``, default a third of the tile), how the
 samples are chosen (here the first at random and each later one among those
 that match the ones chosen within quilting's tolerance; ``error_tolerance=None``
@@ -418,6 +418,19 @@ def wang_tiles(exemplar, tile="auto", *, colors=2, overlap="auto", error_toleran
                cut=True, rng=None, return_info=False, progress=False):
     """Make a set of Wang tiles from an exemplar by quilting with diamonds (Cohen et al. 2003).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> brick = texsynth.data.load("brick")[:96, :96]
+    >>> tiles = texsynth.wang_tiles(brick, 32, rng=0)
+    >>> tiles.tiles.shape, tiles.edges.shape, tiles.tile
+    ((8, 32, 32, 3), (8, 4), 32)
+
+    Every tile is quilted from exemplar samples, one per edge colour, each
+    shown as a diamond around the edge's midpoint and joined to the others
+    along minimum-error cuts, so any two tiles whose shared edge has one
+    colour continue each other across it [1]_ [2]_.
+
     Parameters
     ----------
     exemplar : array_like
@@ -473,6 +486,7 @@ def wang_tiles(exemplar, tile="auto", *, colors=2, overlap="auto", error_toleran
 
     Notes
     -----
+
     With ``a = T // 2 + overlap // 2 + 1``, each north/south colour ``c``
     has a sample ``H_c`` of ``2a x T`` exemplar pixels and each east/west
     colour a sample ``V_c`` of ``T x 2a``. A tile whose north edge is ``c``
@@ -507,14 +521,6 @@ def wang_tiles(exemplar, tile="auto", *, colors=2, overlap="auto", error_toleran
        pp. 287-294. :doi:`10.1145/882262.882265`
     .. [2] A. A. Efros and W. T. Freeman, "Image quilting for texture
        synthesis and transfer", SIGGRAPH 2001. :doi:`10.1145/383259.383296`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> brick = data.load("brick")[:96, :96]
-    >>> tiles = wang_tiles(brick, 32, rng=0)
-    >>> tiles.tiles.shape, tiles.edges.shape, tiles.tile
-    ((8, 32, 32, 3), (8, 4), 32)
     """
     started = time.perf_counter()
     image = as_image(exemplar, "exemplar")
@@ -588,6 +594,19 @@ def _check_tile_set(tiles):
 def wang_tiling(tiles, size, *, tileable=False, rng=None, return_info=False):
     """Cover an image of any size with Wang tiles, chosen at random in scanline order (Cohen et al. 2003).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> tiles = texsynth.wang_tiles(texsynth.data.load("bread")[:96, :96], 32, rng=0)
+    >>> out, info = texsynth.wang_tiling(tiles, (100, 70), rng=0, return_info=True)
+    >>> out.shape, info.indices.shape
+    ((100, 70, 3), (4, 3))
+
+    Each tile is drawn at random among those whose north and west edge
+    colours match the tiles above and to the left (Section 4), so the
+    tiling never repeats in a regular way; a tile set is reused for any
+    number of outputs [1]_.
+
     Parameters
     ----------
     tiles : WangTileSet
@@ -627,6 +646,7 @@ def wang_tiling(tiles, size, *, tileable=False, rng=None, return_info=False):
 
     Notes
     -----
+
     *Tileable.* The last tile of a row must also match the row's first
     tile on its east edge, the tiles of the last row the first row on
     their south edges. With :func:`tile_edges`' set of two colours this
@@ -653,14 +673,6 @@ def wang_tiling(tiles, size, *, tileable=False, rng=None, return_info=False):
     .. [1] M. F. Cohen, J. Shade, S. Hiller and O. Deussen, "Wang tiles for
        image and texture generation", ACM TOG 22(3) (SIGGRAPH 2003),
        pp. 287-294. :doi:`10.1145/882262.882265`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> tiles = wang_tiles(data.load("bread")[:96, :96], 32, rng=0)
-    >>> out, info = wang_tiling(tiles, (100, 70), rng=0, return_info=True)
-    >>> out.shape, info.indices.shape
-    ((100, 70, 3), (4, 3))
     """
     started = time.perf_counter()
     edges = _check_tile_set(tiles)
@@ -734,8 +746,17 @@ def wang_texture(exemplar, size, *, tile="auto", colors=2, overlap="auto", error
                  n_candidates=CANDIDATES, cut=True, tileable=False, rng=None, return_info=False, progress=False):
     """Synthesise a texture of any size with Wang tiles: a tile set, then a random tiling (Cohen et al. 2003).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> brick = texsynth.data.load("brick")[:96, :96]
+    >>> texsynth.wang_texture(brick, 200, tile=32, rng=0).shape
+    (200, 200, 3)
+
     The same as ``wang_tiling(wang_tiles(exemplar, tile, ...), size)`` with one random source for both
-    (:func:`wang_tiles`, :func:`wang_tiling`).
+    (:func:`wang_tiles`, :func:`wang_tiling`): a small set of tiles quilted
+    from the exemplar, whose matching edge colours let a random tiling of
+    any size join without seams [1]_.
 
     Parameters
     ----------
@@ -775,12 +796,6 @@ def wang_texture(exemplar, size, *, tile="auto", colors=2, overlap="auto", error
     .. [1] M. F. Cohen, J. Shade, S. Hiller and O. Deussen, "Wang tiles for
        image and texture generation", ACM TOG 22(3) (SIGGRAPH 2003),
        pp. 287-294. :doi:`10.1145/882262.882265`
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> wang_texture(data.load("brick")[:96, :96], 200, tile=32, rng=0).shape
-    (200, 200, 3)
     """
     started = time.perf_counter()
     size = as_size(size)

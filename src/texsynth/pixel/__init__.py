@@ -8,7 +8,7 @@
 - :func:`efros_leung`: Efros & Leung 1999, non-parametric sampling grown
   pixel by pixel from a seed; hole filling.
 - :func:`synthesize_controlled`: Zhang et al. 2003, texton masks, orientation
-  and scale fields, progressive variation between two exemplars.
+  and magnification fields, progressive variation between two exemplars.
 
 Option groups: :class:`Neighborhood` (the multi-resolution neighbourhood of
 the Wei-Levoy family and Zhang et al.), :class:`Sampling` (Efros-Leung's

@@ -76,7 +76,7 @@ from ..core._validate import (
     with_channels,
 )
 from ..core.neighborhood import all_patches, gaussian_falloff, patches_within
-from ..core.search import MASKED_METHODS, MaskedIndex, Search, is_auto
+from ..core.search import MASKED_METHODS, ExemplarAtlas, MaskedIndex, Search, is_auto
 
 __all__ = ["EfrosLeungInfo", "Sampling", "efros_leung"]
 
@@ -157,6 +157,16 @@ class EfrosLeungInfo:
 class Sampling:
     """How Efros & Leung sample a pixel from the windows that match its own (their Sec. 2.1 and pseudo-code).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.Sampling(error_tolerance=0.2)
+    Sampling(error_tolerance=0.2, max_error=0.3, sigma='auto')
+    >>> texsynth.Sampling(error_tolerance=-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: error_tolerance must be a finite number >= 0, got -1.0
+
     The Gaussian weighting of the window distance, the tolerance that makes
     the candidate set, and the error a pick must stay below. An option
     group of :func:`efros_leung` (``sampling=Sampling(...)``); on the
@@ -166,8 +176,9 @@ class Sampling:
     Parameters
     ----------
     error_tolerance : float
-        The paper's ``ε >= 0``: the candidates are the windows with
-        ``d <= (1 + ε) d_min`` (default 0.1, the paper's). 0 keeps only the
+        How much worse than the best window a candidate may be, as a
+        fraction (default 0.1, the paper's). It is the paper's ``ε >= 0``:
+        the candidates are the windows with ``d <= (1 + ε) d_min``. 0 keeps only the
         best match (and exact ties).
     max_error : float or None
         The pseudo-code's MaxErrThreshold (default 0.3): a pick whose error
@@ -176,18 +187,8 @@ class Sampling:
         threshold rises by 10 %. None accepts every pick (the IPOL
         implementation).
     sigma : float or "auto"
-        Width in pixels of the Gaussian weights ``G_σ``. ``"auto"``
+        Width in pixels of the Gaussian weights of a window (``G_σ``). ``"auto"``
         (default): ``w / 6.4`` for the window width ``w``.
-
-    Examples
-    --------
-    >>> from texsynth.pixel import Sampling
-    >>> Sampling(error_tolerance=0.2)
-    Sampling(error_tolerance=0.2, max_error=0.3, sigma='auto')
-    >>> Sampling(error_tolerance=-1)
-    Traceback (most recent call last):
-    ...
-    ValueError: error_tolerance must be a finite number >= 0, got -1.0
     """
 
     error_tolerance: float = 0.1
@@ -462,6 +463,19 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, sampling=Sampling(), se
                 return_info=False):
     """Efros-Leung texture synthesis by non-parametric sampling: grow the output pixel by pixel.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> exemplar = texsynth.data.load("bread")[:20, :20]
+    >>> out = texsynth.efros_leung(exemplar, 16, neighborhood_size=5, rng=0)
+    >>> out.shape, out.dtype
+    ((16, 16, 3), dtype('float64'))
+
+    Grows the output pixel by pixel from a 3x3 seed: each pixel at the
+    growth front copies the centre of an exemplar window drawn at random
+    among those that match its known neighbours (Gaussian-weighted) within
+    a tolerance of the best match [1]_.
+
     Parameters
     ----------
     exemplar : array_like
@@ -483,8 +497,9 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, sampling=Sampling(), se
         to the output at its borders). ``"auto"`` (default): the centre, as
         in the paper. Not with ``mask``: then the known pixels are the seed.
     mask : array_like of bool, optional
-        ``(H, W)`` hole filling: True where ``target`` is known (kept
-        unchanged), False in the hole (synthesised). Requires ``target``.
+        Hole filling: white (True) where ``target`` is known (kept
+        unchanged), black (False) in the hole (synthesised); ``(H, W)``.
+        Requires ``target``.
     target : array_like, optional
         ``(H, W[, C])`` the image with the hole, as the exemplar's channels.
     exemplar_mask : array_like of bool, optional
@@ -500,6 +515,8 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, sampling=Sampling(), se
         variance, the rest exactly: the IPOL acceleration [3]_, 1.6x faster,
         visually alike (see Notes). Every exemplar window is a candidate
         (``candidates`` ``"all"`` or ``"auto"``; ``k`` is not used).
+        ``augment``: the windows of the exemplar's flipped or rotated copies
+        are candidates too (``source`` still points into the exemplar).
     tileable : bool
         Toroidal output: a window that crosses the output's border continues
         on the opposite side (the known pixels there count, the growth front
@@ -559,6 +576,24 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, sampling=Sampling(), se
     w = 11 (``benchmarks/bench_efros_leung.py``). The products are small, so
     they run on one BLAS thread.
 
+    The default :class:`Sampling` is the paper's (``error_tolerance=0.1``),
+    and a seed reproduces the output:
+
+    >>> sampling = texsynth.Sampling(error_tolerance=0.1)
+    >>> bool(np.array_equal(out, texsynth.efros_leung(exemplar, 16, neighborhood_size=5, sampling=sampling, rng=0)))
+    True
+
+    Hole filling: the known pixels stay, the hole is grown from its rim.
+
+    >>> import numpy as np
+    >>> image = texsynth.data.load("bread")[:24, :24]
+    >>> known = np.ones((24, 24), bool)
+    >>> known[8:16, 8:16] = False
+    >>> filled = texsynth.efros_leung(image, (24, 24), neighborhood_size=5, target=image, mask=known,
+    ...                               exemplar_mask=known, rng=0)
+    >>> bool(np.array_equal(filled[known], image[known]))
+    True
+
     References
     ----------
     .. [1] A. A. Efros and T. K. Leung, "Texture synthesis by non-parametric
@@ -569,26 +604,6 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, sampling=Sampling(), se
     .. [3] C. Aguerrebere, Y. Gousseau and G. Tartavel, "Exemplar-based
        texture synthesis: the Efros-Leung algorithm", Image Processing On
        Line 3 (2013), pp. 223-241. :doi:`10.5201/ipol.2013.59`
-
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> ex = load("bread")[:20, :20]
-    >>> out = efros_leung(ex, 16, neighborhood_size=5, sampling=Sampling(error_tolerance=0.1), rng=0)
-    >>> out.shape, out.dtype
-    ((16, 16, 3), dtype('float64'))
-    >>> bool(np.array_equal(out, efros_leung(ex, 16, neighborhood_size=5, rng=0)))
-    True
-
-    Hole filling: the known pixels stay, the hole is grown from its rim.
-
-    >>> image = load("bread")[:24, :24]
-    >>> known = np.ones((24, 24), bool)
-    >>> known[8:16, 8:16] = False
-    >>> filled = efros_leung(image, (24, 24), neighborhood_size=5, target=image, mask=known,
-    ...                      exemplar_mask=known, rng=0)
-    >>> bool(np.array_equal(filled[known], image[known]))
-    True
     """
     start = time.perf_counter()
     ex, grey = with_channels(as_image(exemplar, "exemplar"))
@@ -614,6 +629,9 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, sampling=Sampling(), se
                          f"wrap onto itself; pass a size of at least {w} or a smaller neighborhood_size")
     allowed = np.ones(ex.shape[:2], bool) if exemplar_mask is None else _check_map(exemplar_mask, ex.shape[:2],
                                                                                   "exemplar_mask")
+    atlas = None if search.augment == "none" else ExemplarAtlas(ex.shape[:2], search.augment)
+    if atlas is not None:  # Search(augment=...): the windows of the exemplar's flipped and rotated copies too
+        ex, allowed = atlas.apply(ex, valid=allowed)
     rng = as_rng(rng)
     _check_memory(ex.shape[:2], channels, ex.itemsize, w, size)
 
@@ -640,7 +658,9 @@ def efros_leung(exemplar, size, *, neighborhood_size=11, sampling=Sampling(), se
     if not return_info:
         return out
     now = time.perf_counter()
-    info = EfrosLeungInfo(source=canvas.source, error=canvas.error, n_candidates=canvas.n_candidates,
+    source = canvas.source if atlas is None else np.where(  # augmented: the exemplar pixels the copies show
+        canvas.source >= 0, atlas.to_exemplar(np.maximum(canvas.source, 0)), -1)
+    info = EfrosLeungInfo(source=source, error=canvas.error, n_candidates=canvas.n_candidates,
                           layer=canvas.layer, passes=passes, batches=batches, max_error=threshold,
                           neighborhood_size=w, sigma=sigma, method=method, n_components=index.n_components,
                           seconds=now - start, stage_seconds={"index": t_index - start, "growth": now - t_index})

@@ -20,7 +20,7 @@ k-coherent candidates (:func:`~texsynth.synthesize_pixels` with
    and the mask is synthesised along with the colour: a neighbourhood that
    cuts an element in two costs ``w_M`` per pixel of the cut, whatever the
    element's colour, so elements stay whole.
-2. **Orientation and scale fields.** The output neighbourhood of pixel ``p``
+2. **Orientation and magnification fields.** The output neighbourhood of pixel ``p``
    is sampled in the local frame, at ``p + S(p) R(theta(p)) d`` for every
    footprint offset ``d`` (bilinear, toroidal), at this level and at the
    parent level; it is compared with the exemplar's plain neighbourhood at
@@ -73,7 +73,7 @@ from ..core.fields import as_field as _field, bilinear as _bilinear, frames as _
 from ..core.fields import taps as _taps
 from ..core.neighborhood import SHAPES, causal_parts, footprint, mask_offsets, patch_shape, wavefronts
 from ..core.pyramid import gaussian_pyramid, level_shapes
-from ..core.search import KCoherence, Search, check_method, is_auto, nearest_candidates, resolve
+from ..core.search import KCoherence, Search, check_method, is_auto, nearest_candidates, refuse_augment, resolve
 from ._wei_levoy import (Neighborhood, Source, candidate_pixels, check_fits, check_output_levels,
                          default_parent_size)
 
@@ -143,6 +143,14 @@ class ControlledSynthesisInfo:
 def find_textons(exemplar, *, sigma=1.0, threshold="auto"):
     """A binary texton mask of an exemplar: its blurred luminance, thresholded.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> brick = texsynth.data.load("brick")[:64, :64]
+    >>> mask = texsynth.find_textons(brick)  # the mortar, the rarer phase
+    >>> mask.shape, mask.dtype
+    ((64, 64), dtype('bool'))
+
     What ``texton_mask="auto"`` of :func:`synthesize_controlled` uses; call
     it yourself to adjust the mask (or draw one) and pass the result.
 
@@ -177,19 +185,19 @@ def find_textons(exemplar, *, sigma=1.0, threshold="auto"):
     -----
     Zhang et al. [1]_ mark the texture elements of an exemplar by hand or
     with simple image segmentation; which segmentation they used could not
-    be checked here. Luminance is the mean of the colour channels.
+    be checked here. Luminance is the mean of the colour channels. The blur
+    widens thin elements:
+
+    >>> import numpy as np
+    >>> image = np.zeros((8, 8)); image[2:4, 2:6] = 1.0
+    >>> int(texsynth.find_textons(image, sigma=0).sum()), int(texsynth.find_textons(image).sum())
+    (8, 12)
 
     References
     ----------
     .. [1] J. Zhang, K. Zhou, L. Velho, B. Guo and H.-Y. Shum, "Synthesis of
        progressively-variant textures on arbitrary surfaces", SIGGRAPH 2003.
        :doi:`10.1145/882262.882344`
-
-    Examples
-    --------
-    >>> image = np.zeros((8, 8)); image[2:4, 2:6] = 1.0
-    >>> int(find_textons(image, sigma=0).sum()), int(find_textons(image).sum())  # the blur widens it
-    (8, 12)
     """
     from scipy.ndimage import gaussian_filter
     from skimage.filters import threshold_otsu
@@ -465,7 +473,7 @@ def synthesize_controlled(
     texton_mask="auto",
     texton_weight=1.0,
     orientation=None,
-    scale=None,
+    magnification=None,
     exemplar_b=None,
     blend=None,
     blend_weight=1.0,
@@ -476,6 +484,20 @@ def synthesize_controlled(
     return_info=False,
 ):
     """Texton-mask synthesis with local orientation and size control and progressive variation (Zhang et al. 2003).
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> brick = texsynth.data.load("brick")[:32, :32]
+    >>> out, info = texsynth.synthesize_controlled(brick, 24, orientation=np.pi / 2, rng=0, return_info=True,
+    ...                                            neighborhood=texsynth.Neighborhood(levels=2))  # turned 90°
+    >>> out.shape, info.texton_mask.shape
+    ((24, 24, 3), (24, 24))
+
+    Pixel-based synthesis that matches the texton mask (the texture's
+    elements) along with the colours, so elements keep their shape, with
+    the texture turned and magnified locally by fields and, with a second
+    exemplar, a progressive variation from one to the other [1]_.
 
     Parameters
     ----------
@@ -492,20 +514,20 @@ def synthesize_controlled(
         with k-coherent candidates). With ``exemplar_b``: ``"auto"``, None
         or a pair ``(mask, mask_b)``.
     texton_weight : float
-        ``w_M``: weight of a mask difference against a colour difference
-        (per pixel, colours in [0, 1]). Default 1: a pixel on the wrong side
+        Weight of a texton-mask difference against a colour difference
+        (per pixel, colours in [0, 1]); the paper's ``w_M``. Default 1: a pixel on the wrong side
         of an element boundary costs as much as the largest colour
         difference of one channel. 0 compares colour alone.
     orientation : None, float, array_like or callable
-        ``theta``: angle in radians, counter-clockwise as the image is
-        shown, by which the texture is turned at each output pixel: a
+        Angle in radians, counter-clockwise as the image is shown, by which
+        the texture is turned at each output pixel (``theta``): a
         number (everywhere), an array of the output size, or a callable
         ``orientation(rows, cols)`` of float arrays of output pixel
         coordinates returning the angles. None: 0.
-    scale : None, float, array_like or callable
-        ``S``: magnification of the texture at each output pixel (2: elements
-        twice as large), same forms as ``orientation``; finite, in
-        [0.001, 1000]. None: 1.
+    magnification : None, float, array_like or callable
+        How much larger the texture's elements appear at each output pixel
+        (2: twice as large; the output's size is ``size``); ``S``, same forms
+        as ``orientation``; finite, in [0.001, 1000]. None: 1.
     exemplar_b : array_like, optional
         A second exemplar, same channels, for a progressive variation.
     blend : None, float, array_like or callable
@@ -516,7 +538,8 @@ def synthesize_controlled(
         Notes), so the share of ``exemplar_b`` around a pixel is ``blend``
         there.
     blend_weight : float
-        ``w_F``: weight of the transition channel (default 1). Larger: the
+        Weight of the transition channel (default 1); the paper's ``w_F``.
+        Larger: the
         output follows the dithered ``blend`` more closely; smaller: the
         elements decide more where one exemplar gives way to the other.
     neighborhood : Neighborhood
@@ -549,7 +572,7 @@ def synthesize_controlled(
     ValueError, TypeError
         For an invalid exemplar or option, a texton mask of another size than
         its exemplar, fields not of the output size, non-finite fields,
-        non-positive scales, blend values outside [0, 1], ``blend`` without
+        non-positive magnifications, blend values outside [0, 1], ``blend`` without
         ``exemplar_b`` (or the reverse), exemplars with different channels,
         or a size that cannot fit in memory.
 
@@ -566,6 +589,13 @@ def synthesize_controlled(
     colour, ``w_M`` times the texton mask and ``w_F`` times the transition
     channel. The candidates ``x`` are the k-coherence sets [2]_ of the
     continuations ``s(r) - A^{-1}(r - p)`` of the neighbours' copies.
+
+    >>> two = texsynth.Search(candidates="k-coherent", k=2)  # k-coherence sets of 2
+    >>> out = texsynth.synthesize_controlled(brick, 24, neighborhood=texsynth.Neighborhood(levels=2), search=two, rng=0)
+    >>> texsynth.synthesize_controlled(brick, 24, magnification=0.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: magnification must be positive everywhere (a factor: 2 doubles the elements), got a minimum of 0
 
     What could not be checked: the paper [1]_ was not at hand; this follows
     its published abstract, the lecture slides that summarise it ("texton
@@ -593,27 +623,13 @@ def synthesize_controlled(
     .. [2] X. Tong, J. Zhang, L. Liu, X. Wang, B. Guo and H.-Y. Shum,
        "Synthesis of bidirectional texture functions on arbitrary surfaces",
        SIGGRAPH 2002. :doi:`10.1145/566654.566634`
-
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> ex = load("brick")[:32, :32]
-    >>> from texsynth.core.search import Search
-    >>> out, info = synthesize_controlled(ex, 24, orientation=np.pi / 2, neighborhood=Neighborhood(levels=2), rng=0,
-    ...                                   return_info=True)
-    >>> out.shape, info.texton_mask.shape
-    ((24, 24, 3), (24, 24))
-    >>> two = Search(candidates="k-coherent", k=2)  # k-coherence sets of 2
-    >>> out = synthesize_controlled(ex, 24, neighborhood=Neighborhood(levels=2), search=two, rng=0)
-    >>> synthesize_controlled(ex, 24, scale=0.0)
-    Traceback (most recent call last):
-    ...
-    ValueError: scale must be positive everywhere (a scale factor), got a minimum of 0
     """
     start = time.perf_counter()
     size = as_size(size)
     nb = check_group(neighborhood, Neighborhood, "neighborhood")
     search = check_group(search, Search, "search")
+    refuse_augment(search.augment, "synthesize_controlled", "its orientation and magnification fields turn and "
+                   "scale the exemplar's own k-coherent copies")
     if search.resolved_candidates("k-coherent") != "k-coherent":
         raise ValueError(f"synthesize_controlled searches k-coherent candidates only; pass "
                          f"search=Search(candidates='k-coherent'), got candidates={search.candidates!r}")
@@ -643,7 +659,7 @@ def synthesize_controlled(
     channels = image.shape[-1]
     check_memory(n * 8 * (4 * (channels + 2) + 16 + 9 * (channels + 2)), size)
     theta = _field(orientation, size, "orientation")
-    factor = _field(scale, size, "scale", positive=True)
+    factor = _field(magnification, size, "magnification", positive=True)
     blend_map = _field(blend, size, "blend")
     if blend_map is not None and (blend_map.min() < 0 or blend_map.max() > 1):
         raise ValueError(f"blend must lie in [0, 1] (0: exemplar, 1: exemplar_b), got values in "

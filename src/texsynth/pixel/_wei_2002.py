@@ -42,7 +42,8 @@ import numbers
 import numpy as np
 
 from ..core._validate import as_rng, as_size, check_bool, check_choice, check_group, restore_channels
-from ..core.search import Search, is_auto, lowest_cost
+from ..core.search import Search, is_auto, lowest_cost, refuse_augment
+from ._augment import augmented_source, to_exemplar
 from ._wei_levoy import (SHAPES, Mixture, Neighborhood, average_picks, check_candidate_options,
                          check_order_method, check_output_memory, prepare_sources, search_options, synthesize_levels)
 
@@ -330,6 +331,21 @@ def mix_textures(
 ):
     """Texture mixture from several sources (Wei 2002, eq. 1).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> a, b = texsynth.data.load("bread")[:24, :24], texsynth.data.load("wood")[:24, :24]
+    >>> ramp = np.tile(np.linspace(0, 1, 20), (20, 1))  # bread on the left, wood on the right
+    >>> out = texsynth.mix_textures([a, b], 20, weights=[1 - ramp, ramp], rng=0,
+    ...                             neighborhood=texsynth.Neighborhood(levels=2))
+    >>> out.shape
+    (20, 20, 3)
+
+    Every output pixel ``p`` takes from each source ``i`` the pixel ``p_i``
+    whose neighbourhood matches its own and becomes their weighted average;
+    the two steps alternate to minimise eq. 1, so the output mixes the
+    sources' textures in the proportions ``weights`` gives [1]_.
+
     Parameters
     ----------
     sources : sequence of array_like
@@ -373,7 +389,8 @@ def mix_textures(
         the map of where its ``p_i`` came from, and eq. 1 alternates over the
         candidates that map's neighbours suggest (their neighbourhood
         distances computed once per pixel). Scanline order only; not with
-        ``tileable=True``.
+        ``tileable=True``. ``augment``: each source's flipped or rotated
+        copies are its candidates too (with ``candidates="all"``).
     order, passes, rng, progress, return_info
         As in :func:`~texsynth.synthesize_pixels`.
 
@@ -420,10 +437,21 @@ def mix_textures(
     pi/4 of the values (5x5: 21 of 25, 9x9: 69 of 81). A rectangular
     ``(h, w)`` box suits elongated texons (bricks). 3x3 discs keep all 9
     pixels, so they equal 3x3 squares. The shape is this library's option,
+
     not a setting the paper reports. The neighbourhood term of eq. 1 sums
     over the pixels of ``N_i``, so at equal weights a source with a larger
     neighbourhood counts more (a ramp turns later); divide ``w_i`` by the
-    pixel count of ``N_i`` to balance them.
+    pixel count of ``N_i`` to balance them. One setting per source, and a
+    pair that is ambiguous with two sources:
+
+    >>> per_source = texsynth.Neighborhood(neighborhood_size=[3, (5, 7)], neighborhood_shape=["square", "disc"],
+    ...                                    levels=2)
+    >>> out = texsynth.mix_textures([a, b], 20, neighborhood=per_source, rng=0)
+    >>> ambiguous = texsynth.Neighborhood(neighborhood_size=(3, 5))
+    >>> texsynth.mix_textures([a, b], 20, neighborhood=ambiguous)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: neighborhood_size=(3, 5) is ambiguous with two sources: ... [3, 5] ... or [(3, 5), (3, 5)] ...
 
     References
     ----------
@@ -432,21 +460,6 @@ def mix_textures(
     .. [2] L.-Y. Wei and M. Levoy, "Fast texture synthesis using
        tree-structured vector quantization", SIGGRAPH 2000.
        :doi:`10.1145/344779.345009`
-
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> a, b = load("bread")[:24, :24], load("wood")[:24, :24]
-    >>> ramp = np.tile(np.linspace(0, 1, 20), (20, 1))
-    >>> out = mix_textures([a, b], 20, weights=[1 - ramp, ramp], neighborhood=Neighborhood(levels=2), rng=0)
-    >>> out.shape
-    (20, 20, 3)
-    >>> per_source = Neighborhood(neighborhood_size=[3, (5, 7)], neighborhood_shape=["square", "disc"], levels=2)
-    >>> out = mix_textures([a, b], 20, neighborhood=per_source, rng=0)
-    >>> mix_textures([a, b], 20, neighborhood=Neighborhood(neighborhood_size=(3, 5)))  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    ValueError: neighborhood_size=(3, 5) is ambiguous with two sources: ... [3, 5] ... or [(3, 5), (3, 5)] ...
     """
     if isinstance(sources, np.ndarray) or not hasattr(sources, "__len__") or len(sources) == 0:
         raise ValueError("sources must be a non-empty list of exemplar images, e.g. [a, b]")
@@ -465,6 +478,7 @@ def mix_textures(
     srcs, channels, dtype, grey = prepare_sources(
         sources, names, sizes, psizes, [None] * n, nb.levels, "neighborhood_size", shapes=shapes
     )
+    srcs = [augmented_source(s, search.augment, nb.levels, candidates) for s in srcs]  # the exemplars' copies too
     check_output_memory(srcs, size, channels, dtype, order)  # before the weight images are summed at the output size
     for src, w in zip(srcs, _check_weights(weights, n, size)):
         src.weights = w
@@ -473,6 +487,7 @@ def mix_textures(
         passes=passes, rng=rng, progress=progress, desc="Wei mixture", candidates=candidates, k=k,
         tileable=tileable and order == "scanline", mixture=_EQ1,
     )
+    info.coordinates = to_exemplar(srcs, info.coordinates, info.source_index)
     out = restore_channels(out, grey)
     return (out, info) if return_info else out
 
@@ -491,6 +506,18 @@ def synthesize_solid(
     return_info=False,
 ):
     """Solid texture from 2-D views along the volume axes (Wei 2002).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> bread = texsynth.data.load("bread")[:24, :24]
+    >>> volume = texsynth.synthesize_solid(bread, 8, neighborhood=texsynth.Neighborhood(levels=1), passes=1, rng=0)
+    >>> volume.shape
+    (8, 8, 8, 3)
+
+    A volume whose slices across each view's axis look like that view:
+    every view is one source of Wei's multi-source energy (eq. 1), with its
+    neighbourhoods in the plane perpendicular to its axis [1]_.
 
     Parameters
     ----------
@@ -521,7 +548,8 @@ def synthesize_solid(
         candidates, profile ``"solid"``) for large ones. ``"tsvq"`` is Wei &
         Levoy's tree-structured vector quantization (faster, less exact; see
         Notes). Every voxel is compared with all candidates
-        (``candidates`` ``"all"`` or ``"auto"``; ``k`` is not used).
+        (``candidates`` ``"all"`` or ``"auto"``; ``k`` is not used; no
+        ``augment``: each view fixes the orientation in its plane).
     rng, progress, return_info
         As in :func:`synthesize_pixels`.
 
@@ -541,6 +569,7 @@ def synthesize_solid(
 
     Notes
     -----
+
     Every view is one source of eq. 1 (equal weights); the neighbourhood
     ``N_a`` of a voxel for the view along axis ``a`` is the square in the
     plane perpendicular to ``a`` (and its parent one level coarser, in the
@@ -575,17 +604,11 @@ def synthesize_solid(
        Sketches & Applications. :doi:`10.1145/965400.965507`
     .. [2] L.-Y. Wei and M. Levoy, "Order-independent texture synthesis",
        Stanford University Technical Report TR-2002-01, 2002.
-
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> vol = synthesize_solid(load("bread")[:24, :24], 8, neighborhood=Neighborhood(levels=1), passes=1, rng=0)
-    >>> vol.shape
-    (8, 8, 8, 3)
     """
     size = as_size(size, "size", ndim=3)
     nb = check_group(neighborhood, Neighborhood, "neighborhood")
     method, candidates, _ = search_options(search)
+    refuse_augment(search.augment, "synthesize_solid", "each view fixes the texture's orientation in its plane")
     if candidates != "all" or not is_auto(search.k):
         raise ValueError(f"synthesize_solid compares every voxel with all candidates; pass search=Search(method=...) "
                          f"with candidates='all' and k='auto', got candidates={candidates!r}, k={search.k!r}")

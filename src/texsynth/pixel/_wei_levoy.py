@@ -61,6 +61,7 @@ from ..core.neighborhood import (SHAPES, causal_mask, causal_parts, extract, foo
 from ..core.pyramid import gaussian_pyramid
 from ..core.search import (CANDIDATES, PatchIndex, Search, SequentialExact, SubsetExact, check_candidates, check_method,
                            is_auto, lowest_cost, resolve)
+from ._augment import augmented_source, to_exemplar
 from ._kcoherent import coherent_level
 
 __all__ = [
@@ -145,6 +146,16 @@ class PixelSynthesisInfo:
 class Neighborhood:
     """The multi-resolution neighbourhood a pixel is matched by (Wei & Levoy 2000, Sec. 3.2).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.Neighborhood(neighborhood_size=7, levels=2)
+    Neighborhood(neighborhood_size=7, neighborhood_shape='square', parent_size='auto', levels=2)
+    >>> texsynth.Neighborhood(neighborhood_shape="round")
+    Traceback (most recent call last):
+    ...
+    ValueError: neighborhood_shape must be one of 'square', 'disc', got 'round'
+
     The neighbourhood of an output pixel at one pyramid level, joined to the
     neighbourhood of its parent pixel one level coarser. An option group of
     :func:`synthesize_pixels`, :func:`~texsynth.mix_textures`,
@@ -182,16 +193,6 @@ class Neighborhood:
     levels : int
         Pyramid levels (default 3, as in Wei & Levoy 2000). 1 is
         single-resolution.
-
-    Examples
-    --------
-    >>> from texsynth.pixel import Neighborhood
-    >>> Neighborhood(neighborhood_size=7, levels=2)
-    Neighborhood(neighborhood_size=7, neighborhood_shape='square', parent_size='auto', levels=2)
-    >>> Neighborhood(neighborhood_shape="round")
-    Traceback (most recent call last):
-    ...
-    ValueError: neighborhood_shape must be one of 'square', 'disc', got 'round'
     """
 
     neighborhood_size: object = 5
@@ -249,6 +250,7 @@ class Source:
     name: str
     weights: list = field(default_factory=list)  # normalised weight per output level
     shape: str = "square"  # footprint of N_i at this level and at the parent level
+    atlas: object = None  # Search(augment=...): the ExemplarAtlas whose copies' pyramids `pyramid` holds
 
     @property
     def parent_mask(self):
@@ -263,7 +265,10 @@ class Source:
 
 
 def candidate_pixels(source, level, levels):
-    """Exemplar pixels whose neighbourhoods (and parents') lie inside the exemplar."""
+    """Exemplar pixels whose neighbourhoods (and parents') lie inside the exemplar (inside one of its copies)."""
+    if source.atlas is not None:
+        return np.concatenate([candidate_pixels(dataclasses.replace(source, pyramid=p, atlas=None), level, levels) + c
+                               for p, c in zip(source.atlas.tiles(source.pyramid), source.atlas.corners(level))])
     ex = source.pyramid[level]
     has_parent = level + 1 < levels
     (nh, nw), (ph, pw) = source.size, source.parent_size
@@ -325,7 +330,8 @@ def _noise(sources, weights, channels, dtype, rng, level=0):
         pick += u >= cumulative
     out = np.empty(shape + (channels,), dtype)
     for i, src in enumerate(sources):
-        pixels = src.pyramid[level].reshape(-1, channels)
+        pixels = src.pyramid[level].reshape(-1, channels) if src.atlas is None else src.pyramid[level][
+            src.atlas.inside(level)]
         here = pick == i
         out[here] = pixels[np.minimum((v[here] * len(pixels)).astype(np.intp), len(pixels) - 1)]
     return out
@@ -1031,6 +1037,19 @@ def synthesize_pixels(
 ):
     """Wei-Levoy multi-resolution pixel synthesis (scanline or order-independent).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> bread = texsynth.data.load("bread")[:24, :24]
+    >>> out = texsynth.synthesize_pixels(bread, 20, neighborhood=texsynth.Neighborhood(levels=2), rng=0)
+    >>> out.shape, out.dtype
+    ((20, 20, 3), dtype('float64'))
+
+    Synthesises a pyramid coarse to fine: every output pixel becomes the
+    exemplar pixel whose multi-resolution neighbourhood best matches its
+    own, in scanline order with causal neighbourhoods [1]_ or in passes
+    over every pixel at once [2]_.
+
     Parameters
     ----------
     exemplar : array_like
@@ -1051,7 +1070,9 @@ def synthesize_pixels(
         (``"auto"``, ``"exact"``, ``"kdtree"``, ``"tsvq"``), ``candidates``
         ``"all"`` (``"auto"``, Wei & Levoy) or ``"k-coherent"`` (Ashikhmin
         [3]_, Tong et al. [4]_), ``k`` the size of the k-coherence sets
-        (``"auto"``: 1, Ashikhmin's search). See Notes.
+        (``"auto"``: 1, Ashikhmin's search), ``augment`` the exemplar's
+        flipped or rotated copies, each with its own pyramid, as candidates
+        too (with ``candidates="all"``). See Notes.
     passes : int
         ``order="independent"`` only: passes over each level (default 2).
     tileable : bool
@@ -1123,6 +1144,17 @@ def synthesize_pixels(
     checked here), so pieces end where they fit rather than only where the
     copy runs out, at about ``k`` times the cost.
 
+    The same seed gives the same output, and k-coherent search suits a
+    structured exemplar:
+
+    >>> import numpy as np
+    >>> bool(np.array_equal(out, texsynth.synthesize_pixels(bread, 20, neighborhood=texsynth.Neighborhood(levels=2),
+    ...                                                     rng=0)))
+    True
+    >>> bricks = texsynth.synthesize_pixels(texsynth.data.load("brick")[:32, :32], 24, rng=0,
+    ...                                     neighborhood=texsynth.Neighborhood(levels=2),
+    ...                                     search=texsynth.Search(candidates="k-coherent"))
+
     References
     ----------
     .. [1] L.-Y. Wei and M. Levoy, "Fast texture synthesis using
@@ -1135,19 +1167,6 @@ def synthesize_pixels(
     .. [4] X. Tong, J. Zhang, L. Liu, X. Wang, B. Guo and H.-Y. Shum,
        "Synthesis of bidirectional texture functions on arbitrary surfaces",
        SIGGRAPH 2002, pp. 665-672. :doi:`10.1145/566654.566634`
-
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> ex = load("bread")[:24, :24]
-    >>> out = synthesize_pixels(ex, 20, neighborhood=Neighborhood(levels=2), rng=0)
-    >>> out.shape == (20, 20, 3), out.dtype
-    (True, dtype('float64'))
-    >>> bool(np.array_equal(out, synthesize_pixels(ex, 20, neighborhood=Neighborhood(levels=2), rng=0)))
-    True
-    >>> from texsynth.core.search import Search
-    >>> bricks = synthesize_pixels(load("brick")[:32, :32], 24, neighborhood=Neighborhood(levels=2),
-    ...                            search=Search(candidates="k-coherent"), rng=0)
     """
     size = as_size(size)
     nb = check_group(neighborhood, Neighborhood, "neighborhood")
@@ -1160,12 +1179,14 @@ def synthesize_pixels(
         [exemplar], ["exemplar"], [nb.neighborhood_size], [nb.parent_size], [None], nb.levels, "neighborhood_size",
         shapes=[check_choice(nb.neighborhood_shape, "neighborhood_shape", SHAPES)],
     )
+    sources[0] = augmented_source(sources[0], search.augment, nb.levels, candidates)  # the exemplar's copies too
     sources[0].weights = 1.0
     out, info = synthesize_levels(
         sources, size, channels, dtype, levels=nb.levels, order=order, method=method, iterations=1,
         passes=passes, rng=rng, progress=progress, desc="Wei-Levoy", candidates=candidates, k=k,
         tileable=tileable and order == "scanline",
     )
+    info.coordinates = to_exemplar(sources, info.coordinates)
     out = restore_channels(out, grey)
     return (out, info) if return_info else out
 

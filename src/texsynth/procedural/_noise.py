@@ -662,6 +662,20 @@ def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fad
            rng=None, dtype=np.float64, chunks=None):
     """Perlin gradient noise on a grid (image or volume) or at arbitrary points.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> img = texsynth.procedural.perlin((32, 32), frequency=4, rng=0)
+    >>> img.shape, bool(abs(img).max() <= 1)
+    ((32, 32), True)
+    >>> float(img[0, 0]), float(img[8, 8])       # lattice points (8 px per cell)
+    (0.0, 0.0)
+
+    Gradient noise: each sample blends, by a fade curve, the dot products of
+    its lattice cell's pseudo-random corner gradients with its offsets from
+    the corners. The default is Perlin's improved noise [2]_; ``fade="cubic"``
+    gives the fade of his 1985 noise [1]_.
+
     Parameters
     ----------
     size : int or tuple of int, optional
@@ -699,7 +713,7 @@ def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fad
         square), for outputs larger than memory; write it with
         :func:`texsynth.io.save_chunked`. Every block equals the same pixels
         of the in-memory result bit for bit. Needs Dask
-        (``pip install 'texsynth[dask]'``).
+        (the ``dask`` extra: ``pip install '.[dask]'`` in a checkout).
 
     Returns
     -------
@@ -742,27 +756,21 @@ def perlin(size=None, *, frequency=8, points=None, period=None, offset=None, fad
     (translation invariance, the slide "Perlin's Noise"); pointwise, the
     variance is zero at lattice points and largest between them.
 
+    At points (in lattice units), periodic, and on a volume:
+
+    >>> pts = texsynth.procedural.perlin(points=[[0.5, 0.25], [1.0, 1.0]], rng=0)
+    >>> float(pts[1])
+    0.0
+    >>> tile = texsynth.procedural.perlin((16, 16), frequency=4, period=4, rng=1)
+    >>> texsynth.procedural.perlin((8, 8, 8), frequency=2, rng=0).shape
+    (8, 8, 8)
+
     References
     ----------
     .. [1] K. Perlin, "An image synthesizer", SIGGRAPH 1985.
        https://doi.org/10.1145/325165.325247
     .. [2] K. Perlin, "Improving noise", SIGGRAPH 2002.
        https://doi.org/10.1145/566654.566636
-
-    Examples
-    --------
-    >>> from texsynth.procedural import perlin
-    >>> img = perlin((32, 32), frequency=4, rng=0)
-    >>> img.shape, bool(abs(img).max() <= 1)
-    ((32, 32), True)
-    >>> float(img[0, 0]), float(img[8, 8])       # lattice points (8 px per cell)
-    (0.0, 0.0)
-    >>> pts = perlin(points=[[0.5, 0.25], [1.0, 1.0]], rng=0)
-    >>> float(pts[1])
-    0.0
-    >>> tile = perlin((16, 16), frequency=4, period=4, rng=1)
-    >>> perlin((8, 8, 8), frequency=2, rng=0).shape
-    (8, 8, 8)
     """
     fade_fn = check_fade(fade)
     dt = check_dtype(dtype)

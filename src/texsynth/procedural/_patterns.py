@@ -225,6 +225,19 @@ def turbulence(size=None, *, frequency=8, octaves="auto", points=None, period=No
                fade="quintic", rng=None, dtype=np.float64, chunks=None):
     """Perlin's turbulence: the sum of absolute noise octaves, band-limited.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> t = texsynth.procedural.turbulence((64, 64), frequency=4, rng=0)  # 5 octaves: 16 px down to 1 px cells
+    >>> t.shape, bool(t.min() >= 0)
+    ((64, 64), True)
+    >>> texsynth.procedural.turbulence(points=[[0.5, 0.5, 0.5]], octaves=3, rng=0).shape
+    (1,)
+
+    Sums ``|noise(2^i x)| / 2^i`` over octaves down to the pixel size: a
+    non-negative field of creases, which :func:`marble` and :func:`wood`
+    bend their layers with (Perlin 1985 [1]_).
+
     Parameters
     ----------
     size : int or tuple of int, optional
@@ -273,6 +286,7 @@ def turbulence(size=None, *, frequency=8, octaves="auto", points=None, period=No
 
     Notes
     -----
+
     The slide "Turbulence Function" ([1]_, section 4):
 
     .. math:: \\mathrm{turbulence}(x) = \\sum_{i=0}^{k} \\frac{|\\mathrm{noise}(2^i x)|}{2^i}
@@ -291,15 +305,6 @@ def turbulence(size=None, *, frequency=8, octaves="auto", points=None, period=No
     ----------
     .. [1] K. Perlin, "An image synthesizer", SIGGRAPH 1985.
        https://doi.org/10.1145/325165.325247
-
-    Examples
-    --------
-    >>> from texsynth.procedural import turbulence
-    >>> t = turbulence((64, 64), frequency=4, rng=0)      # 5 octaves: 16 px down to 1 px cells
-    >>> t.shape, bool(t.min() >= 0)
-    ((64, 64), True)
-    >>> turbulence(points=[[0.5, 0.5, 0.5]], octaves=3, rng=0).shape
-    (1,)
     """
     total, _ = _octave_sum(size, points, frequency=frequency, octaves=octaves, lacunarity=2.0, gain=0.5,
                            absolute=True, period=period, offset=offset, fade=fade, rng=rng, dtype=dtype,
@@ -310,6 +315,17 @@ def turbulence(size=None, *, frequency=8, octaves="auto", points=None, period=No
 def fbm(size=None, *, frequency=8, octaves="auto", lacunarity=2.0, gain=0.5, points=None, period=None,
         offset=None, fade="quintic", rng=None, dtype=np.float64, chunks=None):
     """Fractional Brownian motion: the signed, normalised sum of noise octaves.
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> f = texsynth.procedural.fbm((32, 32), frequency=4, octaves=3, rng=0)
+    >>> bool(abs(f).max() <= 1)
+    True
+
+    Sums octaves of Perlin noise, each at ``lacunarity`` times the
+    frequency and ``gain`` times the amplitude of the one before, divided
+    by the sum of the amplitudes [1]_.
 
     Parameters
     ----------
@@ -340,6 +356,7 @@ def fbm(size=None, *, frequency=8, octaves="auto", lacunarity=2.0, gain=0.5, poi
 
     Notes
     -----
+
     .. math:: \\mathrm{fbm}(x) = \\frac{\\sum_{i<n} g^i\\, \\mathrm{noise}(\\lambda^i x + s_i)}{\\sum_{i<n} g^i}
 
     with lacunarity :math:`\\lambda`, gain :math:`g` and the irrational
@@ -352,13 +369,6 @@ def fbm(size=None, *, frequency=8, octaves="auto", lacunarity=2.0, gain=0.5, poi
     ----------
     .. [1] K. Perlin, "An image synthesizer", SIGGRAPH 1985.
        https://doi.org/10.1145/325165.325247
-
-    Examples
-    --------
-    >>> from texsynth.procedural import fbm
-    >>> f = fbm((32, 32), frequency=4, octaves=3, rng=0)
-    >>> bool(abs(f).max() <= 1)
-    True
     """
 
     def normalise(total, rows=None, cols=None):  # by sum_i gain^i (n: the octaves, known by then)
@@ -598,6 +608,17 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves="auto
            fade="quintic", rng=None, dtype=np.float64, return_info=False, chunks=None):
     """Marble: layers ``sin(x)`` bent by turbulence, through a colour transfer function.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> img = texsynth.procedural.marble((32, 32), rng=0)
+    >>> img.shape, bool(img.min() >= 0 and img.max() <= 1)
+    ((32, 32, 3), True)
+
+    The phase of ``sin`` along the columns is shifted by
+    :func:`turbulence`, so straight layers fold like the veins of marble;
+    the result goes through a colour transfer function (Perlin 1985 [1]_).
+
     Parameters
     ----------
     size : int or tuple of int
@@ -648,6 +669,7 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves="auto
 
     Notes
     -----
+
     The slide "Marble Texture Function" ([1]_, section 6.2):
 
     .. math:: f_{marble}(x, y, z) = \\mathrm{marble\\_color}(\\sin(x + \\mathrm{turbulence}(x, y, z)))
@@ -660,13 +682,6 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves="auto
     ----------
     .. [1] K. Perlin, "An image synthesizer", SIGGRAPH 1985.
        https://doi.org/10.1145/325165.325247
-
-    Examples
-    --------
-    >>> from texsynth.procedural import marble
-    >>> img = marble((32, 32), rng=0)
-    >>> img.shape, bool(img.min() >= 0 and img.max() <= 1)
-    ((32, 32, 3), True)
     """
     veins = check_float(veins, "veins", allow_zero=True)
     strength = check_float(turbulence_strength, "turbulence_strength", allow_zero=True)
@@ -684,6 +699,16 @@ def marble(size, *, frequency=4, veins=3, turbulence_strength=6.0, octaves="auto
 def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves="auto", center=None, colormap=None,
          fade="quintic", rng=None, dtype=np.float64, return_info=False, chunks=None):
     """Wood: concentric rings ``sin(radius)`` around a trunk axis, bent by turbulence.
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.procedural.wood((4, 16, 16), rng=0).shape  # a solid: 4 slices across the trunk
+    (4, 16, 16, 3)
+
+    Rings of the distance from the trunk axis, their phase shifted by
+    :func:`turbulence`, through a colour transfer function: the solid wood
+    of Peachey [1]_ and Perlin [2]_.
 
     Parameters
     ----------
@@ -725,6 +750,7 @@ def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves="auto"
 
     Notes
     -----
+
     The solid wood texture of Peachey [1]_ and Perlin [2]_:
 
     .. math:: f_{wood}(x, y, z) = \\mathrm{wood\\_color}(\\sin(2\\pi\\, \\mathrm{rings}\\, r
@@ -736,12 +762,6 @@ def wood(size, *, frequency=4, rings=10, turbulence_strength=2.0, octaves="auto"
        https://doi.org/10.1145/325165.325246
     .. [2] K. Perlin, "An image synthesizer", SIGGRAPH 1985.
        https://doi.org/10.1145/325165.325247
-
-    Examples
-    --------
-    >>> from texsynth.procedural import wood
-    >>> wood((4, 16, 16), rng=0).shape
-    (4, 16, 16, 3)
     """
     rings = check_float(rings, "rings", allow_zero=True)
     strength = check_float(turbulence_strength, "turbulence_strength", allow_zero=True)

@@ -110,6 +110,12 @@ class _Rates:
 class TurkRates(_Rates):
     """The rates of Turk's two-chemical system (eqs. 1-2 of :func:`reaction_diffusion`).
 
+    Examples
+    --------
+    >>> from texsynth.procedural import TURK_PRESETS, TurkRates
+    >>> TurkRates(s=1 / 40).resolved(TURK_PRESETS["spots"]) == TURK_PRESETS["small-spots"]
+    True
+
     One group of options, passed as ``rates=TurkRates(...)``; every field
     left ``"auto"`` (the default) takes its value from the ``preset``
     (:data:`TURK_PRESETS`, whose values are instances of this class). On the
@@ -135,12 +141,6 @@ class TurkRates(_Rates):
     ------
     ValueError, TypeError
         For a rate that is negative, not finite or not a number.
-
-    Examples
-    --------
-    >>> from texsynth.procedural import TURK_PRESETS, TurkRates
-    >>> TurkRates(s=1 / 40).resolved(TURK_PRESETS["spots"]) == TURK_PRESETS["small-spots"]
-    True
     """
 
     s: object = "auto"
@@ -153,6 +153,12 @@ class TurkRates(_Rates):
 @dataclass(frozen=True)
 class GrayScottRates(_Rates):
     """The rates of the Gray-Scott model (eqs. 3-4 of :func:`gray_scott`, Pearson 1993).
+
+    Examples
+    --------
+    >>> from texsynth.procedural import GRAY_SCOTT_PRESETS, GrayScottRates
+    >>> GrayScottRates(kill=0.06).resolved(GRAY_SCOTT_PRESETS["spots"])
+    GrayScottRates(feed=0.035, kill=0.06, Du=0.16, Dv=0.08)
 
     One group of options, passed as ``rates=GrayScottRates(...)``; every
     field left ``"auto"`` (the default) takes its value from the ``preset``
@@ -175,12 +181,6 @@ class GrayScottRates(_Rates):
     ------
     ValueError, TypeError
         For a rate that is negative, not finite or not a number.
-
-    Examples
-    --------
-    >>> from texsynth.procedural import GRAY_SCOTT_PRESETS, GrayScottRates
-    >>> GrayScottRates(kill=0.06).resolved(GRAY_SCOTT_PRESETS["spots"])
-    GrayScottRates(feed=0.035, kill=0.06, Du=0.16, Dv=0.08)
     """
 
     feed: object = "auto"
@@ -426,6 +426,17 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", rates=TurkRates(), 
                        record_every=None, rng=None, dtype=np.float32, progress=False, return_info=False):
     """Turk's reaction-diffusion texture: spots or stripes from Turing's two-chemical system.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> img, info = texsynth.procedural.reaction_diffusion((24, 24), steps=200, rng=0, return_info=True)
+    >>> img.shape, sorted(info.concentrations)
+    ((24, 24, 3), ['a', 'b'])
+
+    Two chemicals react and diffuse on a grid, ``a`` faster than ``b``, so
+    small random differences grow into spots (or stripes) of one
+    characteristic size, which are coloured (Turk 1991 [1]_).
+
     Parameters
     ----------
     size : int or (int, int)
@@ -507,6 +518,13 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", rates=TurkRates(), 
     r = 10 to 20 labyrinths (16-135 connected pieces). The clamp
     ``b >= 0`` is essential: without it every run of the sweep diverged.
 
+    Too large a diffusion rate for the time step is refused:
+
+    >>> texsynth.procedural.reaction_diffusion((8, 8), steps=1, rates=texsynth.procedural.TurkRates(Da=0.5))
+    Traceback (most recent call last):
+    ...
+    ValueError: Da=0.5 with dt=1 is unstable: the explicit scheme with the 5-point Laplacian needs 4 * Da * dt / h^2 <= 1 (h = 1 pixel), here 2; use dt <= 0.5 or a smaller Da
+
     References
     ----------
     .. [1] G. Turk, "Generating textures on arbitrary surfaces using
@@ -514,17 +532,6 @@ def reaction_diffusion(size, *, steps=10000, preset="spots", rates=TurkRates(), 
     .. [2] M. G. Malheiros, H. Fensterseifer, M. Walter, "Pattern formation
        through minimalist biologically inspired cellular simulation", Graphics
        Interface 2017 (the labyrinth rates of the "stripes" preset).
-
-    Examples
-    --------
-    >>> from texsynth.procedural import reaction_diffusion
-    >>> img, info = reaction_diffusion((24, 24), steps=200, rng=0, return_info=True)
-    >>> img.shape, sorted(info.concentrations)
-    ((24, 24, 3), ['a', 'b'])
-    >>> reaction_diffusion((8, 8), steps=1, rates=TurkRates(Da=0.5))
-    Traceback (most recent call last):
-    ...
-    ValueError: Da=0.5 with dt=1 is unstable: the explicit scheme with the 5-point Laplacian needs 4 * Da * dt / h^2 <= 1 (h = 1 pixel), here 2; use dt <= 0.5 or a smaller Da
     """
     size = _check_grid(size)
     steps = check_positive_int(steps, "steps")
@@ -605,6 +612,17 @@ def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.00
                       return_info=False):
     """Turk's stripes: Meinhardt's five-chemical two-species balance.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> img, info = texsynth.procedural.meinhardt_stripes((24, 24), steps=100, rng=0, return_info=True)
+    >>> img.shape, sorted(info.concentrations)
+    ((24, 24, 3), ['a', 'b', 'c', 'd', 'e'])
+
+    Two activators that exclude each other locally but support each other
+    at a distance form alternating bands: the stripes of Turk's 1991
+    program [2]_, after Meinhardt [1]_.
+
     Parameters
     ----------
     size : int or (int, int)
@@ -649,6 +667,7 @@ def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.00
 
     Notes
     -----
+
     Equations (5)-(9) of the module docstring, exactly as Turk's 1991 program
     ``spots.c`` (routine ``multiplicative_help``, "what Hans Meinhardt calls a
     two-species balance") with his parameters ``do_stripes``. Start: the
@@ -667,13 +686,6 @@ def meinhardt_stripes(size, *, steps=4000, p1=0.04, p2=0.06, p3=0.04, diff1=0.00
        ("The stripe-formation system is described in the book: Models of
        Biological Pattern Formation, Hans Meinhardt").
        https://doi.org/10.1145/122718.122749
-
-    Examples
-    --------
-    >>> from texsynth.procedural import meinhardt_stripes
-    >>> img, info = meinhardt_stripes((24, 24), steps=100, rng=0, return_info=True)
-    >>> img.shape, sorted(info.concentrations)
-    ((24, 24, 3), ['a', 'b', 'c', 'd', 'e'])
     """
     size = _check_grid(size)
     steps = check_positive_int(steps, "steps")
@@ -748,6 +760,17 @@ def gray_scott(size, *, preset="spots", rates=GrayScottRates(), dt=1.0, steps=10
                record_every=None, rng=None, dtype=np.float32, progress=False, return_info=False):
     """Gray-Scott reaction-diffusion: spots, stripes, mazes, coral... from the feed and kill rates.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> img, info = texsynth.procedural.gray_scott((32, 32), steps=100, rng=0, return_info=True)
+    >>> img.shape, sorted(info.concentrations)
+    ((32, 32, 3), ['u', 'v'])
+
+    Two chemicals react (``u + 2v -> 3v``) and diffuse from random seeds of
+    ``v``, ``u`` fed at the rate ``feed`` and ``v`` removed at ``feed +
+    kill``; the two rates select the pattern (Pearson 1993 [1]_).
+
     Parameters
     ----------
     size : int or (int, int)
@@ -789,6 +812,7 @@ def gray_scott(size, *, preset="spots", rates=GrayScottRates(), dt=1.0, steps=10
 
     Notes
     -----
+
     Equations (3)-(4) of the module docstring (Pearson [1]_, eq. 1), forward
     Euler with the 5-point Laplacian, 1 % noise added to the seeds.
 
@@ -796,13 +820,6 @@ def gray_scott(size, *, preset="spots", rates=GrayScottRates(), dt=1.0, steps=10
     ----------
     .. [1] J. E. Pearson, "Complex patterns in a simple system", Science 261
        (1993), 189-192. https://doi.org/10.1126/science.261.5118.189
-
-    Examples
-    --------
-    >>> from texsynth.procedural import gray_scott
-    >>> img, info = gray_scott((32, 32), steps=100, rng=0, return_info=True)
-    >>> img.shape, sorted(info.concentrations)
-    ((32, 32, 3), ['u', 'v'])
     """
     size = _check_grid(size)
     steps = check_positive_int(steps, "steps")

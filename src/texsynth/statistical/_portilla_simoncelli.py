@@ -603,6 +603,19 @@ def portilla_simoncelli(exemplar, size=None, *, scales="auto", orientations="aut
                         periodic_exemplar="none", rng=None, progress=False, return_info=False):
     """Synthesise a texture with an exemplar's (or given) Portilla-Simoncelli statistics.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> metal = texsynth.data.load("metal")[:64, :64]
+    >>> out, info = texsynth.portilla_simoncelli(metal, (64, 96), scales=3, iterations=3, rng=0, return_info=True)
+    >>> out.shape, len(info.snr["pixel"])
+    ((64, 96), 3)
+
+    Starting from noise, imposes the exemplar's statistics of its complex
+    steerable pyramid (marginals, auto-correlations, correlations of
+    magnitudes and phases across positions, orientations and scales) by
+    projections, iterated [1]_; colour as Ruiters et al. extend it [2]_.
+
     Parameters
     ----------
     exemplar : array_like or PSStatistics
@@ -668,10 +681,19 @@ def portilla_simoncelli(exemplar, size=None, *, scales="auto", orientations="aut
     ``portilla_simoncelli(ps_statistics(exemplar, ...), size, rng=seed)`` is
     the same, bit for bit, as ``portilla_simoncelli(exemplar, size, ...,
     rng=seed)``; with statistics mixed by :func:`~texsynth.statistical.interpolate_statistics`
-    it gives the paper's interpolated textures (sec. 6). There is no mask:
-    the synthesis starts from noise everywhere; to impose statistics on a
-    region of an existing image, iterate ``ps_step(image, statistics,
-    mask=region)``.
+    it gives the paper's interpolated textures (sec. 6), here halfway
+    between metal and reptile skin:
+
+    >>> a = texsynth.ps_statistics(metal, scales=3)
+    >>> b = texsynth.ps_statistics(texsynth.data.load("reptile")[:64, :64], scales=3)
+    >>> mixed = texsynth.portilla_simoncelli(texsynth.interpolate_statistics(a, b, 0.5), (48, 64), iterations=3,
+    ...                                      rng=0)
+    >>> mixed.shape, mixed.dtype
+    ((48, 64), dtype('float64'))
+
+    There is no mask: the synthesis starts from noise everywhere; to impose
+    statistics on a region of an existing image, iterate ``ps_step(image,
+    statistics, mask=region)``.
 
     Known failures (as in the paper, fig. 12): textures with long straight
     structures or large objects come out as broken fragments; text keeps
@@ -685,23 +707,6 @@ def portilla_simoncelli(exemplar, size=None, *, scales="auto", orientations="aut
     .. [2] A. Ruiters, R. Schnabel and R. Klein, "Patch-based texture
        interpolation", Computer Graphics Forum 29(4), 2010.
        doi:10.1111/j.1467-8659.2010.01736.x
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> out, info = portilla_simoncelli(data.load("metal")[:64, :64], (64, 96), scales=3,
-    ...                                 iterations=3, rng=0, return_info=True)
-    >>> out.shape, len(info.snr["pixel"])
-    ((64, 96), 3)
-
-    From statistics, here halfway between metal and reptile skin:
-
-    >>> from texsynth.statistical import interpolate_statistics, ps_statistics
-    >>> a = ps_statistics(data.load("metal")[:64, :64], scales=3)
-    >>> b = ps_statistics(data.load("reptile")[:64, :64], scales=3)
-    >>> mixed = portilla_simoncelli(interpolate_statistics(a, b, 0.5), (48, 64), iterations=3, rng=0)
-    >>> mixed.shape, mixed.dtype
-    ((48, 64), dtype('float64'))
     """
     t_start = time.perf_counter()
     if isinstance(exemplar, PSStatistics):

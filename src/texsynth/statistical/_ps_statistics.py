@@ -502,6 +502,22 @@ def ps_statistics(image, *, scales=4, orientations=4, neighborhood_size=7, mask=
                   periodic_exemplar="none"):
     """Portilla-Simoncelli statistics of a grey or colour texture.
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> metal = texsynth.data.load("metal")[:64, :64]
+    >>> stats = texsynth.ps_statistics(metal, scales=3)
+    >>> stats.lowpass_autocorrelation.shape, stats.magnitude_cross_orientation.shape
+    ((1, 4, 7, 7), (3, 4, 4))
+    >>> bool(np.isclose(stats.pixel[0, 1], metal.var()))  # the pixel variance
+    True
+
+    The statistics :func:`portilla_simoncelli` imposes (Portilla and
+    Simoncelli's section 3 [1]_): pixel marginals, auto-correlations of the
+    low-pass bands and of the magnitudes, cross-correlations of the
+    steerable pyramid's magnitudes across orientations and scales and of
+    its real parts across scales, per colour axis and across them.
+
     Parameters
     ----------
     image : array_like
@@ -551,15 +567,6 @@ def ps_statistics(image, *, scales=4, orientations=4, neighborhood_size=7, mask=
     ----------
     .. [1] J. Portilla and E. P. Simoncelli, IJCV 40(1), 49-70, 2000.
        doi:10.1023/A:1026553619983
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> stats = ps_statistics(data.load("metal")[:64, :64], scales=3)
-    >>> stats.lowpass_autocorrelation.shape, stats.magnitude_cross_orientation.shape
-    ((1, 4, 7, 7), (3, 4, 4))
-    >>> bool(np.isclose(stats.pixel[0, 1], data.load("metal")[:64, :64].var()))
-    True
     """
     img = as_image(image, "image").astype(np.float64, copy=False)
     img, _ = with_channels(img)

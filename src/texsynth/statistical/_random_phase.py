@@ -30,10 +30,10 @@ output's size ``Ω``, of the spot ``s = (p - m) / sqrt(|M|)`` zero-padded to
 normalisation keeps the variance of every pixel equal to the exemplar's. A
 smaller output is the synthesis at the exemplar's size, cropped.
 
-What could not be checked: the paper itself (doi:10.1109/TIP.2010.2052822) is
-not in the library's paper folder. This module follows the published
+What could not be checked: the paper itself (doi:10.1109/TIP.2010.2052822)
+was not at hand. This module follows the published
 descriptions of the IPOL companion (doi:10.5201/ipol.2011.ggm_rpn), Moisan's
-``perdecomp`` and the summaries in ``shared/notes/algorithms.md``. The
+``perdecomp`` and public reimplementations. The
 paper's spot extension also multiplies the embedded exemplar by a smooth
 window that falls to 0 near its border; that window's exact shape and width
 could not be confirmed, so the spot is zero-padded as it is.
@@ -105,6 +105,21 @@ class RandomPhaseInfo:
 def random_phase_noise(exemplar, size=None, *, process="rpn", periodic_exemplar="periodic+smooth", rng=None,
                        return_info=False):
     """Synthesise a micro-texture by phase randomisation (Galerne, Gousseau & Morel 2011).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> exemplar = texsynth.data.load("metal")[:64, :64]
+    >>> out, info = texsynth.random_phase_noise(exemplar, (48, 96), rng=0, return_info=True)
+    >>> out.shape, out.dtype, info.synthesis_shape
+    ((48, 96), dtype('float64'), (64, 96))
+    >>> bool(abs(out.mean() - exemplar.mean()) < 0.02)
+    True
+
+    Keeps the exemplar's Fourier modulus and replaces its phase by a random
+    one (or convolves its spot with white noise): a new sample of a
+    micro-texture with the exemplar's spectrum, colours and
+    autocorrelation [1]_ [2]_.
 
     Parameters
     ----------
@@ -181,16 +196,6 @@ def random_phase_noise(exemplar, size=None, *, process="rpn", periodic_exemplar=
        doi:10.1109/TIP.2010.2052822
     .. [2] B. Galerne, Y. Gousseau and J.-M. Morel, "Micro-texture synthesis by
        phase randomization", IPOL 1, 2011. doi:10.5201/ipol.2011.ggm_rpn
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> exemplar = data.load("metal")[:64, :64]
-    >>> out, info = random_phase_noise(exemplar, (48, 96), rng=0, return_info=True)
-    >>> out.shape, out.dtype, info.synthesis_shape
-    ((48, 96), dtype('float64'), (64, 96))
-    >>> bool(abs(out.mean() - exemplar.mean()) < 0.02)
-    True
     """
     t_start = time.perf_counter()
     ex = as_image(exemplar, "exemplar")

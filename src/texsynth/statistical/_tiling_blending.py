@@ -49,9 +49,9 @@ phase noise, to which the paper compares itself), and it minimises no seam
 or patch energy.
 
 What could not be checked: the HPG paper (doi:10.1145/3233304) and the GPU
-Zen 2 chapter are not in the library's paper folder. The steps above come
-from their published descriptions, the authors' code as summarised in
-``shared/notes/algorithms.md``, and the abstract. The HPG paper's colour
+Zen 2 chapter were not at hand. The steps above come
+from their published descriptions, the authors' Unity implementation and
+the abstract. The HPG paper's colour
 transform is described in summaries as an optimal-transport histogram
 transformation, which was not confirmed; the per-channel transform in PCA
 space of the practical version is used. The optional weight sharpening of
@@ -376,6 +376,21 @@ def _info(model, tile_scale, key, stages, t_start):
 def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, return_info=False, chunks=None):
     """Infinite by-example noise by tiling and histogram-preserving blending (Heitz & Neyret 2018).
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> exemplar = texsynth.data.load("metal")[:64, :64]
+    >>> out = texsynth.tile_and_blend(exemplar, (48, 200), rng=0)
+    >>> out.shape, out.dtype
+    ((48, 200), dtype('float64'))
+    >>> bool(np.array_equal(out[5:7, 150], texsynth.tile_and_blend_at(exemplar, [5, 6], [150, 150], rng=0)))
+    True
+
+    Covers the plane with hexagonal tiles of the exemplar at random offsets
+    and blends the three tiles over each triangle of their lattice with a
+    histogram-preserving operator, so the texture never repeats and its
+    blends keep the exemplar's histogram (see Notes) [1]_ [2]_.
+
     Parameters
     ----------
     exemplar : array_like
@@ -403,7 +418,7 @@ def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, r
         larger than memory; write it with :func:`texsynth.io.save_chunked`.
         Every block equals the same pixels of the in-memory result bit for
         bit. Not with ``return_info``. Needs Dask
-        (``pip install 'texsynth[dask]'``).
+        (the ``dask`` extra: ``pip install '.[dask]'`` in a checkout).
 
     Returns
     -------
@@ -456,16 +471,6 @@ def tile_and_blend(exemplar, size, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, r
        doi:10.1145/3233304
     .. [2] T. Deliot and E. Heitz, "Procedural stochastic textures by tiling
        and blending", GPU Zen 2, 2019.
-
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> exemplar = data.load("metal")[:64, :64]
-    >>> out = tile_and_blend(exemplar, (48, 200), rng=0)
-    >>> out.shape, out.dtype
-    ((48, 200), dtype('float64'))
-    >>> bool(np.array_equal(out[5:7, 150], tile_and_blend_at(exemplar, [5, 6], [150, 150], rng=0)))
-    True
     """
     t_start = time.perf_counter()
     ex, dtype, grey, tile_scale, key = _setup(exemplar, tile_scale, rng)
@@ -583,11 +588,18 @@ def _whole(arr, name):
 def tile_and_blend_at(exemplar, rows, cols, *, tile_scale=DEFAULT_TILE_SCALE, rng=None, return_info=False):
     """Evaluate the infinite tiling-and-blending texture at given pixels, each in O(1).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> exemplar = texsynth.data.load("bread")[:48, :48]
+    >>> texsynth.tile_and_blend_at(exemplar, [[-10**6, 0]], [[3, 10**9]], rng=1).shape
+    (1, 2, 3)
+
     The same texture as :func:`tile_and_blend` with the same ``exemplar``,
     ``tile_scale`` and ``rng``: ``tile_and_blend_at(ex, r, c, rng=s)`` equals
     ``tile_and_blend(ex, size, rng=s)[r, c]`` wherever both are defined, and
     goes on beyond it in every direction (negative coordinates too) without
-    repeating.
+    repeating (Heitz & Neyret 2018 [1]_).
 
     Parameters
     ----------
@@ -619,12 +631,11 @@ def tile_and_blend_at(exemplar, rows, cols, *, tile_scale=DEFAULT_TILE_SCALE, rn
     TypeError
         For coordinates that are not numbers.
 
-    Examples
-    --------
-    >>> from texsynth import data
-    >>> exemplar = data.load("bread")[:48, :48]
-    >>> tile_and_blend_at(exemplar, [[-10**6, 0]], [[3, 10**9]], rng=1).shape
-    (1, 2, 3)
+    References
+    ----------
+    .. [1] E. Heitz and F. Neyret, "High-performance by-example noise using a
+       histogram-preserving blending operator", HPG 2018.
+       doi:10.1145/3233304
     """
     t_start = time.perf_counter()
     ex, dtype, grey, tile_scale, key = _setup(exemplar, tile_scale, rng)

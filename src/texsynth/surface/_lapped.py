@@ -42,8 +42,8 @@ The default splotch (when the exemplar has no alpha channel and no
 (smooth random angular noise) with a soft rim 0.08 wide, in the unit square
 of the exemplar.
 
-What could not be checked: the paper was not at hand (the survey in
-``../shared/papers`` shows its patch growth in pictures only). Praun et al.
+What could not be checked: the paper was not at hand (a course's lecture
+slides show its patch growth in pictures only). Praun et al.
 add faces one at a time and re-optimise; here a whole ring of adjacent faces
 is tested at once against extended coordinates, and the least squares are
 solved again after every 50 % of growth (on the 70,000-face bunny a solve
@@ -307,6 +307,19 @@ def lapped_textures(mesh, exemplar, *, pixel_size=None, field="smooth", symmetry
                     rng=None, progress=False, return_info=False):
     """Lapped textures: paste an irregular patch of the exemplar over a surface until it is covered.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> ball, bread = texsynth.surface.sphere(642), texsynth.data.load("bread")[:64, :64]
+    >>> out, info = texsynth.lapped_textures(ball, bread, pixel_size=0.04, rng=0, return_info=True)  # 8 pastes
+    >>> out.uv.shape == (1280, 3, 2), int(info.layers.min()) >= 1
+    (True, True)
+
+    Each paste grows a patch of faces from a random uncovered seed face,
+    lays the splotch (an irregular, soft-edged piece of the exemplar) on it
+    along a tangent field, and blends it over what is there; the result is
+    baked into a texture atlas (Praun, Finkelstein & Hoppe 2000 [1]_).
+
     Parameters
     ----------
     mesh : Mesh, (vertices, faces) or path
@@ -349,13 +362,10 @@ def lapped_textures(mesh, exemplar, *, pixel_size=None, field="smooth", symmetry
         ``pixel_size`` or ``texels``, or an atlas that would not fit in
         memory.
 
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> from texsynth.surface import sphere
-    >>> out, info = lapped_textures(sphere(642), load("bread")[:64, :64], rng=0, return_info=True)
-    >>> out.uv.shape == (1280, 3, 2), int(info.layers.min()) >= 1
-    (True, True)
+    References
+    ----------
+    .. [1] E. Praun, A. Finkelstein and H. Hoppe, "Lapped textures", SIGGRAPH
+       2000, pp. 465-470. :doi:`10.1145/344779.344987`
     """
     start = time.perf_counter()
     mesh = as_mesh(mesh)

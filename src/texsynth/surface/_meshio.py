@@ -523,7 +523,7 @@ def _trimesh():
         return importlib.import_module("trimesh")
     except ModuleNotFoundError:
         raise ModuleNotFoundError("formats other than .obj and .ply are read and written through trimesh, which is "
-                                  "not installed; pip install texsynth[mesh]") from None
+                                  "not installed; pip install '.[mesh]' in a texsynth checkout") from None
 
 
 def _read_other(path):
@@ -614,12 +614,20 @@ def as_mesh(value, name="mesh"):
 def read_mesh(path, *, allow_outside=False):
     """Read a triangle mesh from a file.
 
+    Examples
+    --------
+    >>> import tempfile, texsynth
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = texsynth.write_mesh(folder + "/ball.ply", texsynth.surface.sphere(42))
+    ...     texsynth.read_mesh(path)
+    Mesh(42 vertices, 80 faces)
+
     Parameters
     ----------
     path : str or os.PathLike
         An ``.obj`` (with its ``.mtl`` and texture image) or ``.ply`` file,
         read by texsynth itself; any other suffix (``.stl``, ``.off``,
-        ``.glb``, ...) is read through trimesh (``pip install texsynth[mesh]``).
+        ``.glb``, ...) is read through trimesh (``pip install '.[mesh]'`` in a checkout).
     allow_outside : bool
         Follow the files an OBJ or PLY file names (``mtllib``, ``map_Kd``,
         ``comment TextureFile``) wherever they are. Off by default: a mesh
@@ -658,14 +666,6 @@ def read_mesh(path, *, allow_outside=False):
         If a texture or material file the mesh names cannot be read (the mesh
         is read without it), or an OBJ uses more than one texture image.
 
-    Examples
-    --------
-    >>> import tempfile
-    >>> from texsynth.surface import sphere
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     path = write_mesh(d + "/ball.ply", sphere(42))
-    ...     read_mesh(path)
-    Mesh(42 vertices, 80 faces)
     """
     path = as_path(path)
     allow_outside = check_bool(allow_outside, "allow_outside")
@@ -691,6 +691,14 @@ def read_mesh(path, *, allow_outside=False):
 def write_mesh(path, mesh, *, overwrite=False):
     """Write a triangle mesh atomically.
 
+    Examples
+    --------
+    >>> import tempfile, texsynth
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = texsynth.write_mesh(folder + "/ball.obj", texsynth.surface.sphere(42))
+    ...     print(path.name, texsynth.read_mesh(path))
+    ball.obj Mesh(42 vertices, 80 faces)
+
     Parameters
     ----------
     path : str or os.PathLike
@@ -701,7 +709,7 @@ def write_mesh(path, mesh, *, overwrite=False):
         green blue [alpha]``, uv as a per-face ``texcoord`` list (as MeshLab
         and Blender write it), the texture as ``<stem>.png`` named by a
         ``comment TextureFile`` line. Any other suffix goes through trimesh
-        (``pip install texsynth[mesh]``; geometry and colours only).
+        (``pip install '.[mesh]'`` in a checkout; geometry and colours only).
     mesh : Mesh or (vertices, faces)
         The mesh; checked with :func:`as_mesh`.
     overwrite : bool
@@ -727,6 +735,7 @@ def write_mesh(path, mesh, *, overwrite=False):
     renamed when complete (:mod:`texsynth.io`), so a reader never sees half a
     file.
     """
+
     path = as_path(path)
     mesh = as_mesh(mesh, "mesh")
     overwrite = check_bool(overwrite, "overwrite")

@@ -214,6 +214,13 @@ def render_mesh(mesh, size=512, *, views=4, projection="perspective", light=(-0.
                 background=1.0):
     """Render a mesh from a few viewpoints into one preview image.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> image = texsynth.render_mesh(texsynth.surface.sphere(162), 64, views=1)
+    >>> image.shape, bool(image[32, 32].max() < 1 == image[0, 0].min())
+    ((64, 64, 3), True)
+
     Parameters
     ----------
     mesh : Mesh, (vertices, faces) or path
@@ -252,13 +259,6 @@ def render_mesh(mesh, size=512, *, views=4, projection="perspective", light=(-0.
     Faces turned away from the camera are skipped when the mesh is closed
     and consistently oriented; every face is lit on both sides. Pixels are sampled at their centres,
     without anti-aliasing.
-
-    Examples
-    --------
-    >>> from texsynth.surface import sphere
-    >>> image = render_mesh(sphere(162), 64, views=1)
-    >>> image.shape, bool(image[32, 32].max() < 1 == image[0, 0].min())
-    ((64, 64, 3), True)
     """
     mesh = as_mesh(mesh, "mesh")
     height, width = as_size(size, "size")

@@ -256,8 +256,8 @@ def scanned_mesh(name="bunny"):
     Raises
     ------
     ModuleNotFoundError
-        If the package that ships the scan is not installed: ``pip install
-        texsynth[mesh]``.
+        If the package that ships the scan is not installed: ``pip install '.[mesh]'``
+        in a checkout.
     """
     if not isinstance(name, str) or name not in SCANNED_MESHES:
         raise ValueError(f"name must be one of {sorted(SCANNED_MESHES)}, got {name!r}")
@@ -265,7 +265,7 @@ def scanned_mesh(name="bunny"):
     spec = importlib.util.find_spec(package)  # locates the package without importing it (visvis imports OpenGL)
     if spec is None or not spec.submodule_search_locations:
         raise ModuleNotFoundError(f"scanned_mesh({name!r}) reads the scan shipped by the {package} package, which "
-                                  "is not installed; pip install texsynth[mesh]")
+                                  "is not installed; pip install '.[mesh]' in a texsynth checkout")
     arrays = _read_ssdf_arrays(Path(spec.submodule_search_locations[0]) / inside)
     vertices = arrays["vertices"].astype(np.float64)
     vertices -= vertices.min(axis=0) / 2 + vertices.max(axis=0) / 2

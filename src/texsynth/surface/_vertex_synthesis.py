@@ -42,7 +42,7 @@ already visited (the causal half of Wei & Levoy's neighbourhoods) and the
 whole parent neighbourhood: a loop over the vertices, as the papers' order
 is sequential by nature. It is not the default: once a sequential sweep
 copies the inside of one stone it can go on copying it over the surface
-(measured in ``docs/methods/surfaces.md``).
+(measured in ``docs/methods/vertex_synthesis.md``).
 
 Search: ``candidates="k-coherent"`` (default) compares each vertex with
 the k-coherent candidates (Ashikhmin 2001, Tong et al. 2002;
@@ -84,7 +84,7 @@ neighbourhood). Both presets read each grid point from the nearest vertex:
 a Gaussian-weighted mean of the 4 nearest (the first version's reading of
 the papers' interpolation) made soft queries that favoured the smooth
 insides of bricks and stones, and in the sweep order grew them into streaks
-along the sweep (``docs/methods/surfaces.md``).
+along the sweep (``docs/methods/vertex_synthesis.md``).
 
 References
 ----------
@@ -111,7 +111,7 @@ from ..core._validate import as_image, as_rng, check_group, check_memory, check_
 from ..core.neighborhood import extract, gaussian_falloff, multilevel_vectors, patch_shape
 from ..core.pyramid import gaussian_pyramid
 from ..core.search import (KCoherence, MaskedIndex, PatchIndex, Search, check_method, is_auto, nearest_candidates,
-                           point_tree)
+                           point_tree, refuse_augment)
 from ._field import check_field, field_vectors
 from ._meshio import as_mesh
 from ._retile import lattice_spacing, mesh_hierarchy, resolve_count
@@ -184,6 +184,12 @@ class SurfaceSynthesisInfo:
 class SurfaceSchedule:
     """The levels of a surface synthesis and how each is visited (Turk 2001; Wei & Levoy 2001).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.SurfaceSchedule(levels=2, order="sweep")
+    SurfaceSchedule(neighborhood_size='auto', parent_size='auto', levels=2, order='sweep', passes='auto')
+
     An option group of :func:`~texsynth.synthesize_surface`
     (``schedule=SurfaceSchedule(...)``); on the command line its fields are
     flags (``--levels``, ``--order``, ...). ``"auto"``: the value of the
@@ -205,15 +211,10 @@ class SurfaceSchedule:
         pass's colours, ``passes`` times (``"independent"``, the default's),
         or one at a time in Turk's sweep order with causal neighbourhoods
         (``"sweep"``, ``preset="paper"``'s; a second pass sees every vertex).
-        See the notes of :mod:`texsynth.surface._vertex_synthesis`.
+        docs/methods/vertex_synthesis.md compares the two.
     passes : int or "auto"
         Matching passes per level. ``"auto"``: 2 (1 with ``preset="paper"``).
 
-    Examples
-    --------
-    >>> from texsynth.surface import SurfaceSchedule
-    >>> SurfaceSchedule(levels=2, order="sweep")
-    SurfaceSchedule(neighborhood_size='auto', parent_size='auto', levels=2, order='sweep', passes='auto')
     """
 
     neighborhood_size: object = "auto"
@@ -333,6 +334,20 @@ def synthesize_surface(
 ):
     """Synthesise a texture over a surface by colouring its vertices (Turk 2001; Wei & Levoy 2001).
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> ball, bread = texsynth.surface.sphere(3), texsynth.data.load("bread")[:48, :48]
+    >>> out = texsynth.synthesize_surface(ball, bread, n_vertices=600, schedule=texsynth.SurfaceSchedule(levels=2), rng=0)
+    >>> out.colors.shape[1], bool(0 <= out.colors.min() and out.colors.max() <= 1)
+    (3, True)
+
+    Multi-resolution neighbourhood matching carried from the pixel grid to
+    a surface: the mesh is retiled into a hierarchy of evenly spaced
+    vertices, a tangent field orients the texture, and every vertex takes
+    the colour of the exemplar pixel whose neighbourhood best matches its
+    own, resampled in its tangent plane (Turk [1]_; Wei & Levoy [2]_).
+
     Parameters
     ----------
     mesh : Mesh, (vertices, faces) or path
@@ -395,14 +410,12 @@ def synthesize_surface(
         (``n_vertices`` or ``pixel_size``) needing more memory than is available,
         or too few vertices for ``levels``.
 
-    Examples
-    --------
-    >>> from texsynth.data import load
-    >>> from texsynth.surface import sphere
-    >>> out = synthesize_surface(sphere(3), load("bread")[:48, :48], n_vertices=600,
-    ...                          schedule=SurfaceSchedule(levels=2), rng=0)
-    >>> out.colors.shape[1], bool(0 <= out.colors.min() and out.colors.max() <= 1)
-    (3, True)
+    References
+    ----------
+    .. [1] G. Turk, "Texture synthesis on surfaces", SIGGRAPH 2001, pp. 347-354.
+       :doi:`10.1145/383259.383297`
+    .. [2] L.-Y. Wei and M. Levoy, "Texture synthesis over arbitrary manifold
+       surfaces", SIGGRAPH 2001, pp. 355-360. :doi:`10.1145/383259.383298`
     """
     start = time.perf_counter()
     mesh = as_mesh(mesh)
@@ -410,6 +423,8 @@ def synthesize_surface(
         raise ValueError(f"preset must be one of {', '.join(map(repr, PRESETS))}, got {preset!r}")
     schedule = check_group(schedule, SurfaceSchedule, "schedule")
     search = check_group(search, Search, "search")
+    refuse_augment(search.augment, "synthesize_surface", "the tangent field already orients the exemplar on the "
+                   "surface")
     chosen = dict(PRESETS[preset])
     for name, value in dict(neighborhood_size=schedule.neighborhood_size, parent_size=schedule.parent_size,
                             levels=schedule.levels, order=schedule.order, passes=schedule.passes,

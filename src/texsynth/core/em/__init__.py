@@ -12,7 +12,7 @@ The neighbourhoods
     :class:`ExemplarPatches` (the exemplar's searchable neighbourhoods of one
     level and size), :func:`patch_features`, :func:`feature_weights`,
     :func:`output_patches`, :func:`distances_at`; :class:`WarpedPatches` reads
-    and writes them in the local frames of orientation and scale fields.
+    and writes them in the local frames of orientation and magnification fields.
 The E-step
     :func:`e_step`: the weighted average of the matches (IRLS weights,
     constraint targets, extra votes), or with the gradient term the
@@ -94,7 +94,7 @@ from ._problem import (MAX_WEIGHT, Problem, check_constraint_memory, check_const
                        check_sizes, free_inside, level_sizes, prepare, pyramids, with_fields, with_guides, with_margin)
 from ._record import AnimationInfo, OptimizationInfo, Record, StageInfo
 from ._levels import Level, coarse_to_fine
-from ._options import Constraints, Fields, Guides, Schedule, Terms
+from ._options import Animation, Constraints, Fields, Guides, Schedule, Terms
 
 __all__ = [
     "expectation_maximization", "irls_weights", "IRLS_EXPONENT",
@@ -109,5 +109,5 @@ __all__ = [
     "Problem", "prepare", "with_guides", "with_fields", "with_margin", "free_inside", "pyramids", "level_sizes",
     "check_sizes", "check_mask", "check_like", "check_constraint_weight", "check_constraint_memory", "MAX_WEIGHT",
     "StageInfo", "OptimizationInfo", "AnimationInfo", "Record", "coarse_to_fine", "Level",
-    "Schedule", "Terms", "Constraints", "Guides", "Fields",
+    "Schedule", "Terms", "Constraints", "Guides", "Fields", "Animation",
 ]

@@ -1,4 +1,4 @@
-"""Neighbourhoods in local frames: the orientation and scale fields' term of the EM steps.
+"""Neighbourhoods in local frames: the orientation and magnification fields' term of the EM steps.
 
 The M-step reads each output neighbourhood on a grid turned and scaled around its centre; the E-step adds
 the matched exemplar neighbourhood back at the same positions with the same bilinear weights (the adjoint
@@ -21,7 +21,7 @@ _WARP_CACHE_BYTES = 2**28
 
 
 class WarpedPatches:
-    """The rotated and scaled neighbourhoods ``x_p`` of one stage (orientation and scale fields).
+    """The rotated and scaled neighbourhoods ``x_p`` of one stage (orientation and magnification fields).
 
     Neighbourhood ``p`` is read on the grid ``p + A(p) d``, ``A = S R(theta)``
     (:func:`texsynth.core.fields.frames`, as in Zhang et al. 2003), ``d`` the
@@ -34,8 +34,9 @@ class WarpedPatches:
     magnified by ``S(p)``.
     """
 
-    def __init__(self, centers, patch_size, orientation, scale, shape, mode):
-        self.a, self.inverse = frames(orientation[centers[:, 0], centers[:, 1]], scale[centers[:, 0], centers[:, 1]])
+    def __init__(self, centers, patch_size, orientation, magnification, shape, mode):
+        self.a, self.inverse = frames(orientation[centers[:, 0], centers[:, 1]],
+                                      magnification[centers[:, 0], centers[:, 1]])
         i = np.arange(patch_size, dtype=np.float64) - patch_size // 2
         self.d = np.stack(np.meshgrid(i, i, indexing="ij"), -1).reshape(-1, 2)
         self.centers, self.w, self.shape, self.wrap = centers, patch_size, tuple(shape), mode == "wrap"

@@ -64,7 +64,7 @@ def nearest_step(exemplar, x, centers, mode, matches, constraint, memo=None, tol
     and the coherent candidates of every neighbourhood (searched or not,
     since the penalty changes as the others move).
 
-    With a :class:`WarpedPatches` (orientation and scale fields) ``x_p`` is the
+    With a :class:`WarpedPatches` (orientation and magnification fields) ``x_p`` is the
     neighbourhood sampled in its frame, and the coherent candidates follow
     the frames. With ``iterations > 0`` (fields on a large stage) no index
     is built: PatchMatch runs on the stack of sampled ``x_p`` instead, from

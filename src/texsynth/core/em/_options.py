@@ -9,12 +9,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Schedule", "Terms", "Constraints", "Guides", "Fields"]
+__all__ = ["Schedule", "Terms", "Constraints", "Guides", "Fields", "Animation"]
 
 
 @dataclass(frozen=True)
 class Schedule:
     """Coarse to fine and when to stop: the stages of an EM synthesis (Kwatra et al. 2005, Section 3.2).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.Schedule(neighborhood_sizes=(16, 8), levels=2)
+    Schedule(neighborhood_sizes=(16, 8), levels=2, relative_grid_spacing=0.25, max_iterations=5, tolerance='auto')
 
     Parameters
     ----------
@@ -29,11 +35,13 @@ class Schedule:
         as many as keep the coarsest exemplar 32 pixels or more (preset
         ``"default"``), 3 (``"paper"``).
     relative_grid_spacing : float
-        Spacing of the neighbourhood centres ``X†`` as a fraction of ``w``
-        (default 1/4: "centers that are w/4 pixels apart").
+        Spacing of the neighbourhood centres as a fraction of the
+        neighbourhood width (default 1/4). The paper's centres ``X†`` are
+        "w/4 pixels apart".
     max_iterations : int
         EM iterations per (level, size) stage at most; a stage also stops when
-        ``{z_p}`` no longer changes. Default 5 ("usually 3-5 iterations per
+        the matched exemplar neighbourhoods no longer change. They are the
+        paper's ``{z_p}``; default 5 ("usually 3-5 iterations per
         resolution/scale level were found to be enough", Section 5).
     tolerance : float or "auto"
         A stage also stops when one iteration lowers the energy by less than
@@ -45,17 +53,12 @@ class Schedule:
 
     Notes
     -----
+
     Neighbourhood sizes per level: at full resolution every size not larger
     than the exemplar is used; at a level sub-sampled ``2^l`` times only
     sizes up to half the sub-sampled exemplar's smaller side, so the coarse
     search has a choice of neighbourhoods (a 128-pixel exemplar gives
     (16, 8) at 1/4, (32, 16, 8) at 1/2 and at full resolution).
-
-    Examples
-    --------
-    >>> from texsynth.core.em import Schedule
-    >>> Schedule(neighborhood_sizes=(16, 8), levels=2)
-    Schedule(neighborhood_sizes=(16, 8), levels=2, relative_grid_spacing=0.25, max_iterations=5, tolerance='auto')
     """
 
     neighborhood_sizes: object = "auto"
@@ -69,14 +72,23 @@ class Schedule:
 class Terms:
     """The terms of the energy an EM synthesis minimises, besides constraints and guides.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> terms = texsynth.Terms(gradient_weight=10.0)  # the paper's gradient term
+    >>> terms.irls_exponent
+    0.8
+
     Parameters
     ----------
     irls_exponent : float
-        ``r`` of the robust energy ``||x_p - z_p||^r``, in (0, 2]; default 0.8
-        (Section 3.1). ``r = 2`` is the plain least-squares eq. 1.
+        Exponent of the robust energy, in (0, 2]; default 0.8 (Section 3.1).
+        It is ``r`` of ``||x_p - z_p||^r``; ``r = 2`` is the plain
+        least-squares eq. 1.
     gradient_weight : float
-        ``μ`` of the gradient energy ``μ sum_p ||D x_p - D z_p||^2``
-        (Section 3). Default 0 (off): the paper's Algorithm 1, its robust
+        Weight of the gradient energy, which matches the exemplar's gradients
+        too (Section 3). It is ``μ`` of ``μ sum_p ||D x_p - D z_p||^2``.
+        Default 0 (off): the paper's Algorithm 1, its robust
         optimisation and its results are stated for the colour energy (1);
         the gradient term is offered as a generalisation ("we can
         generalize...") with ``μ = 10`` "in our experiments". Pass 10 to use
@@ -85,7 +97,8 @@ class Terms:
         Weight each neighbourhood's pixels by a Gaussian fall-off (σ = w/4)
         in both steps (Section 3.1). Default True.
     occurrence_weight : float
-        ``λ_occ >= 0`` of the occurrence penalty of Kaspar et al. 2015 [1]_:
+        Weight of the occurrence penalty of Kaspar et al. 2015 [1]_, ``>= 0``:
+        it favours exemplar parts the output uses little. It is ``λ_occ``:
         the M-step ranks candidates by
         ``ρ_p + λ_occ · scale · o(z) / ω``, where ``o(z)`` is how much the
         current ``z_p`` already cover the exemplar pixels of ``z`` (fall-off
@@ -100,10 +113,11 @@ class Terms:
         criterion), and a stage ends only by the paper's test or
         ``max_iterations``.
     copy_limit : float in (0, 1], None or "auto"
-        Limit the size of verbatim copies: a penalty grows on every exemplar
-        offset (exemplar position minus output position of ``z_p``) shared by
-        more neighbourhood centres than a copied region covering
-        ``copy_limit`` of the exemplar's area has (see Notes). None: off (the
+        Largest verbatim copy, as a fraction of the exemplar's area. A
+        penalty grows on every exemplar offset (exemplar position minus
+        output position of ``z_p``) shared by more neighbourhood centres than
+        a copied region covering ``copy_limit`` of the exemplar's area has
+        (see Notes). None: off (the
         paper's M-step). Paired with ``completeness_weight`` it also
         withholds the completeness votes of over-limit offsets. ``"auto"``:
         0.25 (preset ``"default"``; when the finest level has no
@@ -111,8 +125,10 @@ class Terms:
         arrangement: only outlying copies are cut there, not elements), None
         (``"paper"``).
     completeness_weight : float or "auto"
-        ``λ_b >= 0``: adds the completeness half of the bidirectional
-        similarity of Simakov et al. 2008 [2]_ to the energy: every exemplar
+        Weight of completeness, ``>= 0``: how strongly every part of the
+        exemplar must appear in the output. It is ``λ_b`` of the completeness
+        half of the bidirectional similarity of Simakov et al. 2008 [2]_,
+        added to the energy: every exemplar
         neighbourhood ``q_j`` on the ``w/4`` grid must appear somewhere in
         the output, ``λ_b (|X†| / |J|) sum_j ||x_p(j) - q_j||^r`` with
         ``x_p(j)`` its nearest output neighbourhood on ``X†``. The M-step
@@ -122,7 +138,7 @@ class Terms:
         Alone it makes the output contain the whole exemplar
         verbatim, so use it with ``copy_limit``: ``completeness_weight=1,
         copy_limit=0.2`` brings all of the exemplar without large copies, at
-        about twice the time (docs/methods/optimization.md measures it).
+        about twice the time (docs/methods/kwatra.md measures it).
         Without ``copy_limit`` the energy never rises within a stage, as for
         eq. 1. ``"auto"``: 1 (preset ``"default"``), on every level when
         the output has less than 4 times the exemplar's area and on every
@@ -153,6 +169,7 @@ class Terms:
 
     Notes
     -----
+
     Copy limit: with ``copy_limit = c``, an exemplar offset shared by ``n``
     centres of the ``w/4`` grid costs every candidate that uses it
     ``3 · scale · max(0, n / n_c - 1)`` with ``n_c = c · h · w / spacing²``
@@ -176,12 +193,6 @@ class Terms:
        T.-T. Wong, "Solid texture synthesis from 2D exemplars", ACM
        Transactions on Graphics (SIGGRAPH 2007) 26(3).
        :doi:`10.1145/1276377.1276380`
-
-    Examples
-    --------
-    >>> from texsynth.core.em import Terms
-    >>> Terms(gradient_weight=10.0).irls_exponent
-    0.8
     """
 
     irls_exponent: float = 0.8
@@ -197,17 +208,27 @@ class Terms:
 class Constraints:
     """Soft or hard constraints on the output (Kwatra et al. 2005, eq. 2) and the exemplar pixels that may be copied.
 
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> hole = np.zeros((64, 64), bool); hole[24:40, 24:40] = True
+    >>> keep = texsynth.Constraints(mask=~hole, target=np.zeros((64, 64, 3)), constraint_weight=float("inf"))
+    >>> keep.confidence is None
+    True
+
     Parameters
     ----------
     mask : array_like, optional
-        ``(H, W)`` constrained pixels ``C`` of eq. 2: bool, or weights in
-        [0, 1] (soft masks). Requires ``target``.
+        Which output pixels are held to ``target``: ``(H, W)`` bool (white,
+        True = held), or weights in [0, 1] (soft masks). The paper's ``C``
+        of eq. 2; requires ``target``.
     target : array_like, optional
-        Output-shaped wanted values ``x^c``. Alone (no mask) it constrains
-        every pixel.
+        The wanted output: an image of the output's size. Alone (no mask)
+        it constrains every pixel; the paper's ``x^c``.
     constraint_weight : float
-        ``λ >= 0``, the weight of ``E_c`` against the texture energy (default
-        1). With the default sizes and ``r``, the texture term weighs a pixel
+        How strongly the output keeps ``target``, ``>= 0`` (default 1;
+        ``float("inf")``: exactly). It is ``λ``, the weight of ``E_c``
+        against the texture energy. With the default sizes and ``r``, the texture term weighs a pixel
         by roughly 1-10, so λ = 1 is a gentle pull and λ = 100 nearly hard.
         ``float("inf")``: hard constraints, the limit λ → ∞ (as in Wexler
         et al.'s and PatchMatch's hole filling): every E-step sets the
@@ -224,9 +245,11 @@ class Constraints:
         source-coordinate map of a pixel no such neighbourhood covers
         continues that of the nearest covered pixel.
     confidence : None or float
-        With hard constraints (``constraint_weight=float("inf")``): Wexler,
+        With hard constraints, weigh the fill's neighbourhoods by their
+        distance to the known pixels (Wexler et al.: 1.3). It is Wexler,
         Shechtman & Irani's confidence base ``γ`` (their value: 1.3,
-        :data:`WEXLER_CONFIDENCE`). A filled pixel at distance ``d`` from the
+        :data:`WEXLER_CONFIDENCE`), used with
+        ``constraint_weight=float("inf")``. A filled pixel at distance ``d`` from the
         nearest known pixel has confidence ``γ^-d`` (a known pixel 1), and in
         the E-step each neighbourhood weighs by the mean confidence of its
         pixels, so near the boundary the neighbourhoods lying on known pixels
@@ -238,18 +261,10 @@ class Constraints:
         and the confidence made that meeting a seam (measured in
         ``docs/methods/completion.md``).
     exemplar_mask : array_like, optional
-        ``(h, w)`` bool: exemplar pixels that may be copied. Neighbourhoods
+        Exemplar pixels that may be copied: ``(h, w)`` bool (white, True =
+        may be copied). Neighbourhoods
         touching a False pixel are never used (e.g. the hole when the
         exemplar is the image being filled).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from texsynth.core.em import Constraints
-    >>> hole = np.zeros((64, 64), bool); hole[24:40, 24:40] = True
-    >>> keep = Constraints(mask=~hole, target=np.zeros((64, 64, 3)), constraint_weight=float("inf"))
-    >>> keep.confidence is None
-    True
     """
 
     mask: object = None
@@ -262,6 +277,13 @@ class Constraints:
 @dataclass(frozen=True, eq=False)
 class Guides:
     """Guide maps of the exemplar and the output: guided synthesis, "texture by numbers".
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> labels = texsynth.Guides(np.zeros((32, 32)), np.ones((48, 48)), guide_weight=4.0)
+    >>> labels.guide_weight
+    4.0
 
     Parameters
     ----------
@@ -284,24 +306,20 @@ class Guides:
         ``sqrt(guide_weight)`` in one channel, in the colours' [0, 1] units.
         0 ignores the guides (the unguided result, bit for bit).
 
+    Notes
+    -----
+    Not checked against Hertzmann et al.'s paper [1]_ (it is not in our
+    papers folder): its texture by numbers matches neighbourhoods of the
+    label images A, B together with those of A' (its own weights and
+    search); here the labels are extra channels of Kwatra's neighbourhood
+    distance, with our ``guide_weight``, and we could not compare results
+    with the paper's figures.
+
     References
     ----------
     .. [1] A. Hertzmann, C. E. Jacobs, N. Oliver, B. Curless and D. H. Salesin,
        "Image analogies", SIGGRAPH 2001, pp. 327-340.
-       :doi:`10.1145/383259.383295`. Not checked against the paper (it is
-       not in our papers folder): its texture by numbers matches
-       neighbourhoods of the label images A, B together with those of A'
-       (its own weights and search); here the labels are extra channels of
-       Kwatra's neighbourhood distance, with our ``guide_weight``, and we
-       could not compare results with the paper's figures.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from texsynth.core.em import Guides
-    >>> labels = Guides(np.zeros((32, 32)), np.ones((48, 48)), guide_weight=4.0)
-    >>> labels.guide_weight
-    4.0
+       :doi:`10.1145/383259.383295`
     """
 
     exemplar_guide: object = None
@@ -311,20 +329,28 @@ class Guides:
 
 @dataclass(frozen=True, eq=False)
 class Fields:
-    """Orientation and scale fields over the output: the texture turned and magnified locally.
+    """Orientation and magnification fields over the output: the texture turned and magnified locally.
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> fields = texsynth.Fields(orientation=0.5)  # turned by 0.5 rad everywhere
+    >>> fields.magnification is None
+    True
 
     Parameters
     ----------
     orientation : None, float, array_like or callable
-        Orientation field ``theta``: the angle in radians, counter-clockwise
-        as the image is shown, by which the texture is turned at each output
-        pixel (as in :func:`~texsynth.synthesize_controlled`): a number, an
+        The angle in radians, counter-clockwise as the image is shown, by
+        which the texture is turned at each output pixel (the field
+        ``theta``, as in :func:`~texsynth.synthesize_controlled`): a number, an
         ``(H, W)`` array, or a callable ``orientation(rows, cols)`` of float
         arrays of output pixel coordinates. None (default): not turned, and
         the synthesis is exactly the one without fields.
-    scale : None, float, array_like or callable
-        Scale field ``S``: magnification of the texture at each output pixel
-        (2: elements twice as large), same forms; finite, in [0.001, 1000].
+    magnification : None, float, array_like or callable
+        How much larger the texture's elements appear at each output pixel
+        (2: twice as large; the output's size is ``size``, not this): the
+        field ``S``, same forms; finite, in [0.001, 1000].
         With either field every output neighbourhood ``x_p`` is sampled on
         a grid turned and scaled around its centre (see Notes); the M-step
         then uses the index (PatchMatch compares unrotated patches), and
@@ -333,9 +359,10 @@ class Fields:
 
     Notes
     -----
-    Orientation and scale fields (Kwatra et al. have none; this follows the
-    local frames of Zhang et al. 2003 [1]_ and the lecture's "Synthesis with
-    Local Size/Vector Field Control"): the neighbourhood of centre ``p`` is
+
+    Orientation and magnification fields (Kwatra et al. have none; this
+    follows the local frames of Zhang et al. 2003 [1]_ and the lecture's
+    "Synthesis with Local Size/Vector Field Control"): the neighbourhood of centre ``p`` is
     the output sampled bilinearly at ``p + A(p) d``, ``A = S R(theta)``, for
     the offsets ``d`` of a ``w x w`` patch (M-step: compared with the
     exemplar's plain neighbourhoods, fall-off ``g(d)``), and the E-step adds
@@ -357,13 +384,57 @@ class Fields:
        (SIGGRAPH 2003), pp. 295-302. :doi:`10.1145/882262.882344` (not at
        hand; its orientation and scale control as summarised in
        :func:`~texsynth.synthesize_controlled`).
-
-    Examples
-    --------
-    >>> from texsynth.core.em import Fields
-    >>> Fields(orientation=0.5).scale is None
-    True
     """
 
     orientation: object = None
-    scale: object = None
+    magnification: object = None
+
+
+@dataclass(frozen=True)
+class Animation:
+    """How :func:`animate_texture` synthesises frames 2..L (Kwatra et al. 2005, Section 4.1).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> animation = texsynth.Animation(constraint_weight=5.0, max_frame_iterations=1)
+    >>> animation.frame_sizes
+    'auto'
+
+    Parameters
+    ----------
+    frame_sizes : sequence of int or "auto"
+        Neighbourhood sizes of the single-resolution synthesis of frames
+        2..L; ``"auto"`` (default): the last two of the schedule's
+        ``neighborhood_sizes`` (16, 8): the warped frame is already a good
+        texture, so the large size, which rearranges whole elements, is not
+        needed to repair it.
+    max_frame_iterations : int
+        EM iterations per size for frames 2..L at most (default 3); a size
+        also stops when the matches no longer change or the energy falls by
+        less than the schedule's ``tolerance``. The matches are the paper's
+        ``{z_p}``.
+    constraint_weight : float
+        How strongly a frame keeps the warped previous frame (default 3).
+        It is ``λ`` of the flow term; the paper gives no value, and λ = 1
+        lets the texture wash out into flat regions (docs/methods/kwatra.md).
+    warp_order : int
+        Spline order of the warp (default 3, cubic): a bilinear warp blurs a
+        little at every frame and the blur accumulates over the sequence.
+    frame_falloff : float or None
+        Width of the fall-off with which frames 2..L average overlapping
+        neighbourhoods, in grid spacings (default 0.25). It is ``σ`` of the
+        Gaussian with which the E-step averages the overlapping ``z_p``, in
+        units of the grid spacing ``w/4``. Default 0.25: each pixel comes mostly from the ``z_p``
+        centred nearest to it, so neighbourhoods that disagree by a pixel
+        (inevitable when the texture moves by fractions of a pixel) are not
+        averaged into blur. ``None`` uses the M-step's fall-off (σ = w/4),
+        the plain Algorithm 2, with which the frames wash out into flat
+        smeared regions; the paper gives no σ.
+    """
+
+    frame_sizes: object = "auto"
+    max_frame_iterations: int = 3
+    constraint_weight: float = 3.0
+    warp_order: int = 3
+    frame_falloff: object = 0.25

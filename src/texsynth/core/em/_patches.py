@@ -85,6 +85,13 @@ class ExemplarPatches:
         An animation frame's settings of the search layer (its index searches the stored vectors).
     guided : bool
         The last channels are guides (they may exceed 1 and make more than 4 channels).
+    atlas : ExemplarAtlas, optional
+        Augmentation (``Search(augment=...)``): the neighbourhoods are those of this
+        :class:`~texsynth.core.search.ExemplarAtlas` of ``image`` (pyramid ``level``) with ``valid``, so
+        every index, field and coherence works on the flipped and rotated copies too;
+        :meth:`to_exemplar` maps their positions back to ``image``'s.
+    level : int
+        The pyramid level of ``image`` in the ``atlas``'s layout.
 
     Examples
     --------
@@ -95,7 +102,10 @@ class ExemplarPatches:
     """
 
     def __init__(self, image, valid, size, *, gradient_weight=0.0, falloff=True, method="auto", rng=None, frame=False,
-                 guided=False):
+                 guided=False, atlas=None, level=0):
+        self.original, self.atlas, self.level = image, atlas, level  # the exemplar level itself, and its copies
+        if atlas is not None:
+            image, valid = atlas.apply(image, level, valid)
         self.image, self.size, self.mu = image, size, gradient_weight
         self.guided = guided  # the last channels are guides (may exceed 1 and make more than 4 channels)
         self.valid = valid
@@ -141,6 +151,15 @@ class ExemplarPatches:
 
     def __len__(self):
         return len(self.corner)
+
+    def to_exemplar(self, positions):
+        """Positions ``(..., 2)`` in :attr:`image` as the exemplar pixels they show (themselves without an atlas)."""
+        return positions if self.atlas is None else self.atlas.to_exemplar(positions, self.level)
+
+    @property
+    def own(self):
+        """Which neighbourhoods lie in the exemplar itself (all of them without an atlas: its first tile)."""
+        return np.ones(len(self), bool) if self.atlas is None else self.corner[:, 1] < self.original.shape[1]
 
     def patches(self, idx):
         c = self.corner[idx]

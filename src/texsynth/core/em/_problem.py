@@ -1,7 +1,7 @@
 """The checked inputs of an EM synthesis and their pyramids: exemplar, output, constraints, guides, fields.
 
 :func:`prepare` checks the arrays once (as a :class:`Problem`); :func:`with_guides`, :func:`with_fields`
-and :func:`with_margin` add guide channels, orientation and scale fields and a margin; :func:`pyramids`
+and :func:`with_margin` add guide channels, orientation and magnification fields and a margin; :func:`pyramids`
 builds every level (Section 3.2 of Kwatra et al. 2005).
 """
 
@@ -99,7 +99,7 @@ class Problem:
     x_init: np.ndarray | None = None
     # (H, W, G) output guide, scaled; ex then holds the exemplar guide's G last channels
     guide: np.ndarray | None = None
-    fields: tuple | None = None  # (theta, scale), (H, W) each: the orientation and scale fields
+    fields: tuple | None = None  # (theta, magnification), (H, W) each: the orientation and magnification fields
     labels: np.ndarray | None = None  # (L, G) label vectors (scaled) when the guides are label maps
 
 
@@ -258,15 +258,15 @@ def with_guides(problem, exemplar_guide, output_guide, guide_weight):
     return dataclasses.replace(problem, ex=ex, constraint=constraint, x_init=x_init, guide=go, labels=labels)
 
 
-def with_fields(problem, orientation, scale):
-    """The orientation and scale fields (Zhang et al. 2003's local frames) over the output, checked."""
+def with_fields(problem, orientation, magnification):
+    """The orientation and magnification fields (Zhang et al. 2003's local frames) over the output, checked."""
     theta = as_field(orientation, problem.shape, "orientation")
-    factor = as_field(scale, problem.shape, "scale", positive=True)
+    factor = as_field(magnification, problem.shape, "magnification", positive=True)
     if theta is None and factor is None:
         return problem
     if problem.constraint is not None and np.isfinite(problem.constraint[2]):
-        raise ValueError("orientation and scale fields do not combine with soft constraints (target with a finite "
-                         "constraint_weight: Algorithm 2 ranks plain neighbourhoods); pass "
+        raise ValueError("orientation and magnification fields do not combine with soft constraints (target with a "
+                         "finite constraint_weight: Algorithm 2 ranks plain neighbourhoods); pass "
                          "constraint_weight=float('inf') (hard constraints) or no fields")
     theta = np.zeros(problem.shape) if theta is None else theta
     factor = np.ones(problem.shape) if factor is None else factor

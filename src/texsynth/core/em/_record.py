@@ -95,7 +95,8 @@ class OptimizationInfo:
         (under hard constraints, those near the unconstrained pixels).
     sources : numpy.ndarray
         ``(N, 2)`` centre in the exemplar of each final ``z_p``: where each
-        neighbourhood of the output came from.
+        neighbourhood of the output came from (with ``Search(augment=...)``
+        the exemplar pixel that the centre of its flipped or rotated copy shows).
     seconds : float
         Total wall time.
     coordinates : numpy.ndarray or None
@@ -194,9 +195,11 @@ class Record:
         """The :class:`OptimizationInfo`, with the source-coordinate map if ``coordinates`` (and the last
         stage ran at full resolution): ``coordinates(*self.dominant[1:])`` computes it."""
         level, *last = self.dominant or (None,)
+        # augmented copies: the sources as the exemplar pixels they show
+        sources = self.sources if not last else last[0].to_exemplar(self.sources)
         return OptimizationInfo(
             energy=np.asarray(self.energy), mse=np.asarray(self.mse), stage=np.asarray(self.stage, dtype=int),
-            stages=self.stages, centers=self.centers, sources=self.sources * (2 ** self.stages[-1].level),
+            stages=self.stages, centers=self.centers, sources=sources * (2 ** self.stages[-1].level),
             coordinates=coordinates(*last) if level == 0 and coordinates is not None else None,
         )
 

@@ -58,12 +58,13 @@ def dominant_sources(exemplar, centers, matches, patch_weights, shape, mode, war
     exemplar, so the map stays a copy map.
     """
     if warp is not None:
-        return _dominant_warped(exemplar, matches, patch_weights, shape, warp)
+        return exemplar.to_exemplar(_dominant_warped(exemplar, matches, patch_weights, shape, warp))
     out, best = _dominant_grid(exemplar, centers, matches, patch_weights, shape, mode)
+    out = exemplar.to_exemplar(out)  # augmented copies: the exemplar pixel each copied pixel shows
     covered = best > -np.inf
     if covered.all() or not covered.any():
         return out
-    return np.clip(extend_nearest(out, covered), 0, np.asarray(exemplar.image.shape[:2]) - 1)  # covered: unchanged
+    return np.clip(extend_nearest(out, covered), 0, np.asarray(exemplar.original.shape[:2]) - 1)  # covered: unchanged
 
 
 def extend_nearest(positions, defined):

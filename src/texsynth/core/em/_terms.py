@@ -110,7 +110,8 @@ class Occurrence:
         self.self_weight = float(self.kernel[exemplar.size - 1, exemplar.size - 1])
         self.shape = exemplar.view.shape[:2]
         omega = n * float(exemplar.g.sum()) / len(exemplar)
-        variance = float(exemplar.image.reshape(-1, exemplar.image.shape[-1]).var(axis=0).mean())
+        own = exemplar.original  # the exemplar itself (not its augmented copies): its variance, its area
+        variance = float(own.reshape(-1, own.shape[-1]).var(axis=0).mean())
         self.factor = occurrence_weight * variance * float(exemplar.weights.sum()) / omega
         self.penalty = np.zeros(len(exemplar))
         self.own = 0.0
@@ -120,7 +121,7 @@ class Occurrence:
         spacing = max(1, int(np.diff(np.unique(centers[:, 1]))[:1].max(initial=1)))
         self.copy_limit = None
         if copy_limit is not None:  # the limit as a number of grid centres sharing one offset
-            self.copy_limit = max(1.0, copy_limit * exemplar.image.shape[0] * exemplar.image.shape[1] / spacing**2)
+            self.copy_limit = max(1.0, copy_limit * own.shape[0] * own.shape[1] / spacing**2)
         self.copy_factor = _COPY_PENALTY * variance * float(exemplar.weights.sum())
 
     def update(self, exemplar, matches):
@@ -161,7 +162,7 @@ class Completeness:
     """The completeness term of the bidirectional similarity (Simakov et al. 2008) for one stage.
 
     Every exemplar neighbourhood ``q_j`` whose corner lies on a grid of the
-    stage's spacing is matched to its nearest output neighbourhood ``x_p(j)``;
+    stage's spacing (of the exemplar itself, not of its augmented copies) is matched to its nearest output neighbourhood ``x_p(j)``;
     the term is ``scale * sum_j (||x_p(j) - q_j||^2 + ε²)^(r/2)`` with
     ``scale = weight * |X†| / |J|``, so that ``weight = 1`` gives the two
     directions equal weight per neighbourhood, as in Simakov et al.'s
@@ -176,7 +177,9 @@ class Completeness:
     """
 
     def __init__(self, exemplar, centers, completeness_weight, spacing):
-        on_grid = (exemplar.corner[:, 0] % spacing == 0) & (exemplar.corner[:, 1] % spacing == 0)
+        # with augmented copies (an atlas) only the exemplar's own neighbourhoods must appear: the copies are
+        # more candidates, not more content the output owes
+        on_grid = (exemplar.corner[:, 0] % spacing == 0) & (exemplar.corner[:, 1] % spacing == 0) & exemplar.own
         self.jidx = np.flatnonzero(on_grid)
         self.scale = completeness_weight * len(centers) / max(1, len(self.jidx))
 

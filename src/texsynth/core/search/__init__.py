@@ -47,7 +47,11 @@ neighbourhood is closest to this one?*, and asks it here:
     ``"tsvq"`` or ``"patchmatch"``.
 :class:`Search`
     The options of a synthesis's search, one group (``search=Search(method=...,
-    candidates=..., k=...)``); :func:`is_auto` tells the preset's ``"auto"``.
+    candidates=..., k=..., augment=...)``); :func:`is_auto` tells the preset's ``"auto"``.
+:func:`augmented_set`
+    The exemplar's flipped and rotated copies (``Search(augment=...)``);
+    :class:`ExemplarAtlas` lays them out as one image that a method searches
+    as its exemplar, and maps a match back to the exemplar pixel it shows.
 :class:`KCoherence`
     k-coherent candidates (Ashikhmin 2001, Tong et al. 2002): where the
     neighbours' copies continue, and what resembles those positions;
@@ -91,6 +95,8 @@ from ._patchmatch import (
     project_patches,
     resolve_field,
 )
+from ._augment import (AUGMENT_METHODS, AUGMENTS, ExemplarAtlas, Transform, augmentations, augmented_set, check_augment,
+                       refuse_augment, window_search)
 from ._options import Search, is_auto
 from ._rescore import lowest_cost
 from ._registry import BACKENDS, PROFILES, Profile, check_method, register, resolve, use
@@ -103,5 +109,5 @@ __all__ = [
     "PatchIndex", "nearest", "point_tree", "SequentialExact", "SubsetExact", "nearest_candidates", "candidate_sq_distances", "sq_distances",
     "MaskedIndex", "masked_sq_distances", "MASKED_METHODS", "WindowSearch", "TemplateSearch", "within_tolerance", "within_radius",
     "KCoherence", "neighbor_sources", "coherence_sets", "check_candidates", "COHERENT_MODES", "CANDIDATES", "patchmatch", "patchmatch_features", "nearest_field", "project_patches", "FIELD_METHODS", "FIELD_MIN_VALUES", "check_field_method", "resolve_field",
-    "Search", "is_auto", "lowest_cost", "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
+    "Search", "is_auto", "AUGMENTS", "AUGMENT_METHODS", "ExemplarAtlas", "Transform", "augmentations", "augmented_set", "check_augment", "refuse_augment", "window_search", "lowest_cost", "METHODS", "BACKENDS", "PROFILES", "Profile", "register", "resolve", "use", "check_method", "exact_chunk_rows",
 ]

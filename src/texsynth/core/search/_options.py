@@ -6,6 +6,7 @@ import numbers
 from dataclasses import dataclass
 
 from .._validate import is_auto
+from ._augment import check_augment
 from ._coherent import check_candidates
 
 __all__ = ["Search", "is_auto"]
@@ -15,18 +16,27 @@ __all__ = ["Search", "is_auto"]
 class Search:
     """How a synthesis finds, for each of its neighbourhoods, the nearest exemplar neighbourhood.
 
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.Search(candidates="k-coherent", k=2)
+    Search(method='auto', candidates='k-coherent', k=2, augment='none')
+    >>> texsynth.Search(augment="rotations").augment
+    'rotations'
+
     One group of options, passed as ``search=Search(...)`` to every method
     that searches (:func:`~texsynth.optimize_texture`,
     :func:`~texsynth.synthesize_pixels`, ...). On the command line its
-    fields are the flags ``--method``, ``--candidates`` and ``--k``.
+    fields are the flags ``--method``, ``--candidates``, ``--k`` and ``--augment``.
 
     Parameters
     ----------
     method : str
-        The nearest-neighbour backend (:data:`texsynth.core.search.METHODS`:
-        ``"exact"``, ``"kdtree"``, ``"tsvq"``; ``"patchmatch"`` where the
-        method searches fields, :data:`~texsynth.core.search.FIELD_METHODS`).
-        ``"auto"`` (default): the method's measured choice per stage.
+        The nearest-neighbour backend: ``"exact"``, ``"kdtree"``,
+        ``"tsvq"``, or ``"patchmatch"`` where the method searches fields;
+        ``"auto"`` (default): the method's measured choice per stage. The
+        names are listed in :data:`texsynth.core.search.METHODS` and
+        :data:`~texsynth.core.search.FIELD_METHODS`.
     candidates : {"all", "k-coherent", "auto"}
         Which exemplar neighbourhoods a query is compared with: all of them,
         through ``method`` (default), or the k-coherent candidates of its
@@ -37,6 +47,22 @@ class Search:
         The size of the k-coherence sets with ``candidates="k-coherent"``:
         the neighbourhood itself and ``k - 1`` similar ones (1: Ashikhmin's
         continuations only). ``"auto"`` (default): the method's own default.
+    augment : {"none", "flips", "rotations", "both"}
+        Also draw from flipped or rotated copies of the exemplar:
+        ``"flips"`` its left-right and up-down mirror images,
+        ``"rotations"`` its quarter turns (90, 180, 270 degrees), ``"both"``
+        all eight symmetries of the square; ``"none"`` (default): the
+        exemplar as it is. It helps a texture of few elements that occur in
+        any orientation and harms a directional one
+        (``docs/methods/search.md``). The source-coordinate map still points
+        into the exemplar itself
+        (:func:`~texsynth.core.search.augmented_set`). Taken by
+        :func:`~texsynth.optimize_texture`,
+        :func:`~texsynth.synthesize_pixels`, :func:`~texsynth.mix_textures`
+        (not with ``candidates="k-coherent"``) and
+        :func:`~texsynth.efros_leung`; the other methods refuse it
+        (:func:`~texsynth.quilt` and :func:`~texsynth.patch_sampling` take
+        ``augment=`` as an option of their own).
 
     References
     ----------
@@ -46,20 +72,15 @@ class Search:
        :doi:`10.1145/566654.566634` (not at hand: the k-coherence sets as
        :mod:`texsynth.core.search` describes them; their use in texture
        optimization's M-step is ours).
-
-
-    Examples
-    --------
-    >>> from texsynth.core.search import Search
-    >>> Search(candidates="k-coherent", k=2)
-    Search(method='auto', candidates='k-coherent', k=2)
     """
 
     method: str = "auto"
     candidates: str = "all"
     k: object = "auto"
+    augment: str = "none"
 
     def __post_init__(self):
+        check_augment(self.augment)
         if not isinstance(self.method, str):
             raise TypeError(f"method must be a backend name such as 'auto' or 'exact', got {self.method!r}")
         if not is_auto(self.candidates):

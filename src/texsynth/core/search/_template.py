@@ -32,6 +32,7 @@ import numpy as np
 from scipy import fft as sp_fft
 
 from .._validate import check_memory
+from ..neighborhood import patches_within
 
 __all__ = ["TemplateSearch", "WindowSearch", "within_radius", "within_tolerance"]
 
@@ -50,12 +51,20 @@ class WindowSearch:
         ``(H, W, C)`` float array (the exemplar), searched as it is.
     window : (int, int)
         ``(h, w)`` of the windows (at most the image's size).
+    valid : numpy.ndarray, optional
+        ``(H, W)`` bool: the pixels a window may hold (an
+        :class:`~texsynth.core.search.ExemplarAtlas`'s tiles); a window that
+        holds another pixel is at distance ``inf`` and never drawn.
 
     Attributes
     ----------
     shape : (int, int)
         The number of window positions ``(H - h + 1, W - w + 1)``; position
         ``(i, j)`` is the window whose top-left pixel is ``(i, j)``.
+    image : numpy.ndarray
+        The image the windows are cut from.
+    n_positions : int
+        The number of positions a window may take (all of them without ``valid``).
 
     Examples
     --------
@@ -67,8 +76,9 @@ class WindowSearch:
     ((9, 6), (3, 2), 0.0)
     """
 
-    def __init__(self, image, window):
+    def __init__(self, image, window, valid=None):
         image = np.asarray(image, dtype=np.float64)
+        self.image = image
         if image.ndim != 3:
             raise ValueError(f"image must be a channels-last array (H, W, C), got shape {image.shape}")
         h, w = int(window[0]), int(window[1])
@@ -82,6 +92,8 @@ class WindowSearch:
                      "the image's Fourier transforms")
         self.window = (h, w)
         self.shape = (H - h + 1, W - w + 1)
+        self.allowed = None if valid is None else patches_within(valid, (h, w))
+        self.n_positions = self.shape[0] * self.shape[1] if valid is None else int(self.allowed.sum())
         self._spectrum = sp_fft.rfft2(image, s=self._fft_shape, axes=(0, 1))
         sq_norm = np.einsum("ijc,ijc->ij", image, image)
         self._sq_spectrum = sp_fft.rfft2(sq_norm, s=self._fft_shape)
@@ -136,7 +148,14 @@ class WindowSearch:
         d2 = self.masked_energy(m) - 2.0 * self._correlate(cross) + constant
         rounding = _ROUNDING * (constant + self._peak * m.sum())
         d2[d2 < rounding] = 0.0
+        if self.allowed is not None:
+            d2[~self.allowed] = np.inf
         return d2
+
+    def draw(self, rng):
+        """A window position ``(top, left)`` drawn uniformly among those allowed (one ``rng.integers`` draw)."""
+        k = int(rng.integers(self.n_positions))
+        return divmod(k if self.allowed is None else int(np.flatnonzero(self.allowed)[k]), self.shape[1])
 
 
 class TemplateSearch:
