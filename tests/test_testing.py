@@ -82,12 +82,13 @@ def test_bad_input_is_refused_naming_the_parameter(name, data):
 
 NAMES = ("energy", "completeness", "spectrum", "verbatim_copy")
 DEFAULTS = {"energy": 0.5, "completeness": 0.5, "spectrum": 0.6, "verbatim_copy": 0.5}
-# |score - full computation's score| allowed, per size of the sample. Measured (benchmarks/bench_testing.py
-# and these cases): with 1024 neighbourhoods (the default; 96 and 256 px outputs) at most 0.024 on energy
-# and completeness and 0.011 on the copied fraction; with 64 (forced here, so that small images take the
-# sampled path) 0.076 and 0.009. The bounds keep a 2x margin; the spectrum is computed as before.
-SCORE_TOLERANCE = {1024: {"energy": 0.05, "completeness": 0.05, "spectrum": 1e-9, "verbatim_copy": 0.03},
-                   64: {"energy": 0.15, "completeness": 0.15, "spectrum": 1e-9, "verbatim_copy": 0.03}}
+# |score - full computation's score| allowed, per size of the sample. Measured (benchmarks/bench_testing.py,
+# 72 cases, and these): with 1024 neighbourhoods (the default; 96 and 256 px outputs) at most 0.014 on
+# energy, 0.002 on completeness and 0.027 on the copied fraction (a blurred smooth photograph; 0.005 on these
+# cases); with 64 (forced here, so that small images take the sampled path) 0.076 and 0.035 on energy and
+# completeness, 0.009 on the copy. The bounds keep a 2x margin; the spectrum is computed as before.
+SCORE_TOLERANCE = {1024: {"energy": 0.03, "completeness": 0.03, "spectrum": 1e-9, "verbatim_copy": 0.055},
+                   64: {"energy": 0.15, "completeness": 0.07, "spectrum": 1e-9, "verbatim_copy": 0.02}}
 
 
 def _full_scores(output, exemplar, **kwargs):

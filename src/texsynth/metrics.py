@@ -551,9 +551,10 @@ _BASELINE_METRICS_KEPT = 16
 # The report of texsynth.testing.assert_texture_like: only the metrics its verdict uses, each search on at
 # most _VERDICT_GRID neighbourhoods of the metric's own grid. Up to that many the values are texture_report's;
 # above, each patch metric's mean over its grid is estimated from a stratified random sample of the grid (one
-# neighbourhood per cell of k x k grid points, weighted by the points it stands for): unbiased whatever the
-# image's structure, where a coarser regular grid could fall in step with a synthesis' blocks and miss every
-# seam. docs/metrics.md ("How assert_texture_like measures") gives the agreement measured on real textures.
+# neighbourhood per cell of about equal numbers of grid points, weighted by the points it stands for):
+# unbiased whatever the image's structure, where a coarser regular grid could fall in step with a synthesis'
+# blocks and miss every seam. docs/metrics.md ("How assert_texture_like measures") gives the agreement
+# measured on real textures.
 _VERDICT_GRID = 1024
 # the noise baseline's energy, when sampled: histogram-matched white noise is the same everywhere, so 256
 # neighbourhoods estimate its mean within 1.5 % (measured on 6 textures; its completeness, whose queries are
