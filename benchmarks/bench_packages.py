@@ -49,7 +49,7 @@ from texsynth.core import pyramid
 from texsynth.core.color import color_pca
 from texsynth.core.search import PatchIndex, _kdtree, _tsvq
 from texsynth.io import load_image
-from texsynth.optimization import _ruiters
+from texsynth.optimization._ruiters_neighborhoods import downsample as ruiters_downsample
 from texsynth.statistical import match_histogram
 
 TEXTURES = Path(__file__).resolve().parents[2] / "shared" / "textures"
@@ -254,7 +254,7 @@ def bench_skimage(image):
     h, w = image.shape[0] // r, image.shape[1] // r
     t, ours = best_of(lambda: image.reshape(h, r, w, r, -1).mean(axis=(1, 3)))
     row("box downsampling by 2", "reshape-mean (texsynth's until 0.2)", f"{t:.4f}", f"shape {ours.shape}")
-    t, now = best_of(lambda: _ruiters._downsample(image, r))
+    t, now = best_of(lambda: ruiters_downsample(image, r))
     row("", "texsynth now (Ruiters' _downsample: block_reduce)", f"{t:.4f}",
         f"max difference {np.abs(now - ours).max():.1e}")
     t, theirs = best_of(lambda: downscale_local_mean(image, (r, r, 1)))

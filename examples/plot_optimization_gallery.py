@@ -17,8 +17,8 @@ copies larger than about a third of the exemplar, which the completeness
 term alone would favour).
 
 The exemplars are bundled grey samples (``texsynth.data``): nuts (large
-objects, at half size), reptile skin (a lattice) and text, 128 px each, with
-128 px outputs to keep the example quick (about 20 s). Saves ``examples/output/optimization_gallery.png`` (exemplar,
+objects, at half size) and text, 128 px each, with 128 px outputs to keep the
+example quick (about 20 s). Saves ``examples/output/optimization_gallery.png`` (exemplar,
 output with the defaults, output with the options; one row per texture) and
 one PNG per output.
 """
@@ -44,7 +44,6 @@ SIZE = 128
 # (sample, kind): exemplars of about 128 px, as in the paper
 CASES = [
     ("nuts", "objects"),
-    ("reptile", "structured"),
     ("text", "text"),
 ]
 

@@ -6,9 +6,9 @@ texsynth ships no video, so the input videos are made from a real
 photograph: (1) a window sliding diagonally over the bundled water photograph
 (``texsynth.data.load("water")``) by a few pixels per frame, and (2) the same
 photograph with a slow "breathing" brightness wave, a stand-in for flicker.
-Both are 24 frames, 128x128.
+Both are 16 frames, 128x128.
 
-The output is a 32-frame loop of 128x128 frames: one fixed Voronoi
+The output is a 24-frame loop of 128x128 frames: one fixed Voronoi
 arrangement in space, and per cell an intermediate sequence of input clips
 joined by cosine transitions (eqs. 3-6). The figure shows output frames, and
 space-time slices (a row of pixels over time, time downwards: the paper's
@@ -39,8 +39,8 @@ OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
 
 full = data.load("water")  # 300 x 300
-T, SIDE = 24, 128  # input frames and their side
-OUT_T, OUT_SIDE, GRID = 32, 128, 30  # the output loop: frames, side, grid spacing (at most a quarter of SIDE)
+T, SIDE = 16, 128  # input frames and their side
+OUT_T, OUT_SIDE, GRID = 24, 128, 30  # the output loop: frames, side, grid spacing (at most a quarter of SIDE)
 photo = full[:SIDE, :SIDE]
 # a SIDE x SIDE window sliding over the photograph (1 px down, 2 px right per frame): no wrap seam
 drift = np.stack([full[t : t + SIDE, 2 * t : 2 * t + SIDE] for t in range(T)])

@@ -24,7 +24,7 @@ from texsynth.pixel import synthesize_solid
 HERE = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()  # the gallery runs without __file__
 OUT = HERE / "output"
 OUT.mkdir(exist_ok=True)
-N = 48  # volume side: about 15 s (64 takes about 45 s; kd-tree search)
+N = 40  # volume side: about 10 s (64 takes about 45 s; kd-tree search)
 
 ex = data.load("bread")[:64, :64]  # the bundled bread, a 64 px crop
 vol = synthesize_solid(ex, N, rng=0)

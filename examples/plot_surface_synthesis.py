@@ -43,7 +43,7 @@ FOLDERS = [OUT] + ([HERE.parent / "docs" / "_static"] if "--docs" in sys.argv el
 # the documentation's figure at full resolution (--docs); the gallery and a plain run with fewer vertices and a
 # coarser Bunny (about half the time)
 FULL = "--docs" in sys.argv
-N_VERTICES = 20000 if FULL else 8000
+N_VERTICES = 20000 if FULL else 5000
 PIXEL = (0.5 if FULL else 1.0) / 128  # the Bunny's lapped textures: the length of an exemplar pixel on it ...
 TEXELS = 8 if FULL else 4  # ... and the side of each face's cell in the baked atlas
 

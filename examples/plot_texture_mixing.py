@@ -13,9 +13,9 @@ only, 1: like B only). A hard switch (step weights: A on the left half, B on
 the right) is shown dashed for comparison: a ramp should rise steadily where
 the switch jumps. The script prints the profile as a table.
 
-The pairs: scikit-image's brick and gravel photographs (``skimage.data``, grey,
-at a quarter of their size) and the bundled red brick wall and bread crumb
-(``texsynth.data``, colour).
+The pair: scikit-image's brick and gravel photographs (``skimage.data``, grey,
+at a quarter of their size). ``plot_texton_control.py`` mixes two colour
+samples (brick and bread) the same way.
 """
 
 from pathlib import Path
@@ -58,17 +58,17 @@ def smoothness(f):
     return rho, np.abs(np.diff(f)).max() / (f.max() - f.min())
 
 
-# Two pairs, grey and colour, with a neighbourhood per source (Wei 2002: sources differ in texon
-# size). Bricks are large texons: 9x9; gravel and the bread's pores keep 5x5.
+# A neighbourhood per source (Wei 2002: sources differ in texon size): bricks are large texons, 9x9;
+# gravel keeps 5x5. Add pairs to compare, e.g. ("brick", "bread", 1, [9, 5]) (bundled, colour).
 pairs = [
     ("skimage.brick", "skimage.gravel", 4, [9, 5]),
-    ("brick", "bread", 1, [9, 5]),
 ]
 h, w = 128, 192
 ramp = np.tile(np.linspace(0, 1, w), (h, 1))
 step = np.tile((np.arange(w) >= w // 2).astype(float), (h, 1))
-fig, axes = plt.subplots(len(pairs), 4, figsize=(14, 3.2 * len(pairs)), gridspec_kw={"width_ratios": [1, 1, 3, 3]})
-pfig, paxes = plt.subplots(len(pairs), 2, figsize=(12, 3.4 * len(pairs)))
+fig, axes = plt.subplots(len(pairs), 4, figsize=(14, 3.2 * len(pairs)), gridspec_kw={"width_ratios": [1, 1, 3, 3]},
+                         squeeze=False)
+pfig, paxes = plt.subplots(len(pairs), 2, figsize=(12, 3.4 * len(pairs)), squeeze=False)
 for row, prow, (na, nb, sub, sizes) in zip(axes, paxes, pairs):
     a, b = load(na, sub), load(nb, sub)
     cmap = None if a.ndim == 3 else "gray"

@@ -9,6 +9,7 @@ second.
 import ast
 import importlib
 import importlib.util
+import re
 import types
 from pathlib import Path
 
@@ -48,3 +49,17 @@ def test_imports_resolve(script):
                         f"{script.name}:{node.lineno}: `from {node.module} import {alias.name}` gives the "
                         f"function, not the module {node.module}.{alias.name}; import the names you need from it"
                     )
+
+
+EXAMPLES = sorted((ROOT / "examples").glob("*.py"))
+# a folder beside the checkout, the benchmarks' photographs: neither is in a user's download
+OUTSIDE = re.compile(r"\.\./shared|[\"'/]shared[\"'/]|parents\[2\]|benchmarks\W+photos")
+
+
+@pytest.mark.parametrize("script", EXAMPLES, ids=lambda p: p.name)
+def test_examples_read_only_what_a_user_downloads(script):
+    """Examples read texsynth.data (and skimage.data) only, and write into docs/ only when asked (--docs)."""
+    text = script.read_text()
+    assert not OUTSIDE.search(text), f"{script.name} reads files outside the package: {OUTSIDE.search(text)[0]!r}"
+    if script.name.startswith("plot_") and '"_static"' in text:
+        assert '"--docs" in sys.argv' in text, f"{script.name} writes docs/_static without --docs"
