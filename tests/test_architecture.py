@@ -301,6 +301,7 @@ HELPER_MODULES = {
     "_ps_statistics": "portilla_simoncelli",      # Portilla-Simoncelli's statistics and projection step
     "_ruiters_neighborhoods": "ruiters",          # Ruiters et al.'s neighbourhood sets and correspondences
     "_augment": "wei_levoy",                      # exemplar augmentation of Wei-Levoy and mixtures (test_augment.py)
+    "_options": "wei_levoy",                      # the option checks Wei-Levoy, mixtures and textons share
     "_retile": "vertex_synthesis",                # Turk's retiling and mesh hierarchy (tests/test_retile.py)
     "_field": "vertex_synthesis",                 # tangent fields, also lapped textures' (tests/test_field.py)
     "_mesh": "surfaces",                          # the surface family's Mesh (tests/test_mesh.py)

@@ -760,12 +760,12 @@ def test_unwritable_folder_is_one_line(tmp_path, metal_file, capsys, monkeypatch
 def test_full_disk_is_one_line_and_leaves_nothing(tmp_path, metal_file, capsys, monkeypatch):
     import errno
 
-    import texsynth.io as tio
+    import imageio.v3 as iio
 
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(tio.iio, "imwrite", full)
+    monkeypatch.setattr(iio, "imwrite", full)
     status = run("patchwork", str(metal_file), "-o", str(tmp_path / "out.png"), "--grid-spacing", "8")
     assert "No space left" in _one_line_error(capsys, status)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["metal.png"]  # no output, no temporary
@@ -825,13 +825,14 @@ def test_sigterm_during_the_write_leaves_nothing(tmp_path, metal_file):
 
     out = tmp_path / "out.png"
     code = textwrap.dedent(f"""
-        import time, texsynth.io as tio
+        import time
         from texsynth import cli
+        from texsynth.io import _images
         def slow(path, *args, **kwargs):
             open(path, "wb").write(b"partial")
             print("writing", flush=True)
             time.sleep(30)
-        tio._imwrite = slow  # writes the encoded image to the temporary file
+        _images.imwrite = slow  # writes the encoded image to the temporary file
         cli.main(["patchwork", {str(metal_file)!r}, "-o", {str(out)!r}, "--grid-spacing", "8", "--no-progress"])
         """)
     with subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True) as proc:

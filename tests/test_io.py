@@ -137,7 +137,7 @@ def test_to_uint_memory_estimate_bounds_its_peak_and_holds_one_scaled_copy(monke
     import texsynth.io
 
     estimates = []
-    monkeypatch.setattr(texsynth.io, "check_memory", lambda nbytes, *args, **kwargs: estimates.append(nbytes))
+    monkeypatch.setattr(texsynth.io._images, "check_memory", lambda nbytes, *args, **kwargs: estimates.append(nbytes))
     image = np.resize(_TO_UINT_INPUTS[kind](np.random.default_rng(0)), 200_000)
     copy = 4 if kind == "float32" else 8  # bytes of a float value
     tracemalloc.start()
@@ -199,7 +199,7 @@ def test_frame_folder_overwrite_never_deletes_other_files(tmp_path):
 
 
 def test_failed_frame_write_keeps_the_old_sequence(tmp_path, monkeypatch):
-    import texsynth.io as tio
+    import imageio.v3 as iio
 
     save_frames(tmp_path / "seq", np.ones((2, 4, 4)))
     calls = []
@@ -210,8 +210,8 @@ def test_failed_frame_write_keeps_the_old_sequence(tmp_path, monkeypatch):
             raise OSError("disk full")
         return real(target, *args, **kwargs)
 
-    real = tio.iio.imwrite
-    monkeypatch.setattr(tio.iio, "imwrite", failing_imwrite)
+    real = iio.imwrite
+    monkeypatch.setattr(iio, "imwrite", failing_imwrite)
     with pytest.raises(OSError, match="disk full"):
         save_frames(tmp_path / "seq", np.zeros((3, 4, 4)), overwrite=True)
     monkeypatch.undo()
@@ -286,11 +286,12 @@ _SLOW_WRITE = """
 import signal, sys, time
 import numpy as np
 import texsynth.io as tio
+from texsynth.io import _frames, _images
 
 mode, target = sys.argv[1], sys.argv[2]
 if mode == "own-handler":
     signal.signal(signal.SIGTERM, lambda *args: sys.exit(3))
-real = tio._imwrite  # writes the encoded image to the temporary file
+real = _images.imwrite  # writes the encoded image to the temporary file
 calls = []
 
 
@@ -305,7 +306,7 @@ def slow_imwrite(uri, image, **kwargs):
         time.sleep(0.05)
 
 
-tio._imwrite = slow_imwrite
+_images.imwrite = _frames.imwrite = slow_imwrite
 if mode == "frames":
     tio.save_frames(target, np.zeros((3, 8, 8)), overwrite=True)
 else:
@@ -595,7 +596,7 @@ def test_sixteen_bit_colour_png_of_other_writers_is_read_exactly(tmp_path, filte
 
 
 def test_the_png_row_filters_match_pillows_decoder(tmp_path):
-    from texsynth.io import _unfilter
+    from texsynth.io._formats import _unfilter
 
     rng = np.random.default_rng(1)
     image = (np.linspace(0, 200, 64)[None, :, None] + rng.integers(0, 50, (40, 64, 3))).astype(np.uint8)
@@ -760,7 +761,7 @@ def test_exr_without_the_extra_names_it_and_writes_nothing(tmp_path, monkeypatch
     (tmp_path / "in.exr").write_bytes(b"\x76\x2f\x31\x01" + bytes(60))
     with pytest.raises(ImportError, match="texsynth\\[exr\\]"):
         load_image(tmp_path / "in.exr")
-    from texsynth.io import check_suffix
+    from texsynth.io._images import check_suffix
 
     with pytest.raises(ImportError, match="exr"):
         check_suffix("out.exr")  # what the command line asks before a synthesis
@@ -898,7 +899,7 @@ def test_coordinate_map_images_refuse_what_they_cannot_hold(tmp_path):
 def test_a_failed_exr_write_leaves_nothing_and_keeps_the_old_file(tmp_path, monkeypatch):
     import OpenEXR
 
-    import texsynth.io as tio
+    from texsynth.io import _formats
 
     old = save_image(tmp_path / "h.exr", np.full((4, 4), 0.25))
 
@@ -913,7 +914,7 @@ def test_a_failed_exr_write_leaves_nothing_and_keeps_the_old_file(tmp_path, monk
                 Path(name).write_bytes(b"v/1\x01 partial")
                 raise RuntimeError("No space left on device")
 
-    monkeypatch.setattr(tio, "_openexr", lambda: Failing)
+    monkeypatch.setattr(_formats, "openexr", lambda: Failing)
     with pytest.raises(OSError, match="No space left"):
         save_image(old, np.full((4, 4), 0.75), overwrite=True)
     monkeypatch.undo()

@@ -79,7 +79,7 @@ import sys
 import textwrap
 from pathlib import Path
 
-from .io import check_suffix
+from .io._images import check_suffix
 from ._cli_text import HelpFull, did_you_mean, doc_params, group_heading, plain_text, short_help
 from ._cli_values import (FIELD_GREY, SIZE_FORMS, CommandError, parse_flow, parse_size, parse_value, parse_weights,
                           ramp, read_field, read_grey_map)

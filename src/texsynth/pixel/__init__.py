@@ -16,9 +16,10 @@ sampling); the search is :class:`texsynth.core.search.Search`.
 """
 
 from ._efros_leung import EfrosLeungInfo, Sampling, efros_leung
+from ._options import ORDERS
 from ._texton import ControlledSynthesisInfo, find_textons, synthesize_controlled
 from ._wei_2002 import mix_textures, synthesize_solid
-from ._wei_levoy import ORDERS, SHAPES, Neighborhood, PixelSynthesisInfo, synthesize_pixels
+from ._wei_levoy import SHAPES, Neighborhood, PixelSynthesisInfo, synthesize_pixels
 
 __all__ = ["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung", "PixelSynthesisInfo",
            "EfrosLeungInfo", "ORDERS", "SHAPES", "synthesize_controlled", "find_textons", "ControlledSynthesisInfo",

@@ -74,8 +74,8 @@ from ..core.fields import taps as _taps
 from ..core.neighborhood import SHAPES, causal_parts, footprint, mask_offsets, patch_shape, wavefronts
 from ..core.pyramid import gaussian_pyramid, level_shapes
 from ..core.search import KCoherence, Search, check_method, is_auto, nearest_candidates, refuse_augment, resolve
-from ._wei_levoy import (Neighborhood, Source, candidate_pixels, check_fits, check_output_levels,
-                         default_parent_size)
+from ._options import check_fits, check_output_levels, default_parent_size
+from ._wei_levoy import Neighborhood, Source, candidate_pixels
 
 __all__ = ["synthesize_controlled", "find_textons", "ControlledSynthesisInfo"]
 

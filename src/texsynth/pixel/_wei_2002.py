@@ -38,14 +38,15 @@ References
 from __future__ import annotations
 
 import numbers
+import os
 
 import numpy as np
 
 from ..core._validate import as_rng, as_size, check_bool, check_choice, check_group, restore_channels
 from ..core.search import Search, is_auto, lowest_cost, refuse_augment
 from ._augment import augmented_source, to_exemplar
-from ._wei_levoy import (SHAPES, Mixture, Neighborhood, average_picks, check_candidate_options,
-                         check_order_method, check_output_memory, prepare_sources, search_options, synthesize_levels)
+from ._options import check_candidate_options, check_order_method, check_output_memory, search_options
+from ._wei_levoy import SHAPES, Mixture, Neighborhood, average_picks, prepare_sources, synthesize_levels
 
 __all__ = ["mix_textures", "synthesize_solid"]
 
@@ -461,6 +462,9 @@ def mix_textures(
        tree-structured vector quantization", SIGGRAPH 2000.
        :doi:`10.1145/344779.345009`
     """
+    if isinstance(sources, (str, os.PathLike)):
+        raise TypeError(f"sources: got the single file name {str(sources)!r}; pass a list of images or files, "
+                        "e.g. ['a.png', 'b.png']")
     if isinstance(sources, np.ndarray) or not hasattr(sources, "__len__") or len(sources) == 0:
         raise ValueError("sources must be a non-empty list of exemplar images, e.g. [a, b]")
     n = len(sources)

@@ -42,7 +42,6 @@ References
 from __future__ import annotations
 
 import contextlib
-import math
 import numbers
 import time
 import dataclasses
@@ -53,28 +52,25 @@ import numpy as np
 
 from ..core._parallel import parallel_for
 from ..core._progress import Progress
-from ..core._validate import MAX_ITERATIONS, one_blas_thread
-from ..core._validate import (as_image, as_rng, as_size, check_bool, check_choice, check_group, check_memory,
-                              check_positive_int, max_threads, restore_channels, with_channels)
+from ..core._validate import (as_image, as_rng, as_size, check_bool, check_choice, check_group, max_threads,
+                              one_blas_thread, restore_channels, with_channels)
 from ..core.neighborhood import (SHAPES, causal_mask, causal_parts, extract, footprint, multilevel_vectors, patch_shape,
                                  plane_vectors)
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import (CANDIDATES, PatchIndex, Search, SequentialExact, SubsetExact, check_candidates, check_method,
-                           is_auto, lowest_cost, resolve)
+from ..core.search import CANDIDATES, PatchIndex, Search, SequentialExact, SubsetExact, is_auto, lowest_cost, resolve
 from ._augment import augmented_source, to_exemplar
 from ._kcoherent import coherent_level
+from ._options import (check_candidate_options, check_fits, check_levels, check_order_method,
+                       check_output_levels, check_output_memory, default_parent_size, search_options)
 
 __all__ = [
     "synthesize_pixels",
     "Neighborhood",
     "PixelSynthesisInfo",
-    "ORDERS",
     "SHAPES",
     "CANDIDATES",
 ]
 
-#: Visiting orders: Wei & Levoy 2000 (scanline) and 2002 (order-independent).
-ORDERS = ("scanline", "independent")
 
 @dataclass
 class PixelSynthesisInfo:
@@ -218,22 +214,6 @@ class Neighborhood:
 # --------------------------------------------------------------------------- #
 # validation
 # --------------------------------------------------------------------------- #
-def default_parent_size(size):
-    """Parent neighbourhood: about half the size, odd (5x5 -> 3x3, 9x9 -> 5x5), as in [1]_ Fig. 5."""
-    return tuple(max(1, (s // 2) | 1) for s in size)
-
-
-
-def check_levels(levels):
-    return check_positive_int(levels, "levels")
-
-
-def check_fits(image, size, name, size_name):
-    h, w = image.shape[:2]
-    if size[0] > h or size[1] > w:
-        raise ValueError(
-            f"{size_name} {size} is larger than {name} ({h}x{w}); pass a smaller {size_name} or a larger {name}"
-        )
 
 
 # --------------------------------------------------------------------------- #
@@ -348,20 +328,6 @@ def _weight_pyramids(raw, levels, spatial_dims):
     return result  # [level][source]
 
 
-def check_output_levels(sources, shape, out_pyr, levels):
-    """The toroidal output's coarsest level must hold every neighbourhood (this level's and the parent's)."""
-    coarse = out_pyr[-1].shape[:-1]
-    for src in sources:
-        plane = tuple(n for a, n in enumerate(coarse) if a != src.axis) if src.axis is not None else coarse
-        need = src.size if levels == 1 else tuple(max(a, b) for a, b in zip(src.size, src.parent_size))
-        if plane[0] < need[0] or plane[1] < need[1]:
-            raise ValueError(
-                f"the output size {tuple(shape)} is only {plane[0]}x{plane[1]} at the coarsest of levels={levels}, "
-                f"smaller than the neighborhood {need[0]}x{need[1]} of {src.name}; pass a larger size, "
-                f"fewer levels or a smaller neighborhood"
-            )
-
-
 @dataclass(frozen=True)
 class Mixture:
     """How a synthesis with several sources minimises Wei's eq. 1 where a pixel has more than one.
@@ -429,19 +395,6 @@ class _Level:
     sources: list
     centers: list  # per source: its candidate exemplar pixels at this level
     weights: list  # per source: its normalised weight image at this level
-
-
-def check_output_memory(sources, shape, channels, dtype, order):
-    """Refuse an output whose arrays cannot fit: its pyramid, and in independent order every pixel's
-    neighbourhood vector for every source at once (scanline order holds one row of them)."""
-    n = float(math.prod(shape))  # Python ints: numpy's int64 product of a huge size wraps negative
-    item = np.dtype(dtype).itemsize
-    need = 3 * n * channels * item  # noise, the output pyramid, one pass's new values
-    if order != "scanline":
-        for src in sources:
-            dim = (src.size[0] * src.size[1] + src.parent_size[0] * src.parent_size[1]) * channels
-            need += 2 * n * (dim + channels) * item  # the query vectors and a temporary of the search
-    check_memory(need, tuple(shape))
 
 
 def synthesize_levels(sources, shape, channels, dtype, *, levels, order, method, iterations, passes, rng, progress,
@@ -1015,13 +968,6 @@ def prepare_sources(images, names, sizes, parent_sizes, axes, levels, size_name,
     return sources, channels, dtype, converted[0][1]
 
 
-def check_order_method(order, method, passes, max_iterations=1):
-    check_choice(order, "order", ORDERS)
-    check_method(method)
-    check_positive_int(passes, "passes", maximum=MAX_ITERATIONS)
-    check_positive_int(max_iterations, "max_iterations", maximum=MAX_ITERATIONS)
-
-
 def synthesize_pixels(
     exemplar,
     size,
@@ -1189,23 +1135,3 @@ def synthesize_pixels(
     info.coordinates = to_exemplar(sources, info.coordinates)
     out = restore_channels(out, grey)
     return (out, info) if return_info else out
-
-
-def search_options(search, candidates="all"):
-    """``(method, candidates, k)`` of a :class:`~texsynth.core.search.Search` (``"auto"`` candidates: the
-    given default; ``"auto"`` k: 1, Ashikhmin's search)."""
-    search = check_group(search, Search, "search")
-    return search.method, search.resolved_candidates(candidates), search.resolved_k(1)
-
-
-def check_candidate_options(candidates, k, order, tileable):
-    """``k`` checked, and ``candidates`` with the options it works with; a ValueError naming the fix."""
-    check_candidates(candidates)
-    k = check_positive_int(k, "k")
-    if candidates == "k-coherent" and order != "scanline":
-        raise ValueError("candidates='k-coherent' is implemented in order='scanline' only; pass order='scanline' "
-                         "or candidates='all'")
-    if tileable and candidates == "k-coherent":
-        raise ValueError("tileable=True is not implemented with candidates='k-coherent'; pass candidates='all' "
-                         "(or order='independent', which tiles)")
-    return k
