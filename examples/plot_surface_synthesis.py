@@ -58,7 +58,7 @@ runs = [
         torus(10000), reptile, n_vertices=N_VERTICES, rng=0)),
     ("lapped textures, bumpy sphere", lambda: lapped_textures(bumpy(10242, rng=0), brick, rng=0)),
 ]
-try:  # the Stanford Bunny ships with visvis: pip install 'texsynth[mesh]'
+try:  # the Stanford Bunny ships with visvis: python -m pip install visvis (the mesh extra)
     bunny = scanned_mesh()
     runs.append(("lapped textures, Stanford Bunny",
                  lambda: lapped_textures(bunny, bread, pixel_size=PIXEL, texels=TEXELS, rng=0)))

@@ -147,7 +147,7 @@ def test_an_unreachable_scheduler_fails_fast_naming_the_address(exemplars, tmp_p
 
 def test_without_dask_the_error_names_the_extra(monkeypatch, tmp_path):
     monkeypatch.setitem(sys.modules, "distributed", None)
-    with pytest.raises(ImportError, match=r"pip install '\.\[dask\]' in a texsynth checkout"):
+    with pytest.raises(ImportError, match=r"python -m pip install 'dask\[distributed\]>=2023' 'zarr>=3' \(texsynth's dask extra\)"):
         texsynth.batch(tmp_path, tmp_path / "out")
 
 

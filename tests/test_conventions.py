@@ -139,3 +139,13 @@ def test_the_bound_fails_on_a_function_with_15_options():
         return exemplar
 
     assert _crowded([("fifteen", fifteen), ("grouped", grouped)]) == {"fifteen": 15}
+
+
+MAX_LINES = 1200  # a module longer than this holds more than one paper's worth of code: split it by subject
+
+
+def test_no_source_file_is_longer_than_1200_lines():
+    src = Path(__file__).resolve().parents[1] / "src" / "texsynth"
+    long = {str(p.relative_to(src)): n for p in src.rglob("*.py")
+            if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_LINES}
+    assert not long, f"split these modules by subject (docs/architecture.md): {long}"

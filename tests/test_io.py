@@ -224,7 +224,7 @@ def test_video_without_the_extra_says_how_to_get_it(tmp_path, monkeypatch):
 
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name: None if name == "imageio_ffmpeg" else real(name))
-    with pytest.raises(ValueError, match=r"texsynth\[video\]"):
+    with pytest.raises(ValueError, match=r"pip install 'imageio-ffmpeg'"):
         save_frames(tmp_path / "v.mp4", np.zeros((3, 8, 8)))
     assert list(tmp_path.iterdir()) == []
 
@@ -756,10 +756,10 @@ def test_exr_bits_that_cannot_be_stored_are_refused_before_writing(tmp_path):
 
 def test_exr_without_the_extra_names_it_and_writes_nothing(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "OpenEXR", None)  # as if it were not installed
-    with pytest.raises(ImportError, match=r"pip install 'texsynth\[exr\]'"):
+    with pytest.raises(ImportError, match=r"pip install 'OpenEXR>=3.3'"):
         save_image(tmp_path / "a.exr", np.zeros((4, 4)))
     (tmp_path / "in.exr").write_bytes(b"\x76\x2f\x31\x01" + bytes(60))
-    with pytest.raises(ImportError, match="texsynth\\[exr\\]"):
+    with pytest.raises(ImportError, match="OpenEXR"):
         load_image(tmp_path / "in.exr")
     from texsynth.io._images import check_suffix
 

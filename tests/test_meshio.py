@@ -282,7 +282,7 @@ def test_other_formats_name_the_extra_when_trimesh_is_missing(tmp_path, monkeypa
         return real(name, *args)
 
     monkeypatch.setattr(importlib, "import_module", no_trimesh)
-    with pytest.raises(ModuleNotFoundError, match=r"through trimesh, which is not installed; pip install '\.\[mesh\]' in a texsynth checkout"):
+    with pytest.raises(ModuleNotFoundError, match=r"through trimesh, which is not installed; python -m pip install 'trimesh>=4'"):
         write_mesh(tmp_path / "s.stl", sphere(12))
     assert not list(tmp_path.iterdir())
 

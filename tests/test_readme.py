@@ -91,8 +91,11 @@ def test_install_lines_name_extras_that_exist():
     extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
     docs = [README] + [p.read_text() for p in (ROOT / "docs").rglob("*.md") if "_build" not in p.parts]
     docs.append((ROOT / "docs" / "api.rst").read_text())
+    # and every message, docstring, example and the notebook a user reads
+    docs += [p.read_text() for p in (ROOT / "src" / "texsynth").rglob("*.py")]
+    docs += [p.read_text() for p in (ROOT / "examples").iterdir() if p.suffix in (".py", ".txt", ".ipynb")]
     for text in docs:
-        assert "pip install texsynth" not in text and "pip install 'texsynth[" not in text
+        assert not re.search(r"pip install ['\"]?texsynth\b", text)
         for extra in re.findall(r"pip install (?:-e )?'?\.\[([a-z,]+)\]", text):
             assert set(extra.split(",")) <= set(extras), extra
 
@@ -103,3 +106,18 @@ def test_every_recipe_runs_as_written(recipe, tmp_path, monkeypatch):
     code = next(python[0] for title, python, _ in _recipes() if title == recipe)
     monkeypatch.chdir(tmp_path)
     exec(compile(code, f"README recipe {recipe!r}", "exec"), {})
+
+
+def test_an_extras_install_hint_works_as_written(monkeypatch):
+    from importlib import metadata
+
+    from texsynth.core._extras import install_hint
+
+    # installed: the extra's packages by name, from texsynth's metadata (texsynth itself is not on PyPI)
+    assert install_hint("video") == "python -m pip install 'imageio-ffmpeg' (texsynth's video extra)"
+
+    def absent(name):
+        raise metadata.PackageNotFoundError(name)
+
+    monkeypatch.setattr(metadata, "requires", absent)  # run from a source tree, uninstalled
+    assert install_hint("exr") == "python -m pip install '.[exr]' in a texsynth checkout"

@@ -121,5 +121,5 @@ def test_scanned_mesh_names_the_extra_when_the_package_is_missing(monkeypatch):
     import importlib.util
 
     monkeypatch.setattr(importlib.util, "find_spec", lambda name: None)
-    with pytest.raises(ModuleNotFoundError, match=r"visvis package, which is not installed; pip install '\.\[mesh\]' in a texsynth checkout"):
+    with pytest.raises(ModuleNotFoundError, match=r"visvis package, which is not installed; python -m pip install .*'visvis>=1.14'"):
         scanned_mesh()

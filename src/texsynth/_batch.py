@@ -18,6 +18,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .core._extras import install_hint
+
 __all__ = ["batch", "BatchSummary", "item_seed"]
 
 CONNECT_TIMEOUT = 5  # seconds to reach a scheduler given as an address
@@ -29,7 +31,7 @@ def _distributed():
         import distributed
     except ImportError as exc:
         raise ImportError("texsynth.batch runs on dask.distributed, which is not installed: "
-                          "pip install '.[dask]' in a texsynth checkout") from exc
+                          f"{install_hint('dask')}") from exc
     return distributed
 
 

@@ -1005,7 +1005,7 @@ def _add_surface_parser(sub):
                              description="Synthesise a texture over a triangle mesh (texsynth.synthesize_surface) "
                                          "or paste lapped textures (texsynth.lapped_textures); docs/methods/"
                                          "vertex_synthesis.md and lapped.md.")
-    surface.add_argument("mesh", metavar="MESH", help="the surface: .obj or .ply (others with texsynth[mesh])")
+    surface.add_argument("mesh", metavar="MESH", help="the surface: .obj or .ply (others with the mesh extra: trimesh)")
     surface.add_argument("exemplar", metavar="EXEMPLAR", help="the texture image")
     surface.add_argument("-o", "--output", required=True, help="output mesh (.ply or .obj; a texture goes beside it)")
     surface.add_argument("--mode", choices=("vertex", "lapped"), default="vertex",
@@ -1142,7 +1142,7 @@ def main(argv=None):
         if args.command == "list":
             width = max((len(n) for n in METHODS), default=4)
             print(f"{'demo':<{width}}  gallery of every method on bundled sample textures")
-            print(f"{'batch':<{width}}  many exemplars x methods x seeds into a folder, on Dask (pip install texsynth[dask])")
+            print(f"{'batch':<{width}}  many exemplars x methods x seeds into a folder, on Dask (the dask extra)")
             print(f"{'apply-coordinates':<{width}}  render a channel through a map saved with --coordinates")
             print(f"{'surface':<{width}}  texture a mesh: vertex synthesis or lapped textures")
             for name, method in METHODS.items():

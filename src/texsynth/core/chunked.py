@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._extras import install_hint
 from ._validate import check_memory, check_positive_int, max_threads
 
 __all__ = ["as_chunks", "chunked_image", "require_dask"]
@@ -29,7 +30,7 @@ def require_dask(what="chunks="):
     try:
         import dask.array as da
     except ImportError:  # pragma: no cover - dask is in the test extra
-        raise ImportError(f"{what} needs Dask: pip install 'texsynth[dask]'") from None
+        raise ImportError(f"{what} needs Dask: {install_hint('dask')}") from None
     return da
 
 

@@ -24,7 +24,7 @@ replaced file keeps its permission bits. Nothing is overwritten unless
 
 OpenEXR files (``.exr``: half or float32 samples) are read and written through
 the ``OpenEXR`` package of the Academy Software Foundation, an optional extra
-(``pip install 'texsynth[exr]'``); without it a ``.exr`` path raises an
+(``python -m pip install '.[exr]'`` in a checkout); without it a ``.exr`` path raises an
 ImportError naming the extra. TGA files (``.tga``, 8 bits, alpha kept) go
 through Pillow like PNG.
 

@@ -10,6 +10,7 @@ from ..core._validate import as_array, check_bool
 from ..core.files import as_path, atomic_write, prepare_target, swap_folder
 from ._formats import check_bits, short
 from ._images import to_uint
+from ..core._extras import install_hint
 
 
 # --------------------------------------------------------------------------- #
@@ -78,7 +79,7 @@ def save_chunked(path, image, *, bits=None, overwrite=False, progress=False, att
         If ``path`` exists and ``overwrite`` is False.
     ImportError
         Without Dask, or without Zarr for a ``.zarr`` path
-        (``pip install 'texsynth[dask]'`` installs both).
+        (``python -m pip install '.[dask]'`` in a checkout installs both).
 
     Notes
     -----
@@ -136,7 +137,7 @@ def save_chunked(path, image, *, bits=None, overwrite=False, progress=False, att
         try:
             import zarr
         except ImportError:  # pragma: no cover - zarr is in the dask extra
-            raise ImportError("writing .zarr needs Zarr: pip install 'texsynth[dask]'") from None
+            raise ImportError(f"writing .zarr needs Zarr: {install_hint('dask')}") from None
         swap_folder(path, lambda tmp: _write_zarr(zarr, tmp, stored, progress, attributes, int(zarr_format)))
     else:
         atomic_write(path, lambda tmp: _write_tiff(tmp, stored, progress, attributes))

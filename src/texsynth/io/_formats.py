@@ -12,6 +12,8 @@ import zlib
 import imageio.v3 as iio
 import numpy as np
 
+from ..core._extras import install_hint
+
 
 EIGHT_BIT = {".png", ".jpg", ".jpeg", ".gif", ".bmp", ".ppm", ".pgm", ".webp", ".tga"}
 SIXTEEN_BIT = {".tif", ".tiff"}
@@ -206,8 +208,8 @@ def openexr():
     try:
         import OpenEXR
     except ImportError:
-        raise ImportError("reading and writing .exr files needs the OpenEXR package: pip install 'texsynth[exr]' "
-                          "(or pip install OpenEXR); or use a float TIFF (.tif, bits=32)") from None
+        raise ImportError(f"reading and writing .exr files needs the OpenEXR package: {install_hint('exr')}; "
+                          "or use a float TIFF (.tif, bits=32)") from None
     return OpenEXR
 
 

@@ -8,6 +8,7 @@ import re
 import imageio.v3 as iio
 import numpy as np
 
+from ..core._extras import install_hint
 from ..core._validate import as_array, as_float_array, as_image, check_bool, check_positive_float
 from ..core.files import as_path, atomic_write, prepare_target, swap_folder
 from ._formats import EIGHT_BIT, GIF_MAX_DELAY_MS, SIXTEEN_BIT, read, supported_integers
@@ -53,7 +54,7 @@ def load_frames(path):
         data = np.stack(frames)
     elif path.is_file():
         is_gif = path.suffix.lower() == ".gif"
-        hint = "" if is_gif else " (videos need: pip install 'texsynth[video]')"
+        hint = "" if is_gif else f" (videos need: {install_hint('video')})"
         try:
             raw = iio.imread(path, index=None)
         except Exception as exc:
@@ -174,7 +175,7 @@ def save_frames(path, frames, *, fps=10.0, loop=True, overwrite=False):
     if importlib.util.find_spec("imageio_ffmpeg") is None:
         raise ValueError(
             f"path {str(path)!r}: writing {suffix!r} videos needs the video extra "
-            "(pip install 'texsynth[video]'); or save as .gif or a folder of PNG frames"
+            f"({install_hint('video')}); or save as .gif or a folder of PNG frames"
         )
     prepare_target(path, overwrite)
     try:

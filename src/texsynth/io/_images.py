@@ -101,7 +101,7 @@ def load_image(path, *, normalize=False):
         TIFF files as Pillow does for PNG and JPEG).
     ImportError
         For a ``.exr`` file without the OpenEXR package
-        (``pip install 'texsynth[exr]'``).
+        (``python -m pip install '.[exr]'`` in a checkout).
 
     Notes
     -----
@@ -446,7 +446,7 @@ def save_image(path, image, *, bits=None, overwrite=False):
         If the folder of ``path`` does not exist.
     ImportError
         For a ``.exr`` path without the OpenEXR package
-        (``pip install 'texsynth[exr]'``).
+        (``python -m pip install '.[exr]'`` in a checkout).
 
     Notes
     -----

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core._extras import install_hint
 from ..core._validate import check_bool
 from ..core.files import as_path, atomic_write, prepare_target
 from ..io import load_image, save_image
@@ -523,7 +524,7 @@ def _trimesh():
         return importlib.import_module("trimesh")
     except ModuleNotFoundError:
         raise ModuleNotFoundError("formats other than .obj and .ply are read and written through trimesh, which is "
-                                  "not installed; pip install '.[mesh]' in a texsynth checkout") from None
+                                  f"not installed; {install_hint('mesh')}") from None
 
 
 def _read_other(path):

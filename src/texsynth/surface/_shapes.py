@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core._extras import install_hint
 from ..core._validate import as_rng, check_in_range, check_memory, check_positive_float, check_positive_int
 from ._mesh import Mesh
 
@@ -265,7 +266,7 @@ def scanned_mesh(name="bunny"):
     spec = importlib.util.find_spec(package)  # locates the package without importing it (visvis imports OpenGL)
     if spec is None or not spec.submodule_search_locations:
         raise ModuleNotFoundError(f"scanned_mesh({name!r}) reads the scan shipped by the {package} package, which "
-                                  "is not installed; pip install '.[mesh]' in a texsynth checkout")
+                                  f"is not installed; {install_hint('mesh')}")
     arrays = _read_ssdf_arrays(Path(spec.submodule_search_locations[0]) / inside)
     vertices = arrays["vertices"].astype(np.float64)
     vertices -= vertices.min(axis=0) / 2 + vertices.max(axis=0) / 2
