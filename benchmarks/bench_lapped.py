@@ -11,13 +11,11 @@ Target: <= 30 s.
 """
 
 import argparse
-import time
-from pathlib import Path
 
 import texsynth
-from bench_vertex_synthesis import exemplar
-from texsynth.io import save_image
-from texsynth.surface import render_mesh, torus
+from _timing import timed_stages
+from bench_vertex_synthesis import exemplar, save_preview
+from texsynth.surface import torus
 
 
 def main():
@@ -28,16 +26,11 @@ def main():
     ex = exemplar()
 
     mesh = torus(args.faces // 2)
-    start = time.perf_counter()
-    lapped, linfo = texsynth.lapped_textures(mesh, ex, rng=0, return_info=True)
-    total = time.perf_counter() - start
-    stages = ", ".join(f"{k} {v:.1f}" for k, v in linfo.stage_seconds.items())
+    lapped, linfo, total, stages = timed_stages(lambda: texsynth.lapped_textures(mesh, ex, rng=0, return_info=True))
     print(f"lapped textures: {len(mesh.faces)} faces, {len(linfo.patches)} patches, atlas "
           f"{lapped.texture.shape[1]}x{lapped.texture.shape[0]}: {total:.1f} s ({stages})")
     if args.preview:
-        folder = Path(args.preview)
-        folder.mkdir(parents=True, exist_ok=True)
-        save_image(folder / "surface_lapped.png", render_mesh(lapped, 1000), overwrite=True)
+        save_preview(args.preview, "surface_lapped.png", lapped)
 
 
 if __name__ == "__main__":

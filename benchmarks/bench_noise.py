@@ -29,6 +29,7 @@ import tracemalloc
 
 import numpy as np
 
+from _timing import best_of
 from texsynth.procedural import FADES, perlin
 from texsynth.procedural._noise import noise_points
 
@@ -53,17 +54,8 @@ NOISE_PKG_GRADIENTS = np.array([
 ], dtype=float)
 
 
-def best_of(fn, repeat):
-    fn()  # warm-up (imports, first-touch page faults)
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
 def peers():
+    """(the peer modules found by name, the names of those missing)."""
     found = {}
     try:
         import pyfastnoiselite.pyfastnoiselite as fnl
@@ -83,7 +75,15 @@ def peers():
         found["vnoise"] = vnoise
     except ImportError:
         pass
-    return found
+    return found, sorted({"pyfastnoiselite", "noise", "vnoise"} - set(found))
+
+
+def fastnoise_perlin(fnl, frequency):
+    """A pyfastnoiselite Perlin generator, seed 0, of ``frequency`` cycles per sample."""
+    gen = fnl.FastNoiseLite(0)
+    gen.noise_type = fnl.NoiseType.NoiseType_Perlin
+    gen.frequency = frequency
+    return gen
 
 
 def peak_memory(fn):
@@ -153,22 +153,29 @@ def print_rows(rows, missing):
     return {(c, lib): s for c, lib, s in rows}
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def start(doc, function, big_help, memory_table):
+    """The start of this benchmark and of bench_patterns.py: the options --quick, --memory and --big, the header,
+    ``memory_table(big)``; the number of repeats per timing, or None with --memory (the memory table only)."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="one repeat")
     parser.add_argument("--memory", action="store_true", help="only the memory table")
-    parser.add_argument("--big", action="store_true", help="memory table with 2048^2 and 128^3")
+    parser.add_argument("--big", action="store_true", help=big_help)
     args = parser.parse_args()
-    print(f"texsynth.procedural.perlin benchmark -- {platform.python_version()}, {platform.machine()}, "
+    print(f"texsynth.procedural.{function} benchmark -- {platform.python_version()}, {platform.machine()}, "
           f"numpy {np.__version__}")
     memory_table(args.big)
     if args.memory:
+        return None
+    return 1 if args.quick else 5
+
+
+def main():
+    rep = start(__doc__, "perlin", "memory table with 2048^2 and 128^3", memory_table)
+    if rep is None:
         return
-    rep = 1 if args.quick else 5
     n = 1024
     freq = 8
-    found = peers()
-    missing = sorted({"pyfastnoiselite", "noise", "vnoise"} - set(found))
+    found, missing = peers()
     rows = []  # (case, library, seconds)
 
     # ---- 2-D, 1024^2, one octave --------------------------------------------------
@@ -183,17 +190,12 @@ def main():
     rows.append(("2-D 1M points", "texsynth perlin(points) f32",
                  best_of(lambda: perlin(points=scatter, rng=0, dtype=np.float32), max(1, rep // 2))))
     if "pyfastnoiselite" in found:
-        fnl = found["pyfastnoiselite"]
-        gen = fnl.FastNoiseLite(0)
-        gen.noise_type = fnl.NoiseType.NoiseType_Perlin
-        gen.frequency = freq / n
+        gen = fastnoise_perlin(found["pyfastnoiselite"], freq / n)
         rows.append(("2-D 1 octave", "pyfastnoiselite", best_of(lambda: gen.gen_from_coords(coords2), rep)))
         scatter32 = np.ascontiguousarray(scatter.T * (n / freq), dtype=np.float32)
         rows.append(("2-D 1M points", "pyfastnoiselite", best_of(lambda: gen.gen_from_coords(scatter32), rep)))
         coords3 = np.indices((128, 128, 128)).reshape(3, -1).astype(np.float32)
-        gen3 = fnl.FastNoiseLite(0)
-        gen3.noise_type = fnl.NoiseType.NoiseType_Perlin
-        gen3.frequency = freq / 128
+        gen3 = fastnoise_perlin(found["pyfastnoiselite"], freq / 128)
         rows.append(("3-D 128^3", "pyfastnoiselite", best_of(lambda: gen3.gen_from_coords(coords3), rep)))
     if "noise" in found:
         pnoise2 = found["noise"].pnoise2

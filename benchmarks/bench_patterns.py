@@ -16,12 +16,10 @@ Run:  python benchmarks/bench_patterns.py [--quick] [--memory] [--big]
 
 from __future__ import annotations
 
-import argparse
-import platform
-
 import numpy as np
 
-from bench_noise import best_of, memory_row, peers, print_memory_table, print_rows, ratio_row
+from _timing import best_of
+from bench_noise import fastnoise_perlin, memory_row, peers, print_memory_table, print_rows, ratio_row, start
 from texsynth.procedural import band_limit_octaves, turbulence
 
 
@@ -39,21 +37,12 @@ def memory_table(big):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="one repeat")
-    parser.add_argument("--memory", action="store_true", help="only the memory table")
-    parser.add_argument("--big", action="store_true", help="memory table with 2048^2, 128^3 and turbulence(8192)")
-    args = parser.parse_args()
-    print(f"texsynth.procedural.turbulence benchmark -- {platform.python_version()}, {platform.machine()}, "
-          f"numpy {np.__version__}")
-    memory_table(args.big)
-    if args.memory:
+    rep = start(__doc__, "turbulence", "memory table with 2048^2, 128^3 and turbulence(8192)", memory_table)
+    if rep is None:
         return
-    rep = 1 if args.quick else 5
     n = 1024
     freq = 8
-    found = peers()
-    missing = sorted({"pyfastnoiselite", "noise", "vnoise"} - set(found))
+    found, missing = peers()
     rows = []  # (case, library, seconds)
 
     # ---- 2-D, 1024^2, 8 octaves -----------------------------------------------------
@@ -64,9 +53,7 @@ def main():
     coords2 = np.indices((n, n)).reshape(2, -1).astype(np.float32)
     if "pyfastnoiselite" in found:
         fnl = found["pyfastnoiselite"]
-        gen8 = fnl.FastNoiseLite(0)
-        gen8.noise_type = fnl.NoiseType.NoiseType_Perlin
-        gen8.frequency = freq / n
+        gen8 = fastnoise_perlin(fnl, freq / n)
         gen8.fractal_type = fnl.FractalType.FractalType_FBm
         gen8.fractal_octaves = 8
         rows.append(("2-D 8 octaves", "pyfastnoiselite", best_of(lambda: gen8.gen_from_coords(coords2), rep)))

@@ -15,12 +15,12 @@ wall time per stage (retiling hierarchy, field, each level). Target: <= 120 s.
 """
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
 
 import texsynth
+from _timing import timed_stages
 from texsynth.data import load
 from texsynth.io import load_image, save_image
 from texsynth.surface import render_mesh, sphere
@@ -33,6 +33,13 @@ def exemplar():
     return np.ascontiguousarray(image[:128, :128])
 
 
+def save_preview(folder, name, mesh):
+    """Render ``mesh`` (texsynth.surface.render_mesh, 1000 pixels) into ``folder/name``, making the folder."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    save_image(folder / name, render_mesh(mesh, 1000), overwrite=True)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--vertices", type=int, default=50000)
@@ -41,18 +48,13 @@ def main():
     args = parser.parse_args()
     ex = exemplar()
 
-    start = time.perf_counter()
-    out, info = texsynth.synthesize_surface(sphere(10242), ex, n_vertices=args.vertices,
-                                            schedule=texsynth.SurfaceSchedule(levels=3), rng=0,
-                                            preset=args.preset, return_info=True)
-    total = time.perf_counter() - start
-    stages = ", ".join(f"{k} {v:.1f}" for k, v in info.stage_seconds.items())
+    out, info, total, stages = timed_stages(lambda: texsynth.synthesize_surface(
+        sphere(10242), ex, n_vertices=args.vertices, schedule=texsynth.SurfaceSchedule(levels=3), rng=0,
+        preset=args.preset, return_info=True))
     print(f"vertex synthesis ({args.preset}): {len(out.vertices)} vertices, 3 levels, exemplar "
           f"{ex.shape[1]}x{ex.shape[0]}: {total:.1f} s ({stages}; order {info.order}, search {info.method})")
     if args.preview:
-        folder = Path(args.preview)
-        folder.mkdir(parents=True, exist_ok=True)
-        save_image(folder / "surface_vertex.png", render_mesh(out, 1000), overwrite=True)
+        save_preview(args.preview, "surface_vertex.png", out)
 
 
 if __name__ == "__main__":

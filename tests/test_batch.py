@@ -164,6 +164,31 @@ def test_the_command(exemplars, tmp_path, capsys):
     assert "tcp://127.0.0.1:9" in capsys.readouterr().err
 
 
+def test_a_size_factor_is_of_each_exemplar_and_float_exemplars_keep_their_range(tmp_path, client, capsys):
+    from texsynth.cli import main
+    from texsynth.io import normalize_range, restore_range
+
+    folder = tmp_path / "in"
+    folder.mkdir()
+    save_image(folder / "bread.png", data.load("bread")[:40, :50])
+    heights = data.load("metal")[:32, :32] * 6.0 - 2.0  # a height map in metres, [-2, 4]
+    save_image(folder / "height.tif", heights, bits=32)
+    summary = texsynth.batch(folder, tmp_path / "out", methods=["quilt"], size="1.5x", client=client, progress=False)
+    assert summary.count("done") == 2, summary.failed
+    outputs = {item["exemplar"]: tmp_path / "out" / item["output"] for item in summary.items}
+    assert load_image(outputs["bread.png"]).shape[:2] == (60, 75)  # each exemplar's own size, times 1.5
+    assert outputs["height.tif"].suffix == ".tif"  # a float exemplar gives a float file ...
+    got, value_range = load_image(outputs["height.tif"], normalize=True)
+    item = next(i for i in summary.items if i["exemplar"] == "height.tif")
+    unit, exemplar_range = normalize_range(heights)
+    expected = restore_range(texsynth.quilt(unit, (48, 48), rng=item["seed"]), exemplar_range)
+    # ... holding the synthesis of the normalised heights, back in metres (float32 on disk)
+    np.testing.assert_allclose(restore_range(got, value_range), expected, rtol=0, atol=1e-5)
+    assert main(["batch", str(folder), "-o", str(tmp_path / "cli"), "--methods", "quilt", "--size", "2x",
+                 "--threads", "--workers", "1", "--no-progress"]) == 0, capsys.readouterr().err
+    assert load_image(next((tmp_path / "cli").glob("bread_*.png"))).shape[:2] == (80, 100)
+
+
 def test_a_killed_batch_is_finished_by_running_it_again(exemplars, tmp_path, client):
     import signal
     import subprocess
@@ -204,7 +229,9 @@ def test_a_killed_batch_is_finished_by_running_it_again(exemplars, tmp_path, cli
 @pytest.mark.parametrize("kwargs, error, message", [
     (dict(size=0), ValueError, r"size must be positive integers \(height, width\), got \(0, 0\)"),
     (dict(size="40x0"), ValueError, r"size must be positive integers \(height, width\), got \(0, 40\)"),
-    (dict(size="big"), ValueError, r"size must look like WIDTHxHEIGHT \(e.g. 256x256\) or one number, got 'big'"),
+    (dict(size="big"), ValueError, r"size must look like WIDTHxHEIGHT \(e.g. 256x256\), one number or a factor of "
+                                   r"each exemplar's size \(e.g. 4x\), got 'big'"),
+    (dict(size="0x"), ValueError, r"size '0x' is a factor of each exemplar's size; pass one in \(0, 64\]"),
     (dict(size=(32.5, 40)), ValueError, r"size must be an int or 2 integers \(height, width\), got \(32.5, 40\)"),
     (dict(methods=["patchwork", "no-such-method"]), ValueError,
      r"methods: 'no-such-method' is not a method \('texsynth list' names them\); pass one or more of .*patchwork"),

@@ -708,6 +708,17 @@ def test_animate_named_flow_to_gif_and_frame_folder(tmp_path):
     assert run("animate-texture", str(ex), "-o", str(tmp_path / "n.gif"), "--flows", "swirl:1", *fast) == 2
 
 
+def test_a_translation_flow_is_x_to_the_right_and_y_down():
+    from texsynth._cli_values import CommandError, parse_flow
+
+    right = parse_flow("translation:2", (4, 6))  # flows hold (d_row, d_col)
+    assert np.all(right[..., 0] == 0) and np.all(right[..., 1] == 2)
+    down_right = parse_flow("translation:(1, 3)", (4, 6))
+    assert np.all(down_right[..., 0] == 3) and np.all(down_right[..., 1] == 1)
+    with pytest.raises(CommandError, match="--flows translation"):
+        parse_flow("translation:(1, 2, 3)", (4, 6))
+
+
 @pytest.mark.parametrize("tty, flag, expected", [(True, [], True), (True, ["--no-progress"], False),
                                                  (False, [], False)])
 def test_progress_bar_is_on_by_default_on_a_terminal(tmp_path, monkeypatch, tty, flag, expected):
@@ -838,7 +849,7 @@ def test_sigterm_during_the_write_leaves_nothing(tmp_path, metal_file):
     with subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True) as proc:
         assert proc.stdout.readline().strip() == "writing"
         proc.send_signal(signal.SIGTERM)
-        assert proc.wait(timeout=20) == -signal.SIGTERM
+        assert proc.wait(timeout=120) == -signal.SIGTERM  # a hang guard, not a time bound
     time.sleep(0.1)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["metal.png"]  # no out.png, no .out-XXXX.png
 
@@ -998,6 +1009,44 @@ def test_surface_follows_files_outside_the_mesh_folder_only_with_allow_outside(t
     with pytest.raises(SystemExit):
         run("surface", "-h")
     assert "--allow-outside follow the files MESH names" in " ".join(capsys.readouterr().out.split())
+
+
+def test_surface_preview_is_checked_before_the_synthesis(tmp_path, monkeypatch, capsys):
+    import texsynth.surface
+
+    mesh = tmp_path / "m.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    exemplar = save_image(tmp_path / "ex.png", data.load("bread")[:16, :16])
+    calls = _spy(monkeypatch, texsynth.surface, "lapped_textures", lambda mesh, exemplar, **kwargs: mesh)
+    base = ["surface", str(mesh), str(exemplar), "-o", str(tmp_path / "out.obj"), "--mode", "lapped"]
+    # the texture write_mesh puts beside out.obj is out.png: a preview of that name is refused, nothing written
+    err = _one_line_error(capsys, run(*base, "--preview", str(tmp_path / "out.png")))
+    assert "--preview" in err and "out_preview.png" in err and not (tmp_path / "out.obj").exists()
+    (tmp_path / "p.png").write_bytes(b"old")
+    err = _one_line_error(capsys, run(*base, "--preview", str(tmp_path / "p.png")))
+    assert "pass --overwrite" in err and "overwrite=True" not in err and not (tmp_path / "out.obj").exists()
+    assert not calls and (tmp_path / "p.png").read_bytes() == b"old"
+
+
+def test_a_file_in_the_way_is_named_with_the_overwrite_flag(tmp_path, monkeypatch, capsys):
+    import texsynth.surface
+
+    mesh = tmp_path / "m.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    exemplar = save_image(tmp_path / "ex.png", data.load("bread")[:16, :16])
+    calls = _spy(monkeypatch, texsynth.surface, "lapped_textures", lambda mesh, exemplar, **kwargs: mesh)
+    (tmp_path / "out.png").write_bytes(b"old")  # the texture lapped textures would write beside out.obj
+    err = _one_line_error(capsys, run("surface", str(mesh), str(exemplar), "-o", str(tmp_path / "out.obj"),
+                                      "--mode", "lapped"))
+    assert "out.png" in err and "pass --overwrite" in err and not calls
+
+    def in_the_way(path, mesh, overwrite=False):  # a file the library finds in the way
+        raise FileExistsError(f"{str(path)!r} already exists; pass overwrite=True to replace it")
+
+    monkeypatch.setattr(texsynth.surface, "write_mesh", in_the_way)
+    _spy(monkeypatch, texsynth.surface, "synthesize_surface", lambda mesh, exemplar, **kwargs: mesh)
+    err = _one_line_error(capsys, run("surface", str(mesh), str(exemplar), "-o", str(tmp_path / "v.ply")))
+    assert "pass --overwrite" in err and "overwrite=True" not in err
 
 
 # --------------------------------------------------------------------------- traps of issue 34

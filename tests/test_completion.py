@@ -286,11 +286,25 @@ def test_hole_alpha_is_the_images_transparency():
     rgba = np.concatenate([image, np.where(hole, 0.0, 1.0)[..., None]], -1)
     rgba[hole, :3] = 0.0  # what a cut-out holds under its transparent pixels: ignored
     out = texsynth.inpaint(rgba, "alpha", **FAST)
-    assert np.array_equal(out, texsynth.inpaint(rgba, hole, **FAST))  # alpha < 0.5 = fill
+    assert np.array_equal(out, texsynth.inpaint(rgba, hole, **FAST))  # alpha < 1 = fill
     assert out.shape == (48, 48, 4) and np.array_equal(out[~hole], rgba[~hole])
-    assert out[hole, 3].min() >= 0.5  # the filled pixels take the alpha of those they copy: opaque here
-    grey_alpha = np.stack([image.mean(-1), np.where(hole, 0.2, 0.9)], -1)
+    assert np.all(out[hole, 3] == 1.0)  # the filled pixels take the alpha of those they copy: opaque here
+    grey_alpha = np.stack([image.mean(-1), np.where(hole, 0.0, 1.0)], -1)
     assert np.array_equal(texsynth.inpaint(grey_alpha, "alpha", **FAST), texsynth.inpaint(grey_alpha, hole, **FAST))
+
+
+def test_a_soft_transparent_edge_blends_into_the_fill_and_comes_back_opaque():
+    image, hole = _photo_and_hole()
+    rows, cols = np.mgrid[:48, :48]
+    alpha = np.clip((np.hypot(rows - 23, cols - 24) - 5) / 6, 0, 1)  # transparent disc, feathered over 6 px
+    rgba = np.concatenate([image, alpha[..., None]], -1)
+    out = texsynth.inpaint(rgba, "alpha", **FAST)
+    translucent = alpha < 1
+    fill = texsynth.inpaint(rgba, translucent, **FAST)  # every pixel that is not opaque is filled ...
+    a = alpha[..., None]
+    expected = a * rgba[..., :3] + (1 - a) * fill[..., :3]  # ... and the image laid over the fill by its alpha
+    assert np.allclose(out[..., :3], expected, atol=1e-12) and np.all(out[..., 3] == 1.0)
+    assert np.array_equal(out[~translucent], rgba[~translucent])  # opaque pixels bit for bit
 
 
 @pytest.mark.parametrize("layout", ["rgb", "grey"])

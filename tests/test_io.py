@@ -920,3 +920,11 @@ def test_a_failed_exr_write_leaves_nothing_and_keeps_the_old_file(tmp_path, monk
     monkeypatch.undo()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["h.exr"]
     assert np.array_equal(load_image(old), np.full((4, 4), 0.25, np.float32))
+
+
+def test_a_folder_of_exr_frames_is_read_in_name_order(tmp_path):
+    frames = np.stack([np.full((4, 5, 3), v) for v in (0.25, 0.5, 0.75)])
+    (tmp_path / "seq").mkdir()
+    for i, frame in enumerate(frames):
+        save_image(tmp_path / "seq" / f"f{i:02d}.exr", frame, bits=32)
+    np.testing.assert_array_equal(load_frames(tmp_path / "seq"), frames)

@@ -24,6 +24,8 @@ import texsynth.procedural._noise as noise_module
 from texsynth.procedural import band_limit_octaves, perlin, turbulence
 from texsynth.procedural._noise import _GRADIENTS, _GRADIENTS_2D, permutation
 
+from _bad_input import bad_input_tests
+
 # --------------------------------------------------------------------------
 # helpers
 # --------------------------------------------------------------------------
@@ -304,7 +306,8 @@ def test_shape_and_frequency_validation(h, w, freq):
 # stability_limit(nan) (returned nan), marble(16, frequency=1e-308)
 # (OverflowError), apply_colormap with NaN values (returned NaN colours), ...
 # The strategies and the grid cases serve tests/test_patterns.py and
-# tests/test_reaction_diffusion.py too, which import them from here.
+# tests/test_reaction_diffusion.py too, which import them from here; the two
+# tests over the cases are made by tests/_bad_input.py for all three.
 
 _NON_NUMBERS = st.sampled_from([None, True, False, "3", [1.0], (2.0,), np.array([1.0, 2.0]), {}, object()])
 _NON_FINITE = st.sampled_from([math.nan, math.inf, -math.inf, np.float32("nan"), 10**400])
@@ -361,20 +364,6 @@ def grid_cases(functions):
     return cases
 
 
-def public_functions(module):
-    """The public functions of a procedural module (its ``__all__``, classes and constants left out)."""
-    return {n for n in module.__all__ if callable(getattr(module, n)) and not isinstance(getattr(module, n), type)}
-
-
-def raises_naming_the_parameter(cases, data):
-    """Draw one case and one bad value: the call raises ValueError or TypeError naming the parameter."""
-    _, parameter, values, call = data.draw(st.sampled_from(cases), label="case")
-    value = data.draw(values, label=parameter)
-    with pytest.raises((ValueError, TypeError)) as caught:
-        call(value)
-    assert parameter in str(caught.value), (parameter, value, caught.value)
-
-
 _BAD_INPUT_CASES = grid_cases([("perlin", perlin)]) + [
     # (a size too large to allocate is still a valid grid to count octaves for)
     ("band_limit_octaves", "size", _BAD_SIZE.filter(lambda v: not (isinstance(v, tuple) and len(v) == 2
@@ -384,18 +373,8 @@ _BAD_INPUT_CASES = grid_cases([("perlin", perlin)]) + [
     ("band_limit_octaves", "lacunarity", st.one_of(_BAD_POSITIVE, st.floats(0, 1)),
      lambda v: band_limit_octaves((64, 64), 8, v)),
 ]
-_FUNCTIONS = sorted({c[0] for c in _BAD_INPUT_CASES})
-
-
-def test_bad_input_cases_cover_every_public_function():
-    assert public_functions(noise_module) == set(_FUNCTIONS)
-
-
-@pytest.mark.parametrize("function", _FUNCTIONS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_bad_input_raises_naming_the_parameter(function, data):
-    raises_naming_the_parameter([c for c in _BAD_INPUT_CASES if c[0] == function], data)
+test_bad_input_cases_cover_every_public_function, test_bad_input_raises_naming_the_parameter = \
+    bad_input_tests(noise_module, _BAD_INPUT_CASES)
 
 
 def test_bad_input_issue_examples():

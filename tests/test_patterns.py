@@ -21,8 +21,8 @@ import texsynth.procedural._patterns as patterns_module
 from texsynth.procedural import apply_colormap, fbm, marble, perlin, turbulence, wood
 from texsynth.procedural._patterns import _OCTAVE_SHIFT
 
-from test_noise import (_BAD_COLORMAP, _BAD_NON_NEGATIVE, _BAD_POSITIVE, _peak_bytes, _radial_power, grid_cases,
-                        public_functions, raises_naming_the_parameter)
+from _bad_input import bad_input_tests
+from test_noise import _BAD_COLORMAP, _BAD_NON_NEGATIVE, _BAD_POSITIVE, _peak_bytes, _radial_power, grid_cases
 
 # --------------------------------------------------------------------------
 # turbulence and fBm
@@ -205,18 +205,8 @@ def _other_cases():
 
 _BAD_INPUT_CASES = grid_cases([("turbulence", turbulence), ("fbm", fbm), ("marble", marble), ("wood", wood)]) + \
     _other_cases()
-_FUNCTIONS = sorted({c[0] for c in _BAD_INPUT_CASES})
-
-
-def test_bad_input_cases_cover_every_public_function():
-    assert public_functions(patterns_module) == set(_FUNCTIONS)
-
-
-@pytest.mark.parametrize("function", _FUNCTIONS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_bad_input_raises_naming_the_parameter(function, data):
-    raises_naming_the_parameter([c for c in _BAD_INPUT_CASES if c[0] == function], data)
+test_bad_input_cases_cover_every_public_function, test_bad_input_raises_naming_the_parameter = \
+    bad_input_tests(patterns_module, _BAD_INPUT_CASES)
 
 
 def test_bad_input_issue_examples():

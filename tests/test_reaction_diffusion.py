@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 from skimage.morphology import skeletonize
@@ -32,8 +31,8 @@ from texsynth.procedural import (
 )
 from texsynth.procedural._reaction_diffusion import _PeriodicGrid
 
-from test_noise import (_BAD_COLORMAP, _BAD_COUNT, _BAD_DTYPE, _BAD_NON_NEGATIVE, _BAD_POSITIVE, _BAD_RNG, _BAD_SIZE,
-                        public_functions, raises_naming_the_parameter)
+from _bad_input import bad_input_tests
+from test_noise import _BAD_COLORMAP, _BAD_COUNT, _BAD_DTYPE, _BAD_NON_NEGATIVE, _BAD_POSITIVE, _BAD_RNG, _BAD_SIZE
 
 # --------------------------------------------------------------------------
 # reaction-diffusion
@@ -328,18 +327,8 @@ def _cases():
 
 
 _BAD_INPUT_CASES = _cases()
-_FUNCTIONS = sorted({c[0] for c in _BAD_INPUT_CASES})
-
-
-def test_bad_input_cases_cover_every_public_function():
-    assert public_functions(rd_module) == set(_FUNCTIONS)
-
-
-@pytest.mark.parametrize("function", _FUNCTIONS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_bad_input_raises_naming_the_parameter(function, data):
-    raises_naming_the_parameter([c for c in _BAD_INPUT_CASES if c[0] == function], data)
+test_bad_input_cases_cover_every_public_function, test_bad_input_raises_naming_the_parameter = \
+    bad_input_tests(rd_module, _BAD_INPUT_CASES)
 
 
 def test_bad_input_issue_examples():

@@ -13,6 +13,7 @@ import hashlib
 import io as _stdio
 import json
 import os
+import re
 import sys
 import time
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ from .core._extras import install_hint
 __all__ = ["batch", "BatchSummary", "item_seed"]
 
 CONNECT_TIMEOUT = 5  # seconds to reach a scheduler given as an address
+_MAX_FACTOR = 64  # a size factor beyond this is a typo (a 256 px exemplar would give 16384 px outputs)
 _IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".ppm", ".pgm", ".pnm", ".gif", ".webp", ".npy"}
 
 
@@ -76,17 +78,48 @@ class BatchSummary:
 
 
 def _parse_size(value, name="size"):
-    """None (the exemplar's size), or an int, ``(height, width)`` or ``"WxH"`` as a checked ``(height, width)``."""
+    """None (the exemplar's size), an int, ``(height, width)`` or ``"WxH"`` as a checked ``(height, width)``, or
+    a factor of each exemplar's size, ``"4x"``, kept as that text (resolved per item by :func:`_item_size`)."""
     from .core._validate import as_size
 
     if value is None or isinstance(value, str) and value == "":
         return None
+    if isinstance(value, str) and re.fullmatch(r"\s*(\d+(\.\d*)?|\.\d+)\s*[xX]\s*", value):
+        factor = float(value.strip()[:-1])
+        if not 0 < factor <= _MAX_FACTOR:
+            raise ValueError(f"{name} {value!r} is a factor of each exemplar's size; pass one in (0, {_MAX_FACTOR}]")
+        return f"{factor:g}x"
     if isinstance(value, str):
         parts = value.lower().split("x")
         if len(parts) > 2 or not all(p.strip().isdigit() for p in parts):
-            raise ValueError(f"{name} must look like WIDTHxHEIGHT (e.g. 256x256) or one number, got {value!r}")
+            raise ValueError(f"{name} must look like WIDTHxHEIGHT (e.g. 256x256), one number or a factor of "
+                             f"each exemplar's size (e.g. 4x), got {value!r}")
         value = int(parts[0]) if len(parts) == 1 else (int(parts[1]), int(parts[0]))  # WxH -> (H, W)
     return as_size(value, name)
+
+
+def _item_size(size, shape):
+    """An item's output ``(height, width)``: its size, a factor (``"4x"``) of the exemplar's ``shape``, or the
+    exemplar's own size (None); a factor's sides are rounded to the nearest pixel."""
+    if size is None:
+        return tuple(shape[:2])
+    if isinstance(size, str):
+        return tuple(max(1, int(side * float(size[:-1]) + 0.5)) for side in shape[:2])
+    return tuple(size)
+
+
+def _output_suffix(path):
+    """The output format of an exemplar's items: float exemplars (float TIFF, EXR) keep their values' range in a
+    float file of their kind, every other exemplar gives a PNG of its depth."""
+    from .io import image_bits
+
+    suffix = Path(path).suffix.lower()
+    if suffix == ".exr":
+        return ".exr"
+    try:
+        return ".tif" if suffix != ".npy" and Path(path).is_file() and image_bits(path) == 32 else ".png"
+    except ValueError:  # an unreadable file fails as its item, when it is read
+        return ".png"
 
 
 def _check_methods(methods):
@@ -189,12 +222,12 @@ def _plan(rows, folder):
         item_key = json.dumps([key, method, options, index], sort_keys=True)
         stem = Path(key).with_suffix("").as_posix().replace("/", "_")
         tag = f"_o{hashlib.sha256(json.dumps(options, sort_keys=True).encode()).hexdigest()[:6]}" if options else ""
-        name = f"{stem}_{method}{tag}_s{index}.png"
+        name = f"{stem}_{method}{tag}_s{index}{_output_suffix(path)}"
         if name in names and names[name] != item_key:
             raise ValueError(f"two items would write {name!r}: {names[name]} and {item_key}; rename one exemplar")
         names[name] = item_key
         item = {"exemplar": str(key), "path": str(path), "method": method, "options": options, "seed_index": index,
-                "seed": item_seed(item_key), "size": list(size) if size else None, "output": name,
+                "seed": item_seed(item_key), "size": list(size) if isinstance(size, tuple) else size, "output": name,
                 "status": "pending", "error": "", "seconds": 0.0}
         spec = METHODS.get(method)
         if spec is None:
@@ -248,15 +281,16 @@ def run_item(item, folder):
     """
     import inspect
 
-    from .io import image_bits, load_image, save_image
+    from .io import image_bits, load_image, restore_range, save_image
     from .registry import METHODS, group_options
 
     start = time.perf_counter()
     try:
         spec = METHODS[item["method"]]
         func = spec.function()
-        exemplar = load_image(item["path"])
-        size = tuple(item["size"]) if item["size"] else exemplar.shape[:2]
+        # float data of any range (heights, HDR) synthesised in [0, 1], its range restored on output
+        exemplar, value_range = load_image(item["path"], normalize=True)
+        size = _item_size(item["size"], exemplar.shape)
         kwargs = group_options(func, dict(item["options"] or {}, rng=item["seed"]))
         args = [exemplar]
         if spec.size:
@@ -266,8 +300,11 @@ def run_item(item, folder):
                 args.append(size)
         with _worker_share():
             result = spec.to_unit(func(*args, **kwargs))
-        bits = min(image_bits(item["path"]), 16) if not str(item["path"]).endswith(".npy") else 16
-        save_image(Path(folder) / item["output"], result, overwrite=True, bits=bits)
+        bits = image_bits(item["path"]) if not str(item["path"]).endswith(".npy") else 16
+        target = Path(folder) / item["output"]
+        # a float TIFF stays float, an EXR keeps the exemplar's half or float samples, a PNG its 8 or 16 bits
+        bits = 32 if target.suffix == ".tif" else bits if target.suffix == ".exr" else min(bits, 16)
+        save_image(target, restore_range(result, value_range), overwrite=True, bits=bits)
         return "done", "", time.perf_counter() - start
     except Exception as exc:  # noqa: BLE001 - a failing item is recorded, never stops the others
         return "failed", f"{type(exc).__name__}: {exc}", time.perf_counter() - start
@@ -360,9 +397,14 @@ def batch(inputs, output_folder, *, methods=("patchwork",), options=None, seeds=
         A count of seed indices (0 .. N-1) or the indices; an item's seed
         is derived from its key (:func:`item_seed`), not from the index
         alone, so it is the same on 1 worker or 50, in any order.
-    size : int or (int, int), optional
-        Output ``(height, width)``; default: a manifest row's ``size``, else
-        the exemplar's size.
+    size : int, (int, int), str, optional
+        Output ``(height, width)``, ``"WxH"``, or a factor of each
+        exemplar's size, ``"4x"`` (sides rounded to the nearest pixel);
+        default: a manifest row's ``size``, else the exemplar's size.
+        Float exemplars of any range (heights, displacement, HDR: float
+        TIFF, EXR) are synthesised in [0, 1] and their range restored in a
+        float output of their kind (:func:`texsynth.io.normalize_range`);
+        every other exemplar gives a PNG of its depth.
     client : distributed.Client, optional
         An existing client (left open).
     scheduler : str, optional
@@ -394,7 +436,7 @@ def batch(inputs, output_folder, *, methods=("patchwork",), options=None, seeds=
     ValueError, TypeError
         Before any work (nothing written, no cluster started), as the
         ``texsynth batch`` command does: for a ``size`` (or a manifest row's)
-        that is not positive ``(height, width)`` or ``"WxH"``, ``methods``
+        that is not positive ``(height, width)``, ``"WxH"`` or a factor ``"4x"``, ``methods``
         naming something other than a method from one image to one image
         (``texsynth list``), or ``seeds`` that are not a count or indices.
     """

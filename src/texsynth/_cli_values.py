@@ -74,10 +74,13 @@ def parse_flow(text, shape):
 
     KIND is ``sink``, ``source``, ``vortex`` (AMOUNT: speed in pixels per
     frame), ``rotation`` (radians per frame) or ``translation`` (AMOUNT: one
-    number for a horizontal shift, or ``(dx, dy)``).
+    number for a shift to the right, or ``(dx, dy)``: x to the right, y down,
+    in pixels per frame).
 
     >>> parse_flow("translation:(1, 0)", (4, 6)).shape
     (4, 6, 2)
+    >>> parse_flow("translation:2", (4, 6))[0, 0].tolist()  # (rows, columns): 2 columns to the right
+    [0.0, 2.0]
     """
     from .core import flows
 
@@ -87,8 +90,11 @@ def parse_flow(text, shape):
     if kind not in kinds or not amount:
         raise CommandError(f"--flows must be KIND:AMOUNT with KIND one of {', '.join(kinds)}, got {text!r}")
     value = parse_value(amount)
-    if kind == "translation" and not isinstance(value, tuple):
-        value = (value, 0.0)
+    if kind == "translation":  # (dx, dy) on the command line; flows take (d_row, d_col)
+        if isinstance(value, tuple) and len(value) != 2:
+            raise CommandError(f"--flows translation takes one number (dx) or (dx, dy), got {amount!r}")
+        dx, dy = value if isinstance(value, tuple) else (value, 0.0)
+        value = (dy, dx)
     return kinds[kind](tuple(shape), value)
 
 

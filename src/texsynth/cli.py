@@ -215,6 +215,11 @@ def _add_method_parser(sub, name, method):
                                    help="one weight per input: 'equal', 'ramp' (first input at the left edge to "
                                         "the last at the right) or grey weight images, comma-separated (one per "
                                         "input, or one file m for two inputs: weights 1-m and m) (default: 'equal')")
+        elif pname == method.flow:
+            container.add_argument(*flags, dest=pname, metavar="KIND:AMOUNT", required=required,
+                                   help="the flow at --size: sink:S, source:S or vortex:S (S pixels per frame), "
+                                        "rotation:R (radians per frame) or translation:DX or translation:(DX, DY) "
+                                        "(pixels per frame, x to the right, y down)")
         elif pname in method.map_pairs:
             add(container, *flags, dest=pname, nargs=2, metavar=("PATH1", "PATH2"), default=default,
                 describe=lambda d: f"two image files, read as binary maps (grey, colour channels averaged, an alpha "
@@ -225,7 +230,8 @@ def _add_method_parser(sub, name, method):
                                    "ignored); black = fill: add --invert-mask; or --hole-channel a instead."
                                    + ("" if d == short else f" {d}"))
             container.add_argument("--hole-channel", choices=("a",), default=None,
-                                   help="a: the hole is the input's transparency (alpha < 0.5 = fill), as "
+                                   help="a: the hole is the input's transparency (alpha < 1 = fill, the input "
+                                        "laid over the fill by its alpha), as "
                                         "hole='alpha' in Python; the input must have an alpha channel")
         elif required:
             add(container, *flags, dest=pname, type=parse_value, required=True, describe=lambda d: d)
@@ -787,7 +793,7 @@ def _jsonable(value):
 
 
 def _hole_value(args, value, image, invertible):
-    """``--hole FILE`` (white = fill) or ``--hole-channel a`` (the input's alpha < 0.5) as the function's ``hole``,
+    """``--hole FILE`` (white = fill) or ``--hole-channel a`` (the input's alpha < 1) as the function's ``hole``,
     inverted by ``--invert-mask``."""
     channel = getattr(args, "hole_channel", None)
     invert = invertible and getattr(args, "invert_mask", False)
@@ -799,7 +805,7 @@ def _hole_value(args, value, image, invertible):
             raise CommandError(f"--hole-channel a takes the hole from the input's alpha channel, but the input has "
                                f"{channels} channel(s) and no alpha; pass an RGBA (or grey + alpha) image, or "
                                f"--hole FILE (white = fill)")
-        return image[..., -1] >= 0.5 if invert else "alpha"  # inverted: the opaque pixels are filled
+        return image[..., -1] >= 1.0 if invert else "alpha"  # inverted: the opaque pixels are filled
     if value is None:
         raise CommandError("the hole is missing: pass --hole FILE (an image, white = fill) or --hole-channel a "
                            "(the input's transparency)")
@@ -1062,6 +1068,20 @@ def _run_surface(args):
         raise CommandError(f"output {args.output!r} is also an input; choose another output path")
     if out.exists() and not args.overwrite:
         raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
+    if args.mode == "lapped":  # lapped textures write a texture (and, for .obj, a material) beside the mesh
+        for companion in (out.with_suffix(".png"), out.with_suffix(".mtl")):
+            if companion.exists() and not args.overwrite:
+                raise CommandError(f"{str(companion)!r}, the texture or material of output {args.output!r}, exists; "
+                                   "pass --overwrite to replace it")
+    if args.preview:  # checked before the synthesis, as the output is
+        preview = Path(args.preview)
+        if preview.resolve() in {out.with_suffix(s).resolve() for s in ("", ".png", ".mtl")}:
+            raise CommandError(f"--preview {args.preview!r} is a file the mesh output writes (its texture "
+                               f"{out.stem}.png or material {out.stem}.mtl); choose another name, e.g. "
+                               f"{out.stem}_preview.png")
+        check_suffix(preview)
+        if preview.exists() and not args.overwrite:
+            raise CommandError(f"--preview {args.preview!r} exists; pass --overwrite to replace it")
     mesh = read_mesh(args.mesh, allow_outside=args.allow_outside)
     exemplar = load_image(args.exemplar)
     field = _surface_field(args.field, mesh)
@@ -1093,7 +1113,8 @@ def _add_batch_parser(sub):
     batch.add_argument("--methods", default="patchwork", help="comma-separated method names (default: patchwork)")
     batch.add_argument("--options", default=None, help="method options as JSON: an object or a list of objects")
     batch.add_argument("--seeds", default="1", help="a count of seeds (default 1) or a JSON list of seed indices")
-    batch.add_argument("--size", help="output size WIDTHxHEIGHT; default: the manifest's, else the exemplar's")
+    batch.add_argument("--size", help="output size WIDTHxHEIGHT, N, or a factor of each exemplar's size (4x); "
+                                      "default: the manifest's, else the exemplar's")
     batch.add_argument("--scheduler", help="address of a running Dask scheduler, tcp://HOST:PORT "
                                            "(default: a local cluster on this machine)")
     batch.add_argument("--workers", type=int, default=None, help="local workers (default: one per core)")
@@ -1113,10 +1134,8 @@ def _run_batch(args):
         seeds = json.loads(args.seeds)
     except json.JSONDecodeError as exc:
         raise CommandError(f"--options and --seeds must be JSON: {exc}") from None
-    if args.size and re.fullmatch(r"[\d.]+[xX]", args.size.strip()):
-        raise CommandError(f"texsynth batch --size takes WIDTHxHEIGHT or one number N, got {args.size!r} (a factor of "
-                           "each exemplar's size is not supported here: leave --size out for the exemplar's size)")
-    size = parse_size(args.size) if args.size else None
+    factor = args.size and re.fullmatch(r"[\d.]+[xX]", args.size.strip())
+    size = args.size.strip() if factor else parse_size(args.size) if args.size else None  # a factor: per exemplar
     summary = batch(args.inputs, args.output, methods=[m for m in args.methods.split(",") if m], options=options,
                     seeds=seeds, size=size, scheduler=args.scheduler, n_workers=args.workers,
                     processes=not args.threads, overwrite=args.overwrite,
@@ -1170,6 +1189,7 @@ def main(argv=None):
         # bad input, a file that cannot be read or written (missing, a folder, read-only, a full disk):
         # one line, exit status 2, and save_image has left nothing half-written
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        message = message.replace("pass overwrite=True", "pass --overwrite")  # the library's words for a file
         if isinstance(exc, OSError) and exc.filename and str(exc.filename) not in message:
             message = f"{message}: {exc.filename}"
         print(f"texsynth: error: {message}", file=sys.stderr)

@@ -11,7 +11,7 @@ import numpy as np
 from ..core._extras import install_hint
 from ..core._validate import as_array, as_float_array, as_image, check_bool, check_positive_float
 from ..core.files import as_path, atomic_write, prepare_target, swap_folder
-from ._formats import EIGHT_BIT, GIF_MAX_DELAY_MS, SIXTEEN_BIT, read, supported_integers
+from ._formats import EIGHT_BIT, EXR, GIF_MAX_DELAY_MS, SIXTEEN_BIT, read, supported_integers
 from ._images import check_suffix, imwrite, load_image, to_uint
 
 
@@ -21,8 +21,8 @@ def load_frames(path):
     Parameters
     ----------
     path : str or os.PathLike
-        An animated GIF, a folder of still images (read in sorted name order),
-        or a video file (``.mp4``, ``.avi``, ...; needs the ``video`` extra,
+        An animated GIF, a folder of still images (PNG, TIFF, EXR, ...; read in
+        sorted name order), or a video file (``.mp4``, ``.avi``, ...; needs the ``video`` extra,
         imageio-ffmpeg).
 
     Returns
@@ -44,7 +44,7 @@ def load_frames(path):
     """
     path = as_path(path)
     if path.is_dir():
-        files = sorted(p for p in path.iterdir() if p.suffix.lower() in EIGHT_BIT | SIXTEEN_BIT)
+        files = sorted(p for p in path.iterdir() if p.suffix.lower() in EIGHT_BIT | SIXTEEN_BIT | EXR)
         if not files:
             raise ValueError(f"folder {str(path)!r} contains no image files")
         frames = [load_image(p) for p in files]

@@ -141,14 +141,14 @@ def _schedule(exemplar, shape, hole, neighborhood_sizes, levels):
 
 def _hole(hole, channels, grey):
     """``inpaint``'s hole as an ``(H, W)`` bool map: a map or an image file (white, > 0.5 = fill), or "alpha"
-    (the image's alpha < 0.5)."""
+    (every pixel that is not opaque: alpha < 1)."""
     shape = channels.shape[:2]
     if isinstance(hole, str) and hole == "alpha":
         if grey or channels.shape[-1] not in (2, 4):
             layout = "grey" if grey or channels.shape[-1] == 1 else f"{channels.shape[-1]} channels"
-            raise ValueError(f"hole='alpha' takes the hole from the image's alpha channel (alpha < 0.5 = fill), but "
+            raise ValueError(f"hole='alpha' takes the hole from the image's alpha channel (alpha < 1 = fill), but "
                              f"the image has none ({layout}); pass an RGBA or grey + alpha image, or a hole map")
-        return channels[..., -1] < 0.5
+        return channels[..., -1] < 1.0
     if isinstance(hole, (str, os.PathLike)):  # a file: grey, or colour channels averaged, alpha ignored
         if isinstance(hole, str) and not os.path.exists(hole):
             raise ValueError(f"hole must be an (H, W) map, an image file or 'alpha', got {hole!r} (no such file)")
@@ -218,8 +218,11 @@ def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels=
         Where to fill: an image file or an ``(H, W)`` map, white (> 0.5,
         True) = fill. A file's colour channels are averaged and its alpha
         channel ignored. ``"alpha"``: the hole is the image's own
-        transparency, alpha < 0.5 = fill (an RGBA or grey + alpha image;
-        the filled pixels take the alpha of the pixels they copy). A hole
+        transparency (an RGBA or grey + alpha image): every pixel that is
+        not opaque (alpha < 1) is filled from the opaque ones, and the image
+        is then laid over the fill by its alpha (Porter-Duff *over*), so a
+        soft, feathered edge blends into the fill and the result is opaque
+        wherever the fill is (GIMP's heal-transparency). A hole
         over more than half of the image gives a UserWarning: a mask drawn
         the other way round (black = fill, as Embark's) is inverted with
         ``~hole`` (``--invert-mask`` on the command line).
@@ -278,6 +281,7 @@ def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels=
     img = as_image(image, "image")
     channels, grey = with_channels(img)
     shape = channels.shape[:2]
+    transparency = isinstance(hole, str) and hole == "alpha"
     hole = _hole(hole, channels, grey)
     share = float(hole.mean())
     if 0.5 < share < 1.0:
@@ -291,9 +295,22 @@ def inpaint(image, hole, *, sample_mask=None, neighborhood_sizes="auto", levels=
     allowed = ~hole if sample_mask is None else ~hole & (check_mask(sample_mask, shape, "sample_mask") > 0.5)
     sizes, levels = _schedule(channels, shape, hole, neighborhood_sizes, levels)
     _check_sources(allowed, min(sizes), "sample_mask" if sample_mask is not None else "hole")
-    return _complete(channels, channels, ~hole, allowed, sizes, levels, grey, return_info,
-                     blend_width=check_positive_int(blend_width, "blend_width", 0), confidence=WEXLER_CONFIDENCE,
-                     max_iterations=max_iterations, method=method, rng=rng, progress=progress)
+    out, info = _complete(channels, channels, ~hole, allowed, sizes, levels, grey, True,
+                          blend_width=check_positive_int(blend_width, "blend_width", 0), confidence=WEXLER_CONFIDENCE,
+                          max_iterations=max_iterations, method=method, rng=rng, progress=progress)
+    if transparency:  # the image laid over its fill: a soft edge blends into the fill, and the result is opaque
+        out = _over(channels, out)
+    return (out, info) if return_info else out
+
+
+def _over(image, fill):
+    """``image`` composited over ``fill`` by its alpha (the last channel, straight, not premultiplied): Porter and
+    Duff's *over*, :doi:`10.1145/964965.808606`. Opaque pixels of ``image`` are kept bit for bit."""
+    a, b = image[..., -1:], fill[..., -1:]
+    alpha = a + (1 - a) * b
+    colour = a * image[..., :-1] + (1 - a) * b * fill[..., :-1]
+    colour = np.divide(colour, alpha, out=fill[..., :-1].astype(colour.dtype), where=alpha > 0)
+    return np.concatenate([colour, alpha], axis=-1).astype(fill.dtype, copy=False)
 
 
 def uncrop(image, size, *, position="center", sample_mask=None, neighborhood_sizes="auto", levels="auto",

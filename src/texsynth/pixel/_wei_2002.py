@@ -618,9 +618,8 @@ def synthesize_solid(
                          f"with candidates='all' and k='auto', got candidates={candidates!r}, k={search.k!r}")
     check_order_method("independent", method, passes, max_iterations)
     rng = as_rng(rng)
-    if isinstance(views, np.ndarray) or not isinstance(views, (list, tuple)):
-        views = [views]
-    views = list(views)
+    alone = isinstance(views, np.ndarray) or not isinstance(views, (list, tuple))  # one view, not in a list
+    views = [views] if alone else list(views)
     if not 1 <= len(views) <= 3:
         raise ValueError(f"views must hold 1 to 3 images (one per axis), got {len(views)}")
     if is_auto(axes):
@@ -635,7 +634,7 @@ def synthesize_solid(
     ) != len(axes):
         raise ValueError(f"axes must name a distinct volume axis (0, 1 or 2) for each of the {len(views)} views, got {axes!r}")
     n = len(views)
-    names = [f"views[{i}]" for i in range(n)]
+    names = ["views"] * n if alone else [f"views[{i}]" for i in range(n)]
     # float32 work: the volume's neighbourhood vectors are the bulk of the
     # memory traffic (64^3 voxels x 3 views x ~100 values); voxels are averages
     # of exemplar pixels, so 1e-7 rounding is far below any visible change.

@@ -1,0 +1,30 @@
+"""Wall-time measurement shared by the benchmarks.
+
+:func:`best_of` (the shortest of several runs) serves ``bench_noise.py`` and ``bench_patterns.py``;
+:func:`timed_stages` (one run, with the stages it reports) ``bench_vertex_synthesis.py`` and ``bench_lapped.py``.
+"""
+
+import time
+
+
+def best_of(fn, repeat):
+    """The shortest wall time in seconds of ``repeat`` calls of ``fn()``, after one warm-up call."""
+    fn()  # warm-up (imports, first-touch page faults)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def timed_stages(fn):
+    """One call of ``fn()``, which returns ``(result, info)`` with ``info.stage_seconds``.
+
+    Returns ``(result, info, seconds, stages)``: the wall time of the call and its stages as text,
+    ``"field 0.1, paste 1.4, bake 0.8"``.
+    """
+    start = time.perf_counter()
+    result, info = fn()
+    seconds = time.perf_counter() - start
+    return result, info, seconds, ", ".join(f"{k} {v:.1f}" for k, v in info.stage_seconds.items())
