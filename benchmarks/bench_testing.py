@@ -42,6 +42,7 @@ from scipy import ndimage
 
 import texsynth
 from texsynth import data, metrics
+from texsynth.metrics import _patches  # the baselines' caches
 from texsynth.io import load_image
 from texsynth.testing import TextureAssertionError, assert_texture_like, relative_scores
 
@@ -62,8 +63,8 @@ def texture(name, size):
 
 
 def _cold():
-    for cache in ("_BASELINE_METRICS", "_VERDICT_BASELINES"):
-        getattr(metrics, cache, {}).clear()
+    for cache in (_patches._BASELINE_METRICS, _patches._VERDICT_BASELINES):
+        cache.clear()
 
 
 def reference_verdict(output, exemplar, *, patch_size=8, rng=0, **bounds):

@@ -239,7 +239,7 @@ def test_long_wavelength_spectrum_tells_a_repeated_small_tile_from_a_fresh_crop(
 
 
 def test_texture_report_measures_the_baselines_of_a_seed_once(monkeypatch):
-    from texsynth import metrics
+    from texsynth.metrics import _patches as metrics  # the module whose globals texture_report reads
 
     rng = np.random.default_rng(4)
     ex, a, b = rng.random((24, 24, 3)), rng.random((32, 32, 3)), rng.random((32, 32, 3))

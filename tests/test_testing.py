@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from texsynth import metrics
+from texsynth.metrics import _patches as metrics  # its private helpers and caches are tested here
 from texsynth.testing import TextureAssertionError, assert_texture_like, relative_scores
 
 EX = np.random.default_rng(0).random((20, 20))

@@ -1,29 +1,5 @@
-"""Quality metrics for synthesised textures, and the baselines that calibrate them.
-
-A synthesis is judged against its exemplar on four axes:
-
-coherence (:func:`texture_energy`)
-    How far each output neighbourhood is from its nearest exemplar
-    neighbourhood: Kwatra et al. 2005, eq. 1, normalised per value. Low means
-    every part of the output looks like some part of the exemplar.
-completeness (:func:`completeness`)
-    How far each exemplar neighbourhood is from its nearest output
-    neighbourhood (the other half of the bidirectional similarity of Simakov
-    et al. 2008). Low means the output shows everything the exemplar has.
-copying (:func:`verbatim_copy`)
-    The largest output region copied from the exemplar with one single
-    offset, as a fraction of the exemplar's area. A tiled exemplar scores
-    about 1; a good synthesis well below 0.5.
-statistics (:func:`histogram_distance`, :func:`spectrum_distance`)
-    Per-channel Wasserstein distance of the value histograms, and distance of
-    the radially averaged log power spectra.
-
-Raw numbers mean little on their own; :func:`baselines` makes three reference
-images from the exemplar - histogram-matched white noise (worst coherence),
-a random-block mosaic (what naive patch pasting gives) and the tiled exemplar
-(best coherence, worst copying) - and :func:`texture_report` scores an output
-against them. ``docs/metrics.md`` holds the calibration table on real textures.
-"""
+"""The patch and statistics metrics of :mod:`texsynth.metrics` (coherence, completeness, copying, histogram,
+spectrum), their random baselines and the reports that compare an output with them."""
 
 from __future__ import annotations
 
@@ -36,7 +12,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from .core._validate import (
+from ..core._validate import (
     as_image,
     as_rng,
     as_size,
@@ -46,8 +22,8 @@ from .core._validate import (
     check_positive_int,
     with_channels,
 )
-from .core.search import PatchIndex, is_auto, nearest_candidates
-from .core.neighborhood import all_patches, patch_shape
+from ..core.search import PatchIndex, is_auto, nearest_candidates
+from ..core.neighborhood import all_patches, patch_shape
 
 __all__ = [
     "texture_energy",
