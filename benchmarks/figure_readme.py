@@ -66,10 +66,10 @@ def save(name, image, colors=256):
 
 # --------------------------------------------------------------------------- one function per picture
 def hero():
-    """The first screen: bread enlarged by image quilting (the README's first snippet), bricks by graph cuts."""
+    """The first screen: bread and bricks enlarged by the front door (the README's first snippet)."""
     bread, brick = data.load("bread"), data.load("brick")
-    big = texsynth.quilt(bread, (192, 288), rng=0)
-    wall = texsynth.graphcut_texture(brick, (192, 288), rng=0)
+    big = texsynth.synthesize(bread, (192, 288), rng=0)
+    wall = texsynth.synthesize(brick, (192, 288), rng=0)
     return row(bread, big, np.ones((1, 16, 3)), brick, wall)
 
 

@@ -11,7 +11,7 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src" / "texsynth"
 FAMILIES = {"pixel", "patch", "optimization", "statistical", "procedural", "surface"}
 TOOLS = {"io", "data", "metrics", "testing"}
-FRONT = {"__init__", "__main__", "cli", "_cli_text", "_cli_values", "demo", "registry", "_batch"}
+FRONT = {"__init__", "__main__", "cli", "_cli_text", "_cli_values", "demo", "registry", "_batch", "_synthesize"}
 # Ruiters et al. run one Portilla-Simoncelli step per iteration (Section 4.5): documented in
 # docs/architecture.md as the one import across families; and the core's one place images enter
 # (as_image) reads a file name given for an image through texsynth.io, on first use
@@ -309,8 +309,9 @@ HELPER_MODULES = {
     "_shapes": "surfaces",                        # test surfaces (tests/test_shapes.py)
     "_render": "surfaces",                        # previews (tests/test_render.py)
 }
-# docs/methods pages that are no algorithm's: the index, the core's search layer and seams, the surface family
-OTHER_PAGES = {"index", "search", "seams", "surfaces"}
+# docs/methods pages that are no algorithm's: the index, the core's search layer and seams, the surface family,
+# the front door
+OTHER_PAGES = {"index", "search", "seams", "surfaces", "synthesize"}
 ROOT = SRC.parents[1]
 
 

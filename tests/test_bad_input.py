@@ -127,6 +127,8 @@ CALLS = {
     "quilt": (texsynth.quilt, (EX, 32), dict(block=12, rng=0)),
     "quilt_transfer": (texsynth.quilt_transfer, (EX, EX), dict(block=12, iterations=1, rng=0)),
     "patch_sampling": (texsynth.patch_sampling, (EX, 32), dict(block=12, rng=0)),
+    "near_regular_texture": (texsynth.near_regular_texture, (EX, 32), dict(lattice=(8, 8, 0, 0), rng=0)),
+    "synthesize": (texsynth.synthesize, (EX, 32), dict(preset="quilt", rng=0)),
     "graphcut_texture": (texsynth.graphcut_texture, (EX, 32), dict(block=12, refine=1, rng=0)),
     "carve_seams": (texsynth.carve_seams, (EX, (20, 18)), dict()),
     "wang_texture": (texsynth.wang_texture, (EX, 40), dict(tile=12, rng=0)),

@@ -26,7 +26,7 @@ def test_the_real_demo_command_writes_the_gallery(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "texsynth", "demo", "--out", str(out), "--only", "marbel"],
                          capture_output=True, text=True, timeout=600)
     assert bad.returncode == 2 and "no gallery entry named 'marbel' (did you mean 'marble'?); choose among" in bad.stderr
-    assert "choose among pixels_bread" in bad.stderr  # the gallery opens with example-based synthesis
+    assert "choose among synthesize_brick, pixels_bread" in bad.stderr  # it opens with the front door
 
 
 @pytest.mark.slow
@@ -44,7 +44,7 @@ def test_every_gallery_entry_is_a_real_picture(entry, tmp_path):
 
 def test_select_entries_keeps_the_gallery_order_and_names_the_choices():
     assert [e.slug for e in demo.select_entries(["wood", "marble"])] == ["marble", "wood"]
-    with pytest.raises(ValueError, match="choose among pixels_bread, pixels_kcoherent_brick"):
+    with pytest.raises(ValueError, match="choose among synthesize_brick, pixels_bread, pixels_kcoherent_brick"):
         demo.select_entries([])
 
 

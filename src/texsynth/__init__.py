@@ -1,8 +1,10 @@
 """texsynth: example-based texture synthesis on one shared numpy layer.
 
-The algorithms are functions at the top level (``texsynth.optimize_texture``,
-``texsynth.patchwork``, ...; ``print(texsynth.methods())`` lists them, one line
-each), each implemented in its family:
+``texsynth.synthesize(exemplar, size)`` is the front door: it analyses the
+exemplar and runs the method that suits it. The algorithms are functions at
+the top level (``texsynth.optimize_texture``, ``texsynth.patchwork``, ...;
+``print(texsynth.methods())`` lists them, one line each), each implemented in
+its family:
 
 =============================  ====================================================
 :mod:`texsynth.pixel`          pixel-based: Wei-Levoy, Wei's mixtures and solids, Efros-Leung, Zhang et al.
@@ -31,7 +33,7 @@ __getattr__, __dir__, __all__ = attach(
                          "synthesize_controlled", "find_textons", "Neighborhood", "Sampling"], ".pixel"),
         **dict.fromkeys(["patchwork", "patchwork_video", "patchwork_transfer", "quilt", "quilt_transfer",
                         "patch_sampling", "graphcut_texture", "graphcut_merge", "carve_seams", "wang_texture",
-                        "wang_tiles", "wang_tiling"], ".patch"),
+                        "wang_tiles", "wang_tiling", "near_regular_texture"], ".patch"),
         **dict.fromkeys(["optimize_texture", "animate_texture", "inpaint", "uncrop", "interpolate_textures",
                          "make_tileable", "ridge_feature_map",
                          "edge_feature_map", "linear_blend", "InterpolationSchedule", "Correspondences",
@@ -45,6 +47,7 @@ __getattr__, __dir__, __all__ = attach(
         "Search": ".core.search",
         "apply_coordinates": ".core.coordinates",
         "batch": "._batch",
+        **dict.fromkeys(["synthesize", "analyze_exemplar", "choose_method"], "._synthesize"),
         "methods": ".registry",
     },
 )

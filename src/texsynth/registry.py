@@ -395,6 +395,14 @@ _PROCEDURAL = dict(inputs="none", skip=("points", "offset", "dtype"))
 #: Every method, in the order ``texsynth list``, the gallery and the docs show them: the example-based
 #: families first (pixel, optimization, patch, statistical), the procedural ones (no exemplar) last.
 METHODS: dict[str, Method] = {
+    "synthesize": Method(
+        "_synthesize:synthesize", "The front door: analyses the exemplar (lattice, orientation, elements) and runs "
+        "the method that suits it (--preset auto | fast | quality | a method's name)",
+        "the methods it chooses: Liu, Lin & Hays, SIGGRAPH 2004, doi:10.1145/1015706.1015731; Liang et al., ACM "
+        "TOG 2001, doi:10.1145/501786.501787; Efros & Freeman, SIGGRAPH 2001, doi:10.1145/383259.383296", page="synthesize",
+        demos=(Demo("synthesize_brick", "texsynth.synthesize on the brick wall: a grid of mortar lines, so whole "
+                    "cells placed on it (near-regular synthesis)",
+                    "", "brick", _call("_synthesize:synthesize", (192, 192))),)),
     "synthesize-pixels": _m(
         "pixel:synthesize_pixels",
         "Wei-Levoy 2000: multi-resolution pixel synthesis (scanline or order-independent)", _WEI_LEVOY,
@@ -529,6 +537,13 @@ METHODS: dict[str, Method] = {
                          "(tileable)", _LIANG, "patch_sampling",
                          demos=[("patch_sampling_bread", "Patch-based sampling (patches of 25 px, zones of 4 px, "
                                  "eps 0.2)", "bread", _call("patch:patch_sampling", (256, 256)))]),
+    "near-regular-texture": _m("patch:near_regular_texture", "After Liu, Lin & Hays 2004: whole cells of the "
+                               "exemplar's lattice (tiles, bricks) placed on a lattice, quilted (tileable)",
+                               "Liu, Lin & Hays, ACM TOG 2004 (SIGGRAPH), doi:10.1145/1015706.1015731",
+                               "near_regular",
+                               demos=[("near_regular_brick", "Near-regular texture: the running bond's cells "
+                                       "placed on its lattice (14 x 20 px, found from the mortar lines)", "brick",
+                                       _call("patch:near_regular_texture", (256, 256)))]),
     "heeger-bergen": _m("statistical:heeger_bergen",
                         "Heeger-Bergen 1995: steerable-pyramid histogram matching (stochastic textures)", _HB,
                         "heeger_bergen",
@@ -596,8 +611,9 @@ METHODS: dict[str, Method] = {
 
 #: Methods whose ``info.coordinates`` is a source-coordinate map (``texsynth.apply_coordinates``):
 #: the command line offers them ``--channels`` (extra channels rendered through the synthesis).
-COORDINATE_METHODS = ("synthesize-pixels", "mix-textures", "efros-leung", "optimize-texture", "patchwork", "quilt",
-                      "quilt-transfer", "graphcut-texture", "wang-texture", "patch-sampling", "carve-seams")
+COORDINATE_METHODS = ("synthesize", "synthesize-pixels", "mix-textures", "efros-leung", "optimize-texture", "patchwork", "quilt",
+                      "quilt-transfer", "graphcut-texture", "wang-texture", "patch-sampling", "near-regular-texture",
+                      "carve-seams")
 
 #: Methods that record a video map (one map per output frame, the input frames as sources): their command takes
 #: ``--coordinates`` (``texsynth apply-coordinates`` renders a channel's frames through it), not ``--channels``.
@@ -710,8 +726,8 @@ def methods():
     >>> found = texsynth.methods()           # print(found): a table, one line per method
     >>> [m.function for m in found if m.command == "texsynth quilt"]
     ['texsynth.quilt']
-    >>> found[0].paper
-    'Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009'
+    >>> found[0].function, found[1].paper    # the front door first, then the methods by family
+    ('texsynth.synthesize', 'Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009')
 
     The same list as ``texsynth list`` on the command line, read from
     :data:`texsynth.registry.METHODS`: example-based methods first,

@@ -63,6 +63,8 @@ from ._structure import (
     LATTICE_STRENGTH,
     ORIENTATION_THRESHOLD,
     Lattice,
+    correlation_length,
+    dominant_orientation,
     element_integrity,
     induced_lattice,
     lattice,

@@ -13,9 +13,12 @@
   removal by removing and inserting seams of least energy.
 - :func:`wang_tiles`, :func:`wang_tiling`, :func:`wang_texture`: Cohen et al.
   2003, a set of tiles with coloured edges quilted from diamonds, tiled at random.
+- :func:`near_regular_texture`: after Liu, Lin & Hays 2004, whole cells of the
+  exemplar's lattice (tiles, parquet, bricks) placed on the output's lattice.
 """
 
 from ._graphcut import GraphcutInfo, GraphcutMergeInfo, graphcut_merge, graphcut_texture
+from ._near_regular import NearRegularInfo, find_lattice, near_regular_texture
 from ._patch_sampling import PatchSamplingInfo, patch_sampling
 from ._patchwork import PatchworkInfo, patchwork, voronoi_weights
 from ._patchwork_transfer import patchwork_transfer
@@ -28,4 +31,5 @@ __all__ = ["patchwork", "patchwork_video", "patchwork_transfer", "voronoi_weight
            "quilt", "quilt_transfer", "patch_sampling", "QuiltInfo", "QuiltTransferInfo", "PatchSamplingInfo",
            "graphcut_texture", "graphcut_merge", "GraphcutInfo", "GraphcutMergeInfo",
            "carve_seams", "SeamCarvingInfo", "wang_tiles", "wang_tiling", "wang_texture", "WangTileSet",
-           "WangTilesInfo", "WangTilingInfo"]
+           "WangTilesInfo", "WangTilingInfo", "near_regular_texture", "NearRegularInfo",
+           "find_lattice"]

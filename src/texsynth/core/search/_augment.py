@@ -57,7 +57,8 @@ __all__ = ["AUGMENTS", "AUGMENT_METHODS", "Transform", "augmentations", "augment
 AUGMENTS = ("none", "flips", "rotations", "both")
 
 #: The public functions that take ``Search(augment=...)``; the others refuse it naming these.
-AUGMENT_METHODS = ("optimize_texture", "synthesize_pixels", "mix_textures", "efros_leung", "quilt", "patch_sampling")
+AUGMENT_METHODS = ("optimize_texture", "synthesize_pixels", "mix_textures", "efros_leung", "quilt", "patch_sampling",
+                   "near_regular_texture")
 
 
 @dataclass(frozen=True)
@@ -118,8 +119,8 @@ def refuse_augment(augment, name, reason):
     Traceback (most recent call last):
     ...
     ValueError: augment='both' is not available in synthesize_solid (each view fixes the texture's orientation in \
-its plane); optimize_texture, synthesize_pixels, mix_textures, efros_leung, quilt, patch_sampling take it; pass \
-augment='none'
+its plane); optimize_texture, synthesize_pixels, mix_textures, efros_leung, quilt, patch_sampling, \
+near_regular_texture take it; pass augment='none'
     """
     if check_augment(augment) != "none":
         raise ValueError(f"augment={augment!r} is not available in {name} ({reason}); "
