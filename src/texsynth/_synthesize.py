@@ -3,8 +3,8 @@
 The analysis (:func:`analyze_exemplar`) measures what decides between the methods: a lattice or
 courses (bricks, tiles, shingles, a weave), a dominant orientation (grain, roots, strata), and the
 size of the elements. The choice rules (:func:`choose_method`) are written down in
-docs/front_door.md with the measurements that support them (benchmarks/eval_front_door.py, tuned on
-one half of the photographs and reported on the other).
+docs/methods/synthesize.md, and docs/front_door.md evaluates them (benchmarks/eval_front_door.py, a
+tuning half of the photographs and a reporting half).
 """
 
 from __future__ import annotations
@@ -260,7 +260,7 @@ def choose_method(analysis, preset="auto"):
     analysis : ExemplarAnalysis
         From :func:`analyze_exemplar`.
     preset : str
-        ``"auto"`` (the rules of docs/front_door.md), ``"fast"``, ``"quality"`` or one of :data:`METHODS`.
+        ``"auto"`` (the rules of docs/methods/synthesize.md), ``"fast"``, ``"quality"`` or one of :data:`METHODS`.
 
     Returns
     -------

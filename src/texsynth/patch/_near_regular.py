@@ -413,7 +413,7 @@ def _lattice_cut(old, new, known):
 def _check_overlap(overlap, cell):
     if is_auto(overlap):
         return max(2, int(round(min(cell) * OVERLAP_FRACTION)))
-    o = check_positive_int(overlap, "overlap", minimum=0)
+    o = check_positive_int(overlap, "overlap", minimum=2)  # the cut runs in a band of at least 2 px, one per side
     if o >= min(cell):
         raise ValueError(f"overlap {o} must be smaller than the lattice's cell {cell[0]}x{cell[1]} px (a sixth of "
                          f"it, {max(2, round(min(cell) * OVERLAP_FRACTION))}, is the default); pass a smaller overlap")
