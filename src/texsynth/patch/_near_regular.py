@@ -67,15 +67,14 @@ from ..core._validate import (
     with_channels,
 )
 from ..core.search import augmentations, candidate_sq_distances, check_augment, is_auto, within_tolerance
-from ..core.seams import minimum_error_boundary, seam_mask
 from ._quilting import (
     ERROR_TOLERANCE,
     Grid,
     QuiltInfo,
     check_canvas_memory,
     check_tolerance,
+    cut_through,
     finish,
-    overlap_widths,
     paste_blocks,
     quilt_info,
 )
@@ -392,19 +391,7 @@ def _lattice_cut(old, new, known):
     new_real = new[..., -1] > 0.5
     old_real = (old[..., -1] > 0.5) | ~known
     e = e + (e.size * old.shape[2] + 1.0) * ~(new_real & old_real)
-    h, w = known.shape
-    take = np.ones((h, w), dtype=bool)
-    left, top, right, bottom = overlap_widths(known)
-    if left:
-        take[:, :left] &= ~seam_mask(minimum_error_boundary(e[:, :left]), (h, left))
-    if right:
-        take[:, w - right:] &= seam_mask(minimum_error_boundary(e[:, w - right:]) + 1, (h, right))
-    if top:
-        seam = minimum_error_boundary(e[:top], direction="horizontal")
-        take[:top] &= ~seam_mask(seam, (top, w), direction="horizontal")
-    if bottom:
-        seam = minimum_error_boundary(e[h - bottom:], direction="horizontal")
-        take[h - bottom:] &= seam_mask(seam + 1, (bottom, w), direction="horizontal")
+    take = cut_through(e, known)
     take[new_real & ~old_real] = True
     take[~new_real & old_real & known] = False
     return take

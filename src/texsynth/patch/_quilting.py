@@ -395,7 +395,12 @@ def _boundary_cut(old, new, known):
     keeps the pixels beyond every seam (the seam's own pixels included), the
     old output the rest. Unknown pixels always take the new block.
     """
-    e = ((old - new) ** 2).sum(-1)
+    return cut_through(((old - new) ** 2).sum(-1), known)
+
+
+def cut_through(e, known):
+    """:func:`_boundary_cut` for a given error surface ``e`` ``(h, w)`` of the block: the pixels the new block
+    takes after the cheapest seam through every known strip (near-regular synthesis weights ``e`` first)."""
     h, w = known.shape
     take = np.ones((h, w), dtype=bool)
     left, top, right, bottom = overlap_widths(known)
