@@ -6,7 +6,7 @@ from scipy import ndimage
 
 import texsynth
 from texsynth import data
-from texsynth._synthesize import COURSES, DIRECTIONAL, GRID_RULE, METHODS, RULES
+from texsynth._synthesize import COURSES, DIRECTIONAL, GRAIN, LARGE_ELEMENTS, METHODS, RULES
 
 FAST = dict(rng=0)
 
@@ -28,8 +28,8 @@ def _oriented_noise(angle_degrees, shape=(128, 128), seed=0):
     return (turned - turned.min()) / np.ptp(turned)
 
 
-def _blobs(shape=(128, 128), seed=0):
-    noise = ndimage.gaussian_filter(np.random.default_rng(seed).random(shape), 2)
+def _blobs(shape=(128, 128), seed=0, sigma=2):
+    noise = ndimage.gaussian_filter(np.random.default_rng(seed).random(shape), sigma, mode="wrap")
     return (noise - noise.min()) / np.ptp(noise)
 
 
@@ -63,7 +63,7 @@ def test_auto_runs_the_method_its_rules_choose_and_says_why(make):
     out, info = texsynth.synthesize(exemplar, 160, return_info=True, **FAST)
     analysis = texsynth.analyze_exemplar(exemplar)
     method, options, reason = texsynth.choose_method(analysis)
-    expected = GRID_RULE[0] if analysis.grid is not None else RULES[analysis.kind][0]
+    expected = next(chosen for _, test, chosen, _ in RULES if test(analysis))  # the first rule that holds
     assert (info.method, info.options) == (method, options) and method == expected
     assert np.array_equal(out, getattr(texsynth, method)(exemplar, (160, 160), **options, **FAST))
     assert info.choice == reason and f"the exemplar is {analysis.kind}" in reason
@@ -80,20 +80,25 @@ def test_a_grid_of_lines_gets_whole_cells_on_it():
     assert method == "near_regular_texture" and options == {"lattice": analysis.grid} and "grid" in reason
 
 
-def test_a_regular_exemplar_without_a_grid_gets_blocks_of_two_periods():
+def test_grain_and_large_elements_get_graph_cuts_and_the_rest_texture_optimization():
+    grain = texsynth.analyze_exemplar(_oriented_noise(90))
+    assert grain.anisotropy >= GRAIN and texsynth.choose_method(grain)[0] == "graphcut_texture"
+    large = texsynth.analyze_exemplar(_blobs(sigma=16))  # blobs 60-90 px across
+    assert large.element_size >= LARGE_ELEMENTS > texsynth.analyze_exemplar(_blobs()).element_size
+    method, _, reason = texsynth.choose_method(large)
+    assert method == "graphcut_texture" and "elements this large" in reason
     rows, cols = np.mgrid[:128, :128]
-    weave = 0.5 + 0.25 * np.sin(2 * np.pi * rows / 16) * np.sin(2 * np.pi * cols / 16)  # a weave: no lines
+    weave = 0.5 + 0.25 * np.sin(2 * np.pi * rows / 16) * np.sin(2 * np.pi * cols / 16)  # regular, no lines
     analysis = texsynth.analyze_exemplar(weave)
-    method, options, reason = texsynth.choose_method(analysis)
-    assert analysis.kind == "regular" and analysis.grid is None and method == "patch_sampling"
-    lengths = [np.hypot(*v) for v in analysis.lattice.vectors] + [p for p, s in analysis.courses if s >= COURSES]
-    assert analysis.period == max(lengths) > 0
-    assert options["block"] == int(min(64, max(32, 2 * analysis.period))) and "two periods" in reason
+    assert analysis.kind == "regular" and analysis.grid is None
+    assert texsynth.choose_method(analysis)[:2] == ("optimize_texture", {})
+    assert texsynth.choose_method(texsynth.analyze_exemplar(_blobs()))[0] == "optimize_texture"
 
 
 def test_fast_and_quality_presets_and_tileable_pass_through():
     exemplar = data.load("bread")[:64, :64]
-    assert texsynth.synthesize(exemplar, 64, preset="fast", return_info=True, **FAST)[1].method == "patchwork"
+    assert texsynth.synthesize(exemplar, 64, preset="fast", return_info=True, **FAST)[1].method == \
+        "patch_sampling"
     assert texsynth.synthesize(exemplar, 64, preset="quality", return_info=True, **FAST)[1].method == \
         "graphcut_texture"
     tiled = texsynth.synthesize(exemplar, 96, preset="quilt", tileable=True, **FAST)
@@ -123,7 +128,7 @@ def test_bad_input_names_the_parameter(kwargs, error, match):
 
 def test_every_method_the_front_door_names_is_public():
     assert all(callable(getattr(texsynth, m)) for m in METHODS)
-    assert {method for method, _ in RULES.values()} <= set(METHODS)
+    assert {method for _, _, method, _ in RULES} <= set(METHODS) and RULES[-1][0] == "otherwise"
 
 
 def test_the_command(tmp_path, capsys):

@@ -18,7 +18,7 @@ from scipy import ndimage
 from .core._validate import as_image, as_size, check_bool, check_choice
 
 __all__ = ["synthesize", "analyze_exemplar", "choose_method", "ExemplarAnalysis", "SynthesisChoice", "PRESETS",
-           "METHODS"]
+           "METHODS", "RULES"]
 
 #: ``preset`` values besides a method's name: ``"auto"`` (the analysis decides), ``"fast"`` and ``"quality"``.
 PRESETS = ("auto", "fast", "quality")
@@ -33,6 +33,13 @@ DIRECTIONAL = 0.45
 #: courses and a weave reach 0.8, shingles 0.71; photos without courses stay below 0.45 (moss 0.42, bark
 #: 0.43 on 256 px crops that hold two of their blotches).
 COURSES = 0.6
+#: An orientation at least this strong is grain: wood 0.81 and sand ripples 0.86 on the tuning photographs;
+#: stucco 0.52 and stone courses 0.47 are not, nor the bundled bread (0.60) and reptile skin (0.64).
+GRAIN = 0.7
+#: Pixels: elements at least this large (:func:`texsynth.metrics.correlation_length`) stay whole in graph
+#: cuts' large patches: charred bark 66, planks 68, ice cells 98 on the tuning photographs, where graph cuts
+#: is the best single method (pebbles 37, stone courses 21, gravel and moss 5, on 256 px crops).
+LARGE_ELEMENTS = 48
 
 
 @dataclass(frozen=True)
@@ -229,20 +236,29 @@ def analyze_exemplar(exemplar):
                             seconds=time.perf_counter() - start)
 
 
-#: The method for each kind of exemplar under ``preset="auto"``, and the reason given to the user.
-RULES = {
-    "regular": ("patch_sampling", "patch-based sampling copies whole blocks and matches their boundary zones, "
-                "so courses and lattices stay aligned"),
-    "directional": ("quilt", "image quilting copies whole blocks along minimum-error cuts, so the orientation "
-                    "is kept"),
-    "stochastic": ("patch_sampling", "patch-based sampling is fast and seamless on stochastic textures"),
-}
-#: A regular exemplar with a grid of full-length lines: whole cells placed on the lattice.
-GRID_RULE = ("near_regular_texture", "near-regular synthesis places whole cells on the grid, so the grid stays "
-             "unbroken and its cells whole")
-_PRESET_METHODS = {"fast": ("patchwork", "preset='fast': Harrison's patchwork, the fastest method"),
+#: The rules of ``preset="auto"``, first match wins: ``(name, test, method, reason)``. Chosen on the tuning
+#: half of benchmarks/photos (docs/front_door.md): texture optimization is the best single method there on
+#: most photographs; graph cuts is on those with large elements (charred bark, ice cells, wide planks) and
+#: strong grain (wood, sand ripples), which texture optimization breaks into blotches.
+RULES = (
+    ("grid", lambda a: a.grid is not None, "near_regular_texture",
+     "near-regular synthesis places whole cells on the grid, so the grid stays unbroken and its cells whole"),
+    ("grain", lambda a: a.anisotropy >= GRAIN, "graphcut_texture",
+     "graph-cut textures copies large patches along minimum cuts, so grain and strata run on unbroken"),
+    ("large elements", lambda a: a.element_size >= LARGE_ELEMENTS, "graphcut_texture",
+     "graph-cut textures copies large patches along minimum cuts, so elements this large stay whole"),
+    ("otherwise", lambda a: True, "optimize_texture",
+     "texture optimization scores best on such textures, the most coherent and complete (docs/front_door.md)"),
+)
+_PRESET_METHODS = {"fast": ("patch_sampling", "preset='fast': patch-based sampling, seamless in a fraction of a "
+                            "second"),
                    "quality": ("graphcut_texture", "preset='quality': graph-cut textures, the most coherent "
                                "patches of the library's methods, and the slowest")}
+
+
+def _rule(analysis):
+    """The rule of :data:`RULES` that an :class:`ExemplarAnalysis` meets: ``(name, method, reason)``."""
+    return next((name, method, why) for name, test, method, why in RULES if test(analysis))
 
 
 def choose_method(analysis, preset="auto"):
@@ -280,15 +296,8 @@ def choose_method(analysis, preset="auto"):
     if preset in _PRESET_METHODS:
         method, reason = _PRESET_METHODS[preset]
         return method, {}, reason
-    method, why = RULES[analysis.kind]
-    options = {}
-    if analysis.grid is not None:  # whole cells on the exemplar's grid of lines
-        method, why = GRID_RULE
-        options = {"lattice": analysis.grid}
-    elif analysis.kind == "regular":  # blocks of two periods (at most half the exemplar) keep whole courses
-        short = min(analysis.shape)
-        block = int(min(short // 2, max(short // 4, 2 * analysis.period)))
-        options, why = {"block": block}, f"{why} (blocks of {block} px, two periods)"
+    _, method, why = _rule(analysis)
+    options = {"lattice": analysis.grid} if method == "near_regular_texture" else {}
     return method, options, f"{analysis.describe()}; {why}"
 
 

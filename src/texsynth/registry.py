@@ -398,8 +398,9 @@ METHODS: dict[str, Method] = {
     "synthesize": Method(
         "_synthesize:synthesize", "The front door: analyses the exemplar (lattice, orientation, elements) and runs "
         "the method that suits it (--preset auto | fast | quality | a method's name)",
-        "the methods it chooses: Liu, Lin & Hays, SIGGRAPH 2004, doi:10.1145/1015706.1015731; Liang et al., ACM "
-        "TOG 2001, doi:10.1145/501786.501787; Efros & Freeman, SIGGRAPH 2001, doi:10.1145/383259.383296", page="synthesize",
+        "the methods it chooses: Liu, Lin & Hays, SIGGRAPH 2004, doi:10.1145/1015706.1015731; Kwatra et al., "
+        "SIGGRAPH 2003, doi:10.1145/882262.882264; Kwatra et al., SIGGRAPH 2005, doi:10.1145/1073204.1073263; "
+        "Liang et al., ACM TOG 2001, doi:10.1145/501786.501787 (preset fast)", page="synthesize",
         demos=(Demo("synthesize_brick", "texsynth.synthesize on the brick wall: a grid of mortar lines, so whole "
                     "cells placed on it (near-regular synthesis)",
                     "", "brick", _call("_synthesize:synthesize", (192, 192))),)),
