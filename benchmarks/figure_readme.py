@@ -156,7 +156,17 @@ def animation():
     return row(frames[0], frames[4], frames[8])
 
 
-FIGURES = {f.__name__: f for f in (hero, enlarge, tileable, hole, uncrop, pbr, batch, surface, animation)}
+def clip():
+    """The simulated water clip's first frame and frames 100, 200 of its dynamic texture; frames 1, 41, 81 of a
+    120-frame loop of the simulated candle (the flame's part of the frame)."""
+    waves = data.clip("waves")
+    water = texsynth.dynamic_texture(waves, 200, rng=0)
+    loop = texsynth.video_texture(data.clip("flame", 300), 120, loop=True, rng=0)
+    flame = [frame[:, 16:112] for frame in loop[[0, 40, 80]]]
+    return row(waves[0], water[99], water[199], np.ones((1, 16, 3)), *flame)
+
+
+FIGURES = {f.__name__: f for f in (hero, enlarge, tileable, hole, uncrop, pbr, batch, surface, animation, clip)}
 
 
 def main(names):

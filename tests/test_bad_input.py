@@ -134,6 +134,9 @@ CALLS = {
     "wang_texture": (texsynth.wang_texture, (EX, 40), dict(tile=12, rng=0)),
     "wang_tiles": (texsynth.wang_tiles, (EX, 12), dict(rng=0)),
     "wang_tiling": (texsynth.wang_tiling, (texsynth.wang_tiles(EX, 12, rng=0), 40), dict(rng=0)),
+    "dynamic_texture": (texsynth.dynamic_texture, (np.stack([EX, EX[::-1], EX[:, ::-1], EX]), 6), dict(rng=0)),
+    "video_texture": (texsynth.video_texture, (np.stack([EX, EX[::-1], EX[:, ::-1], EX[::-1, ::-1]] * 3), 8),
+                      dict(filter_taps=2, rng=0)),
     "graphcut_merge": (texsynth.graphcut_merge, (EX, EX[::-1]), dict(from_a=np.eye(24, dtype=bool),
                                                                     from_b=np.eye(24, dtype=bool)[::-1])),
 }

@@ -19,7 +19,8 @@ TABLE = INDEX[INDEX.index("## The methods, by paper"):INDEX.index("## ", INDEX.i
 HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_map", "edge_feature_map",
            "linear_blend", "wang_tiles", "wang_tiling", "tile_and_blend_at", "find_textons",
            "apply_coordinates", "batch", "read_mesh", "write_mesh", "render_mesh", "methods",
-           "analyze_exemplar", "choose_method"}  # the front door's analysis and rules (texsynth.synthesize's parts)
+           "analyze_exemplar", "choose_method",  # the front door's analysis and rules (texsynth.synthesize's parts)
+           "learn_dynamic_texture"}  # the model behind dynamic_texture (its command)
 # methods on meshes: one command of their own (`texsynth surface MESH EXEMPLAR`, --mode vertex or lapped),
 # since their input and output are meshes, not images
 SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped"}

@@ -339,6 +339,22 @@ def _patchwork_video(exemplar, seed):
     return _side_by_side([video[0], video[5], video[11]])
 
 
+def _dynamic_texture(exemplar, seed):
+    from .video import dynamic_texture
+
+    clip = data.clip("waves", 64, 96, rng=0)
+    video = dynamic_texture(clip, 96, rng=seed)
+    return _side_by_side([clip[0], video[0], video[47], video[95]])
+
+
+def _video_texture(exemplar, seed):
+    from .video import video_texture
+
+    clip = data.clip("flame", 150, 96, rng=0)
+    loop = video_texture(clip, 60, loop=True, rng=seed)
+    return _side_by_side([clip[0], loop[0], loop[20], loop[40]])
+
+
 def _inpaint(exemplar, seed):
     import numpy as np
 
@@ -382,6 +398,8 @@ _PERLIN = "Perlin, SIGGRAPH 1985 / 2002, doi:10.1145/325165.325247"
 _TURK = "Turk, SIGGRAPH 1991, doi:10.1145/122718.122749"
 _PEARSON = "Pearson, Science 1993, doi:10.1126/science.261.5118.189"
 _ZHANG = "Zhang, Zhou, Velho, Guo & Shum, SIGGRAPH 2003, doi:10.1145/882262.882344"
+_DORETTO = "Doretto, Chiuso, Wu & Soatto, IJCV 2003, doi:10.1023/A:1021669406132"
+_SCHODL = "Schödl, Szeliski, Salesin & Essa, SIGGRAPH 2000, doi:10.1145/344779.345012"
 
 
 def _m(target, summary, paper, page, demos=(), **cli):
@@ -494,6 +512,20 @@ METHODS: dict[str, Method] = {
                           demos=[("patchwork_video_water", "Harrison video patchwork: frames 1, 6 and 12 of a looping "
                                   "12-frame video from a 16-frame input clip (the water photograph drifting "
                                   "sideways: no video texture is bundled)", "water", _patchwork_video)]),
+    "dynamic-texture": _m("video:dynamic_texture",
+                          "Doretto et al. 2003: a linear dynamical system learnt from a clip plays new frames for ever "
+                          "(--size larger than the clip's frames: through one source-coordinate map)", _DORETTO,
+                          "doretto", inputs="frames", output="frames",
+                          demos=[("dynamic_texture_waves", "Dynamic texture: a frame of the simulated water clip "
+                                  "(texsynth.data.clip('waves'), 64 frames), then frames 1, 48 and 96 of the "
+                                  "synthesis", None, _dynamic_texture)]),
+    "video-texture": _m("video:video_texture",
+                        "Schödl et al. 2000: the clip's frames replayed with jumps between similar frames, endless "
+                        "(random play) or a seamless loop of N frames (--loop)", _SCHODL, "schodl", inputs="frames",
+                        output="frames", size=None,
+                        demos=[("video_texture_flame", "Video texture: a frame of the simulated candle clip "
+                                "(texsynth.data.clip('flame'), 150 frames), then frames 1, 21 and 41 of a "
+                                "60-frame seamless loop", None, _video_texture)]),
     "patchwork-transfer": _m("patch:patchwork_transfer",
                              "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
                              "pattern is repeated to the texture's channels)", _HARRISON, "patchwork", inputs="pair",

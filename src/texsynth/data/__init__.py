@@ -3,7 +3,8 @@
 See ``ATTRIBUTION.md`` in this folder for sources and licences (MIT and
 Apache-2.0 photographs from the Efros-Leung, Portilla-Simoncelli and
 Embark Studios sample sets). ``bricks_hole`` is a colour image with an alpha
-channel whose transparent disc is a hole to fill.
+channel whose transparent disc is a hole to fill. :func:`clip` makes simulated clips for the video
+methods (a candle flame, waves, raindrops): no photographed clip is bundled.
 
 Examples
 --------
@@ -19,8 +20,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..io import load_image
+from ._clips import CLIPS, clip, clip_names
 
-__all__ = ["load", "names", "path"]
+__all__ = ["load", "names", "path", "clip", "clip_names", "CLIPS"]
 
 _FILES = {
     "bread": "bread.png",

@@ -32,6 +32,8 @@ elements (:func:`element_integrity`)
     The connected components of a texton mask: whole as in the exemplar (1),
     or cut into fragments at seams (towards 0).
 
+and, for clips, on how frames follow one another (:func:`temporal_correlation`).
+
 Raw numbers mean little on their own; :func:`baselines` makes three reference
 images from the exemplar - histogram-matched white noise (worst coherence),
 a random-block mosaic (what naive patch pasting gives) and the tiled exemplar
@@ -41,7 +43,7 @@ calibrated against the same baselines. ``docs/metrics.md`` holds the calibration
 tables on real textures.
 """
 
-from . import _patches, _structure
+from . import _patches, _structure, _video
 from ._patches import (
     TextureReport,
     baselines,
@@ -71,5 +73,6 @@ from ._structure import (
     lattice_kept,
     orientation_distance,
 )
+from ._video import temporal_correlation
 
-__all__ = _patches.__all__ + _structure.__all__
+__all__ = _patches.__all__ + _structure.__all__ + _video.__all__

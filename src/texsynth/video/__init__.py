@@ -1,0 +1,15 @@
+"""Dynamic textures and video: synthesis that learns from a clip.
+
+- :func:`dynamic_texture`, :func:`learn_dynamic_texture`: Doretto, Chiuso, Wu & Soatto 2003, a linear
+  dynamical system identified in closed form, which then plays new frames for ever.
+- :func:`video_texture`: Schödl, Szeliski, Salesin & Essa 2000, the clip's own frames replayed with
+  jumps where two frames are alike: an endless sequence, or a seamless loop of a requested length.
+
+Clips are ``(T, H, W[, C])``; :func:`texsynth.data.clip` makes simulated ones.
+"""
+
+from ._doretto import DynamicTexture, DynamicTextureInfo, dynamic_texture, learn_dynamic_texture
+from ._schodl import VideoTextureInfo, video_texture
+
+__all__ = ["dynamic_texture", "learn_dynamic_texture", "DynamicTexture", "DynamicTextureInfo",
+           "video_texture", "VideoTextureInfo"]
