@@ -1,7 +1,8 @@
 """Wall-time measurement shared by the benchmarks.
 
 :func:`best_of` (the shortest of several runs) serves ``bench_noise.py`` and ``bench_patterns.py``;
-:func:`timed_stages` (one run, with the stages it reports) ``bench_vertex_synthesis.py`` and ``bench_lapped.py``.
+:func:`timed_stages` (one run, with the stages it reports) ``bench_vertex_synthesis.py`` and ``bench_lapped.py``;
+:func:`best_of_seeds` (wall and CPU time, seed by seed) ``bench_random_phase.py`` and ``bench_doretto.py``.
 """
 
 import time
@@ -28,3 +29,14 @@ def timed_stages(fn):
     result, info = fn()
     seconds = time.perf_counter() - start
     return result, info, seconds, ", ".join(f"{k} {v:.1f}" for k, v in info.stage_seconds.items())
+
+
+def best_of_seeds(func, repeat):
+    """``(wall, cpu, out)``: the shortest wall and CPU times in seconds of ``func(seed)`` for seeds
+    ``0 .. repeat - 1``, and the last call's result."""
+    best, cpu, out = float("inf"), float("inf"), None
+    for seed in range(repeat):
+        t, c = time.perf_counter(), time.process_time()
+        out = func(seed)
+        best, cpu = min(best, time.perf_counter() - t), min(cpu, time.process_time() - c)
+    return best, cpu, out

@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _timing import best_of_seeds
 from texsynth import data
 
 from texsynth.metrics import temporal_correlation
@@ -31,15 +32,6 @@ from texsynth.video import dynamic_texture, learn_dynamic_texture
 from texsynth.video._doretto import run_states
 
 LEARN_TARGET, SYNTH_TARGET = 2.0, 1.0
-
-
-def timed(func, repeat):
-    best, cpu, out = np.inf, np.inf, None
-    for seed in range(repeat):
-        t, c = time.perf_counter(), time.process_time()
-        out = func(seed)
-        best, cpu = min(best, time.perf_counter() - t), min(cpu, time.process_time() - c)
-    return best, cpu, out
 
 
 def main():
@@ -52,18 +44,18 @@ def main():
 
     print("\nlearning (target <= 2 s)")
     for estimator in ("yule-walker", "least-squares"):
-        wall, cpu, model = timed(lambda seed, e=estimator: learn_dynamic_texture(clip, estimator=e), repeat)
+        wall, cpu, model = best_of_seeds(lambda seed, e=estimator: learn_dynamic_texture(clip, estimator=e), repeat)
         verdict = "meets" if wall <= LEARN_TARGET else "MISSES"
         print(f"  learn_dynamic_texture({estimator!r}) {wall:6.3f} s (cpu {cpu:.3f}), n = {model.state_dim}: "
               f"{verdict} the target")
     Y = clip.reshape(64, -1).T
     Y = Y - Y.mean(1, keepdims=True)
-    wall, cpu, _ = timed(lambda seed: np.linalg.svd(Y, full_matrices=False), repeat)
+    wall, cpu, _ = best_of_seeds(lambda seed: np.linalg.svd(Y, full_matrices=False), repeat)
     print(f"  reference: numpy.linalg.svd of the (m, T) matrix alone {wall:6.3f} s (cpu {cpu:.3f})")
 
     model = learn_dynamic_texture(clip)
     print("\nsynthesis of 256 frames (target <= 1 s)")
-    wall, cpu, video = timed(lambda seed: model.synthesize(256, rng=seed), repeat)
+    wall, cpu, video = best_of_seeds(lambda seed: model.synthesize(256, rng=seed), repeat)
     verdict = "meets" if wall <= SYNTH_TARGET else "MISSES"
     print(f"  DynamicTexture.synthesize(256) {wall:6.3f} s (cpu {cpu:.3f}), {video.nbytes / 2**20:.0f} MiB: "
           f"{verdict} the target")
@@ -73,7 +65,7 @@ def main():
         C, mean = np.asarray(model.C), model.mean.reshape(-1)
         return np.stack([np.clip(C @ X[:, t] + mean, 0, 1).reshape(model.frame_shape) for t in range(256)])
 
-    wall, cpu, _ = timed(per_frame, repeat)
+    wall, cpu, _ = best_of_seeds(per_frame, repeat)
     print(f"  reference: a per-frame loop of C x(t) + ybar {wall:6.3f} s (cpu {cpu:.3f})")
     start = time.perf_counter()
     large, info = model.synthesize(256, size=512, rng=0, return_info=True)

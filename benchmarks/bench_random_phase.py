@@ -11,10 +11,10 @@ distance to the exemplar, against histogram-matched white noise's.
 """
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
+from _timing import best_of_seeds
 
 from texsynth.core.pyramid import periodic_smooth_decomposition
 from texsynth.io import load_image
@@ -39,15 +39,6 @@ def numpy_rpn(exemplar, size, rng):
     return out if exemplar.ndim == 3 else out[..., 0]
 
 
-def timed(func, repeat):
-    best, cpu, out = np.inf, np.inf, None
-    for seed in range(repeat):
-        t, c = time.perf_counter(), time.process_time()
-        out = func(seed)
-        best, cpu = min(best, time.perf_counter() - t), min(cpu, time.process_time() - c)
-    return best, cpu, out
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
@@ -70,7 +61,7 @@ def main():
     print("process (all threads); spectrum distance to the exemplar (histogram-matched white noise in brackets)")
     print(f"{'method':<34} {'exemplar':<22} {'wall [s]':>9} {'CPU [s]':>8} {'spectrum':>9} {'(noise)':>8}")
     for name, label, ex, func, repeat in rows:
-        wall, cpu, out = timed(func, repeat)
+        wall, cpu, out = best_of_seeds(func, repeat)
         noise = noise_baseline(ex, SIZE, rng=0)
         print(f"{name:<34} {label:<22} {wall:9.3f} {cpu:8.3f} {spectrum_distance(out, ex):9.3f} "
               f"{spectrum_distance(noise, ex):8.3f}")
