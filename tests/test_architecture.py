@@ -178,6 +178,7 @@ def _small_runs():
         "random_phase_noise": lambda: texsynth.random_phase_noise(bread, 64, return_info=True, rng=0),
         "tile_and_blend": lambda: texsynth.tile_and_blend(bread, 64, return_info=True, rng=0),
         "tile_and_blend_at": lambda: texsynth.tile_and_blend_at(bread, [0, 5], [3, -7], return_info=True, rng=0),
+        "graphcut_video": lambda: texsynth.graphcut_video(data.clip("waves", 8, 32), 12, return_info=True, rng=0),
     }
 
 

@@ -137,6 +137,8 @@ CALLS = {
     "dynamic_texture": (texsynth.dynamic_texture, (np.stack([EX, EX[::-1], EX[:, ::-1], EX]), 6), dict(rng=0)),
     "video_texture": (texsynth.video_texture, (np.stack([EX, EX[::-1], EX[:, ::-1], EX[::-1, ::-1]] * 3), 8),
                       dict(filter_taps=2, rng=0)),
+    "graphcut_video": (texsynth.graphcut_video, (np.stack([EX, EX[::-1], EX[:, ::-1], EX[::-1, ::-1]] * 2), 10),
+                       dict(block=(4, 24, 24), rng=0)),
     "graphcut_merge": (texsynth.graphcut_merge, (EX, EX[::-1]), dict(from_a=np.eye(24, dtype=bool),
                                                                     from_b=np.eye(24, dtype=bool)[::-1])),
 }

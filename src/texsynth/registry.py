@@ -355,6 +355,14 @@ def _video_texture(exemplar, seed):
     return _side_by_side([clip[0], loop[0], loop[20], loop[40]])
 
 
+def _graphcut_video(exemplar, seed):
+    from .video import graphcut_video
+
+    clip = data.clip("waves", 24, 64, rng=0)
+    video = graphcut_video(clip, 48, rng=seed)
+    return _side_by_side([clip[0], video[0], video[23], video[47]])
+
+
 def _inpaint(exemplar, seed):
     import numpy as np
 
@@ -526,6 +534,13 @@ METHODS: dict[str, Method] = {
                         demos=[("video_texture_flame", "Video texture: a frame of the simulated candle clip "
                                 "(texsynth.data.clip('flame'), 150 frames), then frames 1, 21 and 41 of a "
                                 "60-frame seamless loop", None, _video_texture)]),
+    "graphcut-video": _m("video:graphcut_video",
+                         "Kwatra et al. 2003, Section 5: a clip extended in time (and space) by spatio-temporal "
+                         "patches joined along 3-D minimum cuts (--loop: a clip that loops)", _KWATRA_2003,
+                         "graphcut_video", inputs="frames", output="frames",
+                         demos=[("graphcut_video_waves", "Graph-cut video: a frame of the simulated water clip "
+                                 "(texsynth.data.clip('waves'), 24 frames), then frames 1, 24 and 48 of a 48-frame "
+                                 "extension", None, _graphcut_video)]),
     "patchwork-transfer": _m("patch:patchwork_transfer",
                              "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
                              "pattern is repeated to the texture's channels)", _HARRISON, "patchwork", inputs="pair",

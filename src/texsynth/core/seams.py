@@ -24,7 +24,9 @@ one of them left to right (on the transposed array).
 Graph cut (Kwatra, Schödl, Essa, Turk & Bobick 2003, Section 3)
 -----------------------------------------------------------------
 :func:`graph_cut` labels every pixel of a 2-D overlap ``A`` (old) or ``B``
-(new) by a minimum cut of the 4-connected grid graph whose arc between
+(new) (or every voxel of a 3-D one, ``spatial_dims=3``: the paper's video
+synthesis, Section 5, with 6-connected voxels and seams that are surfaces in
+space and time) by a minimum cut of the 4-connected grid graph whose arc between
 neighbours ``s`` and ``t`` costs the matching quality cost
 ``M(s, t, A, B) = ||A(s) - B(s)|| + ||A(t) - B(t)||`` (:func:`matching_cost`;
 the paper's gradient-normalised ``M'`` is :func:`gradient_matching_cost`),
@@ -472,18 +474,19 @@ def gradient_matching_cost(a_s, a_t, b_s, b_t):
     return matching_cost(a_s, a_t, b_s, b_t) / (gradients + GRADIENT_EPSILON)
 
 
-def _as_values(image, name):
-    """A finite real image as float64 ``(H, W, C)``."""
+def _as_values(image, name, spatial_dims=2):
+    """A finite real image (volume) as float64 ``(H, W, C)`` (``(T, H, W, C)`` with ``spatial_dims=3``)."""
     arr = np.asarray(image)
     if arr.dtype == object or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == np.bool_) \
             or np.issubdtype(arr.dtype, np.complexfloating):
         raise TypeError(f"{name} must be a real numeric array, got dtype {arr.dtype}")
-    if arr.ndim not in (2, 3) or arr.size == 0:
-        raise ValueError(f"{name} must have shape (H, W) or (H, W, C), got {arr.shape}")
+    if arr.ndim not in (spatial_dims, spatial_dims + 1) or arr.size == 0:
+        axes = "(H, W)" if spatial_dims == 2 else "(T, H, W)" if spatial_dims == 3 else f"{spatial_dims} axes"
+        raise ValueError(f"{name} must have shape {axes} or {axes[:-1]}, C), got {arr.shape}")
     arr = arr.astype(np.float64, copy=False)
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} contains NaN or infinite values; replace them (e.g. np.nan_to_num) first")
-    return arr if arr.ndim == 3 else arr[..., None]
+    return arr if arr.ndim == spatial_dims + 1 else arr[..., None]
 
 
 def _as_mask(mask, shape, name, default):
@@ -500,20 +503,27 @@ def check_disjoint(first, second, names, fix):
     """Refuse two constraint masks that share a pixel, naming both, the first shared pixel and ``fix``."""
     both = first & second
     if both.any():
-        r, c = np.argwhere(both)[0]
-        raise ValueError(f"{names[0]} and {names[1]} both hold {int(both.sum())} pixels (the first at row {r}, "
-                         f"column {c}); {fix}")
+        where = np.argwhere(both)[0]
+        at = (f"row {where[0]}, column {where[1]}" if where.size == 2
+              else "frame {}, row {}, column {}".format(*where) if where.size == 3 else f"index {tuple(where)}")
+        raise ValueError(f"{names[0]} and {names[1]} both hold {int(both.sum())} pixels (the first at {at}); {fix}")
 
 
 def _neighbour_pairs(mask):
-    """Flat indices ``(s, t)`` of 4-neighbours that both lie in ``mask``: right neighbours, then down."""
-    h, w = mask.shape
-    flat = np.arange(h * w).reshape(h, w)
-    right = mask[:, :-1] & mask[:, 1:]
-    down = mask[:-1, :] & mask[1:, :]
-    s = np.concatenate([flat[:, :-1][right], flat[:-1, :][down]])
-    t = np.concatenate([flat[:, 1:][right], flat[1:, :][down]])
-    return s, t
+    """Flat indices ``(s, t)`` of grid neighbours (4 in 2-D, 6 in 3-D) that both lie in ``mask``.
+
+    The pairs along the last axis first (right neighbours), then along each earlier axis in turn (down, then,
+    in a volume, the next frame).
+    """
+    flat = np.arange(mask.size).reshape(mask.shape)
+    s, t = [], []
+    for axis in range(mask.ndim - 1, -1, -1):
+        lo = tuple(slice(None, -1) if a == axis else slice(None) for a in range(mask.ndim))
+        hi = tuple(slice(1, None) if a == axis else slice(None) for a in range(mask.ndim))
+        both = mask[lo] & mask[hi]
+        s.append(flat[lo][both])
+        t.append(flat[hi][both])
+    return np.concatenate(s), np.concatenate(t)
 
 
 def _edge_costs(edge_cost, a_s, a_t, b_s, b_t):
@@ -526,14 +536,20 @@ def _edge_costs(edge_cost, a_s, a_t, b_s, b_t):
 
 
 def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None, patches=None,
-              edge_cost=matching_cost):
-    """The minimum-cost seam between an old image and a new patch over a 2-D overlap (Kwatra et al. 2003).
+              edge_cost=matching_cost, spatial_dims=2):
+    """The minimum-cost seam between an old image and a new patch over an overlap (Kwatra et al. 2003).
+
+    The overlap is 2-D (images, 4-connected) or, with ``spatial_dims=3``, a
+    volume (video, 6-connected: the paper's Section 5, where the seams are
+    surfaces in space and time). Below, ``(H, W)`` stands for the grid's shape,
+    ``(T, H, W)`` for a volume.
 
     Parameters
     ----------
     old : array_like, shape (H, W) or (H, W, C)
         The output as it is (Kwatra's ``A``) over the overlap's bounding box.
-        Any finite real values (colours, features).
+        Any finite real values (colours, features). With ``spatial_dims=3``:
+        ``(T, H, W)`` or ``(T, H, W, C)``.
     new : array_like, same shape as ``old``
         The new patch ``B`` over the same pixels.
     mask : array_like of bool, shape (H, W), optional
@@ -565,6 +581,11 @@ def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None,
         breaks the triangle inequality (the paper's gradient-normalised ``M'``
         can) still gives the minimum cut of the graph, but the seam nodes then
         no longer charge exactly the cost of the seams the labelling makes.
+    spatial_dims : int
+        2 for images (the default), 3 for volumes and videos ``(T, H, W[, C])``,
+        whose voxels are joined to their 6 neighbours (along time, rows and
+        columns). The masks, ``labels`` and ``patches`` then carry the same
+        three grid axes.
 
     Returns
     -------
@@ -588,7 +609,7 @@ def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None,
     Notes
     -----
     *The graph.* One node per pixel of ``mask``, one arc per pair of
-    4-neighbours weighted ``M(s, t, A, B)`` (both directions), and one seam
+    4-neighbours (6-neighbours in a volume) weighted ``M(s, t, A, B)`` (both directions), and one seam
     node per old seam: arcs ``s``-seam ``M(s, t, A_s, B)``, seam-``t``
     ``M(s, t, B, A_t)``, seam-sink ``M(s, t, A_s, A_t)``. The source is the
     old output ``A``, the sink the new patch ``B``. The pixels reachable from
@@ -640,12 +661,15 @@ def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None,
     from scipy.sparse import csr_array
     from scipy.sparse.csgraph import breadth_first_order, maximum_flow
 
-    a = _as_values(old, "old")
-    b = _as_values(new, "new")
+    if spatial_dims not in (2, 3) or isinstance(spatial_dims, bool):
+        raise ValueError(f"spatial_dims must be 2 (images) or 3 (volumes and videos), got {spatial_dims!r}")
+    nd = int(spatial_dims)
+    a = _as_values(old, "old", nd)
+    b = _as_values(new, "new", nd)
     if a.shape != b.shape:
-        raise ValueError(f"old and new must have the same shape, got {a.shape[:2]} x {a.shape[2]} channels and "
-                         f"{b.shape[:2]} x {b.shape[2]} channels; crop both to the overlap's bounding box")
-    shape = a.shape[:2]
+        raise ValueError(f"old and new must have the same shape, got {a.shape[:nd]} x {a.shape[nd]} channels and "
+                         f"{b.shape[:nd]} x {b.shape[nd]} channels; crop both to the overlap's bounding box")
+    shape = a.shape[:nd]
     region = _as_mask(mask, shape, "mask", True)
     keep_old = _as_mask(old_mask, shape, "old_mask", False)
     take_new = _as_mask(new_mask, shape, "new_mask", False)
@@ -659,7 +683,7 @@ def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None,
                          "from; pass both, or neither for a cut without old seams")
     n_pix = int(region.sum())
     check_memory(float(_GRAPH_BYTES_PER_PIXEL) * max(n_pix, 1), shape, "old", "the graph of the cut")
-    flat_a, flat_b = a.reshape(-1, a.shape[2]), b.reshape(-1, b.shape[2])
+    flat_a, flat_b = a.reshape(-1, a.shape[nd]), b.reshape(-1, b.shape[nd])
     s, t = _neighbour_pairs(region)
 
     seam = np.zeros(s.shape[0], dtype=bool)
@@ -679,7 +703,7 @@ def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None,
         to_seam = from_seam = old_seam = np.zeros(0)
 
     # nodes: the pixels of the region, then the seam nodes, then the source A and the sink B
-    node = np.full(shape[0] * shape[1], -1, dtype=np.int64)
+    node = np.full(int(np.prod(shape)), -1, dtype=np.int64)
     node[region.ravel()] = np.arange(n_pix)
     n_seam = ss.shape[0]
     seam_node = n_pix + np.arange(n_seam)
@@ -723,15 +747,16 @@ def graph_cut(old, new, *, mask=None, old_mask=None, new_mask=None, labels=None,
 
 def _check_labels(labels, patches, old, region):
     """``labels`` flattened and ``patches`` as ``(K, H*W, C)``; refuses labels and patches that do not make ``old``."""
+    nd = old.ndim - 1
     lab = np.asarray(labels)
-    if lab.shape != old.shape[:2] or not np.issubdtype(lab.dtype, np.integer):
-        raise ValueError(f"labels must be an integer array of shape {old.shape[:2]}, got dtype {lab.dtype} "
+    if lab.shape != old.shape[:nd] or not np.issubdtype(lab.dtype, np.integer):
+        raise ValueError(f"labels must be an integer array of shape {old.shape[:nd]}, got dtype {lab.dtype} "
                          f"shape {lab.shape}")
     layers = np.asarray(patches, dtype=np.float64)
-    if layers.ndim == 3:
+    if layers.ndim == nd + 1:
         layers = layers[..., None]
-    if layers.ndim != 4 or layers.shape[1:] != old.shape:
-        raise ValueError(f"patches must have shape (K, {old.shape[0]}, {old.shape[1]}, {old.shape[2]}) "
+    if layers.ndim != nd + 2 or layers.shape[1:] != old.shape:
+        raise ValueError(f"patches must have shape (K, {', '.join(str(n) for n in old.shape)}) "
                          f"(K old patches over old's pixels), got {layers.shape}")
     if not np.all(np.isfinite(layers)):
         raise ValueError("patches contains NaN or infinite values; give every patch a value at every pixel")
@@ -740,9 +765,9 @@ def _check_labels(labels, patches, old, region):
         raise ValueError(f"labels must lie in 0..{layers.shape[0] - 1} (one per patch) on mask, "
                          f"got {used.min()}..{used.max()}")
     lab = np.where(region, lab, 0).ravel()
-    layers = layers.reshape(layers.shape[0], -1, layers.shape[3])
+    layers = layers.reshape(layers.shape[0], -1, layers.shape[-1])
     made = layers[lab, np.arange(lab.size)]
-    differ = region.ravel() & ~np.all(made == old.reshape(-1, old.shape[2]), axis=1)
+    differ = region.ravel() & ~np.all(made == old.reshape(-1, old.shape[-1]), axis=1)
     if differ.any():
         raise ValueError(f"old differs from patches[labels] at {int(differ.sum())} pixels of mask; old must be "
                          "the image that the labelled patches make")
