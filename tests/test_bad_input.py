@@ -139,6 +139,8 @@ CALLS = {
                       dict(filter_taps=2, rng=0)),
     "graphcut_video": (texsynth.graphcut_video, (np.stack([EX, EX[::-1], EX[:, ::-1], EX[::-1, ::-1]] * 2), 10),
                        dict(block=(4, 24, 24), rng=0)),
+    "stylize_video": (texsynth.stylize_video, (np.stack([EX, EX[::-1], EX[:, ::-1]]), {0: EX[..., ::-1]}),
+                      dict(rng=0)),
     "graphcut_merge": (texsynth.graphcut_merge, (EX, EX[::-1]), dict(from_a=np.eye(24, dtype=bool),
                                                                     from_b=np.eye(24, dtype=bool)[::-1])),
 }

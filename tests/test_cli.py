@@ -42,7 +42,7 @@ def test_every_command_is_its_functions_name_with_dashes():
 
 
 @pytest.mark.parametrize("typed, suggested", [("pixels", "'synthesize-pixels'"), ("seam-carve", "'carve-seams'"),
-                                              ("graphcut", "'graphcut-texture' or 'graphcut-merge'"),
+                                              ("graphcut", "'graphcut-video' or 'graphcut-texture' or 'graphcut-merge'"),
                                               ("tile-blend", "'tile-and-blend'"), ("quilts", "'quilt'")])
 def test_a_mistyped_command_names_the_likeliest(typed, suggested, capsys):
     # no aliases: an old or mistyped name is argparse's "invalid choice", with the likeliest commands first

@@ -13,7 +13,7 @@ its family:
 :mod:`texsynth.statistical`    statistical: Heeger-Bergen, Portilla-Simoncelli, random phase noise, tiling and blending
 :mod:`texsynth.procedural`     procedural: Perlin noise, marble, reaction-diffusion
 :mod:`texsynth.surface`        on surfaces: meshes, their files and previews
-:mod:`texsynth.video`          dynamic textures and video: Doretto et al., Schödl et al., Kwatra et al.
+:mod:`texsynth.video`          dynamic textures and video: Doretto et al., Schödl et al., Kwatra et al., Jamriška et al.
 :mod:`texsynth.core`           the shared layer: neighbourhoods, pyramids, search, EM
 =============================  ====================================================
 
@@ -44,7 +44,7 @@ __getattr__, __dir__, __all__ = attach(
                         ".statistical"),
         **dict.fromkeys(["read_mesh", "write_mesh", "render_mesh", "synthesize_surface", "SurfaceSchedule",
                          "lapped_textures"], ".surface"),
-        **dict.fromkeys(["dynamic_texture", "learn_dynamic_texture", "video_texture", "graphcut_video"], ".video"),
+        **dict.fromkeys(["dynamic_texture", "learn_dynamic_texture", "video_texture", "graphcut_video", "stylize_video"], ".video"),
         **dict.fromkeys(["Schedule", "Terms", "Constraints", "Guides", "Fields", "Animation"], ".core.em"),
         "Search": ".core.search",
         "apply_coordinates": ".core.coordinates",

@@ -7,8 +7,8 @@ import math
 import re
 from pathlib import Path
 
-__all__ = ["CommandError", "parse_value", "parse_size", "parse_flow", "parse_weights", "ramp", "read_field",
-           "read_grey_map", "SIZE_FORMS", "FIELD_GREY"]
+__all__ = ["CommandError", "parse_value", "parse_size", "parse_flow", "parse_weights", "parse_keyframes", "ramp",
+           "read_field", "read_grey_map", "SIZE_FORMS", "FIELD_GREY"]
 
 
 class CommandError(Exception):
@@ -135,6 +135,28 @@ def parse_weights(text, n, shape):
 FIELD_GREY = {"orientation": (lambda g: 2.0 * 3.141592653589793 * g, "0..1 -> angle 0..2 pi, counter-clockwise"),
                "magnification": (lambda g: 2.0 ** (2.0 * g - 1.0),
                                  "0..1 -> magnification 0.5..2 geometrically, 0.5 -> 1")}
+
+
+def parse_keyframes(text):
+    """``--keyframes 0=first.png,29=last.png`` to ``{0: image, 29: image}``: painted frames by their index.
+
+    >>> parse_keyframes("0=a.png, 29=b.png".replace("a.png", "missing.png"))  # doctest: +IGNORE_EXCEPTION_DETAIL
+    Traceback (most recent call last):
+    CommandError: --keyframes: cannot read missing.png ...
+    """
+    from .io import load_image
+
+    keyframes = {}
+    for item in str(text).split(","):
+        index, sep, path = item.strip().partition("=")
+        if not sep or not index.strip().lstrip("-").isdigit() or not path.strip():
+            raise CommandError(f"--keyframes takes INDEX=FILE pairs separated by commas (e.g. "
+                               f"'0=first.png,29=last.png', frame indices from 0), got {item.strip()!r}")
+        try:
+            keyframes[int(index)] = load_image(path.strip())
+        except (OSError, ValueError) as error:
+            raise CommandError(f"--keyframes: cannot read {path.strip()} ({error})") from None
+    return keyframes
 
 
 def read_field(text, name):

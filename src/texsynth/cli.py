@@ -81,8 +81,8 @@ from pathlib import Path
 
 from .io._images import check_suffix
 from ._cli_text import HelpFull, did_you_mean, doc_params, group_heading, plain_text, short_help
-from ._cli_values import (FIELD_GREY, SIZE_FORMS, CommandError, parse_flow, parse_size, parse_value, parse_weights,
-                          ramp, read_field, read_grey_map)
+from ._cli_values import (FIELD_GREY, SIZE_FORMS, CommandError, parse_flow, parse_keyframes, parse_size, parse_value,
+                          parse_weights, ramp, read_field, read_grey_map)
 from .registry import (COORDINATE_METHODS, METHODS, VIDEO_COORDINATE_METHODS, Method, group_fields, group_options,
                        is_group, option_holder)
 
@@ -702,6 +702,8 @@ def _run_method(args):
                 value = 1.0 - value
         elif pname in method.fields and isinstance(value, str):
             value = read_field(value, pname)
+        elif pname == "keyframes" and isinstance(value, str):
+            value = parse_keyframes(value)
         elif pname in method.files and isinstance(value, str):
             value = _load_inputs(Method(target="", summary="", inputs="image"), [value])[0]
         if value is not option.default:

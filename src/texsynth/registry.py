@@ -363,6 +363,18 @@ def _graphcut_video(exemplar, seed):
     return _side_by_side([clip[0], video[0], video[23], video[47]])
 
 
+def _stylize_video(exemplar, seed):
+    import numpy as np
+
+    from .video import stylize_video
+
+    clip = data.clip("waves", 8, 64, rng=0)
+    lum = clip[0].mean(-1)
+    painting = np.where(lum[..., None] > np.median(lum), [0.95, 0.75, 0.3], [0.35, 0.1, 0.1])  # two colours
+    video = stylize_video(clip, {0: painting}, rng=seed)
+    return _side_by_side([clip[0], painting, video[3], video[7]])
+
+
 def _inpaint(exemplar, seed):
     import numpy as np
 
@@ -408,6 +420,7 @@ _PEARSON = "Pearson, Science 1993, doi:10.1126/science.261.5118.189"
 _ZHANG = "Zhang, Zhou, Velho, Guo & Shum, SIGGRAPH 2003, doi:10.1145/882262.882344"
 _DORETTO = "Doretto, Chiuso, Wu & Soatto, IJCV 2003, doi:10.1023/A:1021669406132"
 _SCHODL = "Schödl, Szeliski, Salesin & Essa, SIGGRAPH 2000, doi:10.1145/344779.345012"
+_JAMRISKA = "in the spirit of Jamriška et al., SIGGRAPH 2019, doi:10.1145/3306346.3323006"
 
 
 def _m(target, summary, paper, page, demos=(), **cli):
@@ -541,6 +554,13 @@ METHODS: dict[str, Method] = {
                          demos=[("graphcut_video_waves", "Graph-cut video: a frame of the simulated water clip "
                                  "(texsynth.data.clip('waves'), 24 frames), then frames 1, 24 and 48 of a 48-frame "
                                  "extension", None, _graphcut_video)]),
+    "stylize-video": _m("video:stylize_video",
+                        "After Jamriška et al. 2019 (ebsynth): every frame painted like its painted keyframes "
+                        "(--keyframes 0=first.png,29=last.png), coherent along the frames' motion", _JAMRISKA,
+                        "jamriska", inputs="frames", output="frames", size=None,
+                        demos=[("stylize_video_waves", "Keyframe stylisation: a frame of the simulated water clip, "
+                                "its two-colour painting (the keyframe), then frames 4 and 8 painted alike", None,
+                                _stylize_video)]),
     "patchwork-transfer": _m("patch:patchwork_transfer",
                              "Harrison 2002: texture transfer onto a pattern image (TEXTURE PATTERN; a grey "
                              "pattern is repeated to the texture's channels)", _HARRISON, "patchwork", inputs="pair",

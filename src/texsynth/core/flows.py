@@ -52,8 +52,13 @@ __all__ = [
     "check_flow",
     "warp",
     "warp_coordinates",
+    "estimate_flows",
     "WARP_MODES",
+    "FLOW_METHODS",
 ]
+
+#: Optical-flow estimators of :func:`estimate_flows` (scikit-image's).
+FLOW_METHODS = ("tvl1", "ilk")
 
 #: Boundary modes of :func:`warp` (and the scipy.ndimage mode each maps to).
 WARP_MODES = {"constant": "grid-constant", "wrap": "grid-wrap", "reflect": "reflect", "nearest": "nearest"}
@@ -481,3 +486,58 @@ def warp_coordinates(coords, flow, *, mode="nearest", iterations=3, return_valid
     rem = src - (near if mode == "wrap" else np.stack([rows, cols]))
     out = coords[rows, cols] + rem.transpose(1, 2, 0)
     return (out, _inside(src, mode)) if return_valid else out
+
+
+def estimate_flows(frames, *, estimator="tvl1"):
+    """Dense optical flow between consecutive frames, as a flow sequence of this module.
+
+    Flow ``i`` says where each pixel of frame ``i`` is in frame ``i + 1``
+    (``frames[i][p] ≈ frames[i + 1][p + flows[i][p]]``), the convention of
+    :func:`warp` and :func:`flow_sequence`. Colour frames are compared by
+    their luminance (``skimage.color.rgb2gray``; other channel counts by
+    their mean).
+
+    Parameters
+    ----------
+    frames : array_like
+        ``(T, H, W)`` or ``(T, H, W, C)``, ``T >= 2``.
+    estimator : {"tvl1", "ilk"}
+        ``"tvl1"``: TV-L1 (``skimage.registration.optical_flow_tvl1``, Zach,
+        Pock & Bischof 2007), smooth and robust; ``"ilk"``: iterative
+        Lucas-Kanade (``optical_flow_ilk``), about twice as fast, noisier.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T - 1, H, W, 2)`` float64 displacements ``(d_row, d_col)``.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> from scipy import ndimage
+    >>> image = ndimage.gaussian_filter(rng.random((40, 40)), 2)
+    >>> frames = np.stack([image, np.roll(image, 1, axis=1)])  # one pixel to the right
+    >>> flow = estimate_flows(frames)
+    >>> round(float(np.median(flow[0, ..., 1])), 1), round(float(np.median(flow[0, ..., 0])), 1)
+    (1.0, 0.0)
+    """
+    from skimage.registration import optical_flow_ilk, optical_flow_tvl1
+
+    video = as_image(frames, "frames", spatial_dims=3)
+    if video.shape[0] < 2:
+        raise ValueError(f"frames holds {video.shape[0]} frame; pass at least 2 frames to estimate a flow")
+    estimator = check_choice(estimator, "estimator", FLOW_METHODS)
+    check_memory(float(video.shape[0]) * video.shape[1] * video.shape[2] * 2 * 8 * 2, video.shape[:3], "frames",
+                 "the flows")
+    if video.ndim == 4 and video.shape[-1] >= 3:
+        from skimage.color import rgb2gray
+
+        grey = np.stack([rgb2gray(f[..., :3]) for f in video])
+    else:
+        grey = video if video.ndim == 3 else video.mean(axis=-1)
+    estimate = optical_flow_tvl1 if estimator == "tvl1" else optical_flow_ilk
+    out = np.empty((video.shape[0] - 1,) + video.shape[1:3] + (2,))
+    for i in range(video.shape[0] - 1):
+        # skimage: reference[p] ≈ moving[p + flow[p]], so frame i as the reference gives the forward flow
+        out[i] = np.moveaxis(estimate(grey[i].astype(np.float64), grey[i + 1].astype(np.float64)), 0, -1)
+    return out

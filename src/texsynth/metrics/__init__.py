@@ -32,7 +32,7 @@ elements (:func:`element_integrity`)
     The connected components of a texton mask: whole as in the exemplar (1),
     or cut into fragments at seams (towards 0).
 
-and, for clips, on how frames follow one another (:func:`temporal_correlation`).
+and, for clips, on how frames follow one another (:func:`temporal_correlation`, :func:`flicker`).
 
 Raw numbers mean little on their own; :func:`baselines` makes three reference
 images from the exemplar - histogram-matched white noise (worst coherence),
@@ -73,6 +73,6 @@ from ._structure import (
     lattice_kept,
     orientation_distance,
 )
-from ._video import temporal_correlation
+from ._video import flicker, temporal_correlation
 
 __all__ = _patches.__all__ + _structure.__all__ + _video.__all__
