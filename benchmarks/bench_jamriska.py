@@ -60,7 +60,7 @@ def main(argv=None):
     print("|---|---|---|---|---|---|---|---|")
     for label, (video, info), wall, cpu in rows:
         n = info.syntheses if info is not None else 2 * (args.frames - 2)
-        synth = wall - (info.flow_seconds if info is not None else 0.0)
+        synth = wall - (info.stage_seconds["flows"] if info is not None else 0.0)
         energy = np.mean([texsynth.metrics.texture_energy(f, keys[0], method="kdtree", rng=0) for f in video[1:6]])
         verdict = "met" if wall <= 180 else "missed"
         print(f"| {label} | {wall:.1f} s | {cpu:.1f} s | {n} | {synth / n:.2f} s | {flicker(video, flows):.4f} | "

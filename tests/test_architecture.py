@@ -179,6 +179,8 @@ def _small_runs():
         "tile_and_blend": lambda: texsynth.tile_and_blend(bread, 64, return_info=True, rng=0),
         "tile_and_blend_at": lambda: texsynth.tile_and_blend_at(bread, [0, 5], [3, -7], return_info=True, rng=0),
         "graphcut_video": lambda: texsynth.graphcut_video(data.clip("waves", 8, 32), 12, return_info=True, rng=0),
+        "stylize_video": lambda: texsynth.stylize_video(data.clip("waves", 3, 24), {0: data.clip("flame", 2, 24)[0]},
+                                                        return_info=True, rng=0),
     }
 
 

@@ -107,8 +107,10 @@ class StylizeInfo:
         ``(K, T)``: the last energy of each synthesis (NaN where there was none).
     syntheses : int
         Frames synthesised (frames between two keyframes count twice).
-    seconds, flow_seconds : float
-        Wall time in all, and of the optical flow.
+    seconds : float
+        Wall time in all.
+    stage_seconds : dict
+        ``{"flows": ..., "synthesis": ...}``: of the optical flow, and of the syntheses and blends.
     """
 
     flows: np.ndarray
@@ -118,7 +120,7 @@ class StylizeInfo:
     energies: np.ndarray
     syntheses: int = 0
     seconds: float = 0.0
-    flow_seconds: float = 0.0
+    stage_seconds: dict = dataclasses.field(default_factory=dict)
 
 
 # --------------------------------------------------------------------------- inputs
@@ -505,6 +507,8 @@ def stylize_video(frames, keyframes, *, schedule=Schedule(), color_weight=1.0, e
     out = np.stack([restore_channels(f, grey) for f in result]).astype(keys[0][1].dtype, copy=False)
     if not return_info:
         return out
+    seconds = time.perf_counter() - t_start
     info = StylizeInfo(flows=motion, keyframes=tuple(k_index), weights=share, errors=errors, energies=energies,
-                       syntheses=total, seconds=time.perf_counter() - t_start, flow_seconds=flow_seconds)
+                       syntheses=total, seconds=seconds,
+                       stage_seconds={"flows": flow_seconds, "synthesis": max(0.0, seconds - flow_seconds)})
     return out, info
