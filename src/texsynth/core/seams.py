@@ -76,6 +76,8 @@ __all__ = [
     "poisson_blend",
     "BLEND_SMOOTHING",
     "seam_mask",
+    "EDGE_COSTS",
+    "edge_cost_function",
 ]
 
 #: Values of ``direction``: a vertical seam runs top to bottom (one column per
@@ -472,6 +474,21 @@ def gradient_matching_cost(a_s, a_t, b_s, b_t):
     """
     gradients = 2.0 * (np.sqrt(((a_t - a_s) ** 2).sum(-1)) + np.sqrt(((b_t - b_s) ** 2).sum(-1)))
     return matching_cost(a_s, a_t, b_s, b_t) / (gradients + GRADIENT_EPSILON)
+
+
+#: The seam costs a graph cut's ``edge_cost`` may name: the paper's ``M`` and its gradient-normalised ``M'``.
+EDGE_COSTS = {"plain": matching_cost, "gradient": gradient_matching_cost}
+
+
+def edge_cost_function(edge_cost):
+    """``edge_cost`` as a function: ``"plain"`` (Kwatra et al.'s ``M``), ``"gradient"`` (``M'``) or a callable
+    ``edge_cost(a_s, a_t, b_s, b_t)`` itself; a ValueError naming ``edge_cost`` otherwise."""
+    if callable(edge_cost):
+        return edge_cost
+    if isinstance(edge_cost, str) and edge_cost in EDGE_COSTS:
+        return EDGE_COSTS[edge_cost]
+    raise ValueError(f"edge_cost must be 'plain' (the paper's M), 'gradient' (its gradient-normalised M') or a "
+                     f"callable edge_cost(a_s, a_t, b_s, b_t), got {edge_cost!r}")
 
 
 def _as_values(image, name, spatial_dims=2):

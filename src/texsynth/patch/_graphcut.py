@@ -77,13 +77,12 @@ from ..core._validate import (
     restore_channels,
     with_channels,
 )
-from ..core.seams import check_disjoint, gradient_matching_cost, graph_cut, matching_cost
+from ..core.seams import check_disjoint, edge_cost_function, graph_cut
 from ..core.search import TemplateSearch, WindowSearch, is_auto
 
 __all__ = ["GraphcutInfo", "GraphcutMergeInfo", "graphcut_merge", "graphcut_texture"]
 
 PLACEMENTS = ("entire", "subpatch", "random")
-EDGE_COSTS = {"plain": matching_cost, "gradient": gradient_matching_cost}
 PRESETS = ("default", "paper")
 # preset "default": chosen by looking at 256 -> 512 px outputs of bricks, pebbles, text and water (see the docs)
 DEFAULTS = {
@@ -203,16 +202,6 @@ def _check_choice(value, name, choices):
     if not isinstance(value, str) or value not in choices:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, choices))}, got {value!r}")
     return value
-
-
-def _check_edge_cost(edge_cost):
-    """``"plain"`` (M), ``"gradient"`` (M') or a callable ``edge_cost(a_s, a_t, b_s, b_t)``."""
-    if callable(edge_cost):
-        return edge_cost
-    if isinstance(edge_cost, str) and edge_cost in EDGE_COSTS:
-        return EDGE_COSTS[edge_cost]
-    raise ValueError(f"edge_cost must be 'plain' (the paper's M), 'gradient' (its gradient-normalised M') or a "
-                     f"callable edge_cost(a_s, a_t, b_s, b_t), got {edge_cost!r}")
 
 
 def _check_block(block, exemplar_shape, fraction):
@@ -606,7 +595,7 @@ def _resolve(preset, exemplar_shape, placement, block, overlap, temperature, edg
     O = _check_overlap(overlap, min(exemplar_shape) if B == "whole" else B)
     temperature = (defaults["temperature"] if is_auto(temperature)
                    else check_positive_float(temperature, "temperature", maximum=1e6))
-    edge_cost = _check_edge_cost(defaults["edge_cost"] if is_auto(edge_cost) else edge_cost)
+    edge_cost = edge_cost_function(defaults["edge_cost"] if is_auto(edge_cost) else edge_cost)
     refine = defaults["refine"] if is_auto(refine) else check_positive_int(refine, "refine", minimum=0)
     if refine > MAX_REFINE:
         raise ValueError(f"refine must be at most {MAX_REFINE} passes (later passes change next to nothing; the "
@@ -937,7 +926,7 @@ def graphcut_merge(a, b, *, from_a, from_b, edge_cost="gradient", return_info=Fa
         if not m.any():
             raise ValueError(f"{name} marks no pixel; mark at least one pixel that must come from "
                              f"{name[-1]} (without one the merge is simply the other image)")
-    cost_fn = _check_edge_cost(edge_cost)
+    cost_fn = edge_cost_function(edge_cost)
     check_memory(256.0 * shape[0] * shape[1], shape, "a", "the graph of the cut")
     va, vb = with_channels(ia)[0].astype(np.float64), with_channels(ib)[0].astype(np.float64)
     t0 = time.perf_counter()

@@ -49,13 +49,12 @@ import numpy as np
 from ..core._progress import Progress
 from ..core._validate import (as_image, as_rng, as_size, check_bool, check_choice, check_memory,
                               check_positive_float, check_positive_int, restore_channels, with_channels)
-from ..core.seams import gradient_matching_cost, graph_cut, matching_cost
+from ..core.seams import edge_cost_function, graph_cut
 from ..core.search import WindowSearch
 
 __all__ = ["graphcut_video", "GraphcutVideoInfo"]
 
 PLACEMENTS = ("entire", "random")
-EDGE_COSTS = {"plain": matching_cost, "gradient": gradient_matching_cost}
 #: The default block: half the clip's frames (so that there are temporal offsets to choose from) ...
 TIME_FRACTION = 1 / 2
 #: ... of whole output frames where they fit in the clip's, else half the clip's side (graphcut_texture's half
@@ -144,15 +143,6 @@ class GraphcutVideoInfo:
 
 # --------------------------------------------------------------------------
 # Checks
-
-
-def _check_edge_cost(edge_cost):
-    if callable(edge_cost):
-        return edge_cost
-    if isinstance(edge_cost, str) and edge_cost in EDGE_COSTS:
-        return EDGE_COSTS[edge_cost]
-    raise ValueError(f"edge_cost must be 'plain' (the paper's M), 'gradient' (its gradient-normalised M') or a "
-                     f"callable edge_cost(a_s, a_t, b_s, b_t), got {edge_cost!r}")
 
 
 def _triple(value, name):
@@ -600,7 +590,7 @@ def graphcut_video(frames, n_frames, *, size=None, block="auto", overlap="auto",
     O = _check_overlap(overlap, B, out_shape, loop)
     placement = check_choice(placement, "placement", PLACEMENTS)
     temperature = check_positive_float(temperature, "temperature")
-    cost_fn = _check_edge_cost(edge_cost)
+    cost_fn = edge_cost_function(edge_cost)
     return_info = check_bool(return_info, "return_info")
     gen = as_rng(rng)
     voxels = float(math.prod(out_shape))
