@@ -256,11 +256,6 @@ _PRESET_METHODS = {"fast": ("patch_sampling", "preset='fast': patch-based sampli
                                "patches of the library's methods, and the slowest")}
 
 
-def _rule(analysis):
-    """The rule of :data:`RULES` that an :class:`ExemplarAnalysis` meets: ``(name, method, reason)``."""
-    return next((name, method, why) for name, test, method, why in RULES if test(analysis))
-
-
 def choose_method(analysis, preset="auto"):
     """The method, its options and the reason for an exemplar's :class:`ExemplarAnalysis`.
 
@@ -296,7 +291,7 @@ def choose_method(analysis, preset="auto"):
     if preset in _PRESET_METHODS:
         method, reason = _PRESET_METHODS[preset]
         return method, {}, reason
-    _, method, why = _rule(analysis)
+    method, why = next((method, why) for _, test, method, why in RULES if test(analysis))  # the first that holds
     options = {"lattice": analysis.grid} if method == "near_regular_texture" else {}
     return method, options, f"{analysis.describe()}; {why}"
 
