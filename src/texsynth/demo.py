@@ -90,11 +90,16 @@ def run_demo(output_dir="texsynth-demo", *, seed=0, entries=None, log=None):
     return index
 
 
+#: Gallery images of the video family: their input is a simulated clip, shown in the image itself.
+CLIP_DEMOS = ("dynamic_texture_", "video_texture_", "graphcut_video_", "stylize_video_")
+
+
 def _html(rows):
     cells = []
     for entry, seconds in rows:
         ex = (f'<img src="exemplar_{entry.sample}.png"><br>exemplar: {html.escape(entry.sample)}'
-              if entry.sample else "procedural (no exemplar)")
+              if entry.sample else "a simulated clip (texsynth.data.clip), its first frame on the left"
+              if entry.slug.startswith(CLIP_DEMOS) else "procedural (no exemplar)")
         cells.append(
             f"<tr><td>{ex}</td><td><img src=\"{entry.slug}.png\"></td>"
             f"<td><b>{html.escape(entry.title)}</b><br>{html.escape(entry.paper)}<br>{seconds:.1f} s</td></tr>"
