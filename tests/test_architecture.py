@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "texsynth"
-FAMILIES = {"pixel", "patch", "optimization", "statistical", "procedural", "surface", "video"}
+FAMILIES = {"pixel", "patch", "optimization", "statistical", "procedural", "surface", "video", "geometry"}
 TOOLS = {"io", "data", "metrics", "testing"}
 FRONT = {"__init__", "__main__", "cli", "_cli_text", "_cli_values", "demo", "registry", "_batch", "_synthesize"}
 # Ruiters et al. run one Portilla-Simoncelli step per iteration (Section 4.5): documented in

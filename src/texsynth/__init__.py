@@ -13,6 +13,7 @@ its family:
 :mod:`texsynth.statistical`    statistical: Heeger-Bergen, Portilla-Simoncelli, random phase noise, tiling and blending
 :mod:`texsynth.procedural`     procedural: Perlin noise, marble, reaction-diffusion
 :mod:`texsynth.surface`        on surfaces: meshes, their files and previews
+:mod:`texsynth.geometry`       geometry by example: distance-field synthesis (Lagae et al.)
 :mod:`texsynth.video`          dynamic textures and video: Doretto et al., Schödl et al., Kwatra et al., Jamriška et al.
 :mod:`texsynth.core`           the shared layer: neighbourhoods, pyramids, search, EM
 =============================  ====================================================
@@ -27,7 +28,7 @@ from .core._version import __version__
 
 __getattr__, __dir__, __all__ = attach(
     __name__,
-    submodules=["pixel", "patch", "optimization", "statistical", "procedural", "surface", "video", "core",
+    submodules=["pixel", "patch", "optimization", "statistical", "procedural", "surface", "video", "geometry", "core",
                 "metrics", "testing", "io", "data"],
     names={
         **dict.fromkeys(["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung",
