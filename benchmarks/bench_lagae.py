@@ -2,7 +2,7 @@
 
 Run: python benchmarks/bench_lagae.py [--size 128] [--seeds 1]
 
-The example is ``figure_lagae.pebbles()`` (48^3, 26 separate spheres of radii 3-5 voxels), as occupancy;
+The example is ``texsynth.data.volume("pebbles")`` (48^3, 26 separate spheres of radii 3-5 voxels), as occupancy;
 the output 128^3 with the defaults (block 16, overlap 4, candidate stride "auto": 2, a 3-D minimum cut per
 block). Also timed: ``levels=2`` (a coarse pass first) and ``copy_elements=True`` (the paper's element
 copies). Side by side in the same run, the reference: a random arrangement of the same blocks with the same
@@ -19,8 +19,8 @@ import time
 import numpy as np
 from scipy import ndimage
 
-from figure_lagae import pebbles
-from texsynth.geometry._lagae import sdf_to_mesh, synthesize_geometry
+from texsynth import data
+from texsynth.geometry import sdf_to_mesh, synthesize_geometry
 
 TARGET = 120.0  # seconds for 128^3 from 48^3
 
@@ -38,7 +38,7 @@ def main():
     parser.add_argument("--size", type=int, default=128)
     parser.add_argument("--seeds", type=int, default=1)
     args = parser.parse_args()
-    example = pebbles()
+    example = data.volume("pebbles")
     labels, _ = ndimage.label(example)
     smallest = np.bincount(labels.ravel())[1:].min() / 2
     synthesize_geometry(example, 24, rng=0)  # warm-up: imports, first-touch pages

@@ -87,9 +87,10 @@ def test_rules_of_the_vocabulary(where, func):
         params = inspect.signature(func).parameters
     except (TypeError, ValueError):
         return
-    # baselines and sample clips are the same every time unless a seed is asked for
+    # baselines, sample clips and example shapes are the same every time unless a seed is asked for
     if "rng" in params and not where.startswith(("texsynth.metrics.baselines", "texsynth.metrics.texture_report",
-                                                 "texsynth.testing.assert_texture_like", "texsynth.data.clip")):
+                                                 "texsynth.testing.assert_texture_like", "texsynth.data.clip",
+                                                 "texsynth.data.volume")):
         assert params["rng"].default is None, f"{where}: rng must default to None"
     if "tileable" in params:
         assert params["tileable"].default is False

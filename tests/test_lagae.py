@@ -5,30 +5,16 @@ import pytest
 from scipy import ndimage
 
 from texsynth.core.search import masked_sq_distances
-from texsynth.geometry._lagae import as_distance_field, sdf_to_mesh, synthesize_geometry
+from texsynth import data
+from texsynth.geometry import as_distance_field, sdf_to_mesh, synthesize_geometry
 from texsynth.surface import as_mesh
 
 SIZE = 40
 
 
-def pebbles(n=48, count=26, seed=1):
-    """Separate spheres (pebbles) of random radii 3-5 in a cube: separate elements, at least 2 voxels apart."""
-    rng = np.random.default_rng(seed)
-    z, y, x = np.indices((n, n, n))
-    occ = np.zeros((n, n, n), bool)
-    centres, radii = [], []
-    while len(centres) < count:
-        c, r = rng.uniform(0, n, 3), rng.uniform(3, 5)
-        if all(np.linalg.norm(c - c2) > r + r2 + 2 for c2, r2 in zip(centres, radii)):
-            centres.append(c)
-            radii.append(r)
-            occ |= (z - c[0]) ** 2 + (y - c[1]) ** 2 + (x - c[2]) ** 2 < r * r
-    return occ
-
-
 @pytest.fixture(scope="module")
 def example():
-    return pebbles()
+    return data.volume("pebbles")
 
 
 @pytest.fixture(scope="module")

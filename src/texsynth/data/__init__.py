@@ -4,7 +4,8 @@ See ``ATTRIBUTION.md`` in this folder for sources and licences (MIT and
 Apache-2.0 photographs from the Efros-Leung, Portilla-Simoncelli and
 Embark Studios sample sets). ``bricks_hole`` is a colour image with an alpha
 channel whose transparent disc is a hole to fill. :func:`clip` makes simulated clips for the video
-methods (a candle flame, waves, raindrops): no photographed clip is bundled.
+methods (a candle flame, waves, raindrops): no photographed clip is bundled; :func:`volume` makes
+example shapes for geometry synthesis (pebbles, a riveted plate).
 
 Examples
 --------
@@ -21,8 +22,9 @@ from pathlib import Path
 
 from ..io import load_image
 from ._clips import CLIPS, clip, clip_names
+from ._shapes import VOLUMES, volume, volume_names
 
-__all__ = ["load", "names", "path", "clip", "clip_names", "CLIPS"]
+__all__ = ["load", "names", "path", "clip", "clip_names", "CLIPS", "volume", "volume_names", "VOLUMES"]
 
 _FILES = {
     "bread": "bread.png",
