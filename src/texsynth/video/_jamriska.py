@@ -401,19 +401,19 @@ def stylize_video(frames, keyframes, *, schedule=Schedule(), color_weight=1.0, e
     keys, grey = _check_keyframes(keyframes, n, shape)
     channels = keys[0][1].shape[-1]
     sched = check_group(schedule, Schedule, "schedule")
+    weights = {name: check_positive_float(value, name, allow_zero=True, maximum=1e6) for name, value in
+               (("color_weight", color_weight), ("edge_weight", edge_weight),
+                ("positional_weight", positional_weight), ("temporal_weight", temporal_weight))}
     sizes = _AUTO_SIZES if is_auto(sched.neighborhood_sizes) else check_sizes(sched.neighborhood_sizes)
     levels = sched.levels
     if is_auto(levels):
-        levels = _AUTO_LEVELS if temporal_weight != 0 else _AUTO_LEVELS_ALONE
+        levels = _AUTO_LEVELS if weights["temporal_weight"] != 0 else _AUTO_LEVELS_ALONE
     iterations = check_positive_int(sched.max_iterations, "max_iterations")
     tolerance = _TOLERANCE if is_auto(sched.tolerance) else sched.tolerance
     if tolerance is not None:
         tolerance = check_positive_float(tolerance, "tolerance", allow_zero=True)
     spacing = check_positive_float(sched.relative_grid_spacing, "relative_grid_spacing", maximum=1.0)
     prepare(keys[0][1], shape, sizes, levels)  # the sizes against the frames, before any work
-    weights = {name: check_positive_float(value, name, allow_zero=True, maximum=1e6) for name, value in
-               (("color_weight", color_weight), ("edge_weight", edge_weight),
-                ("positional_weight", positional_weight), ("temporal_weight", temporal_weight))}
     blend = check_choice(keyframe_blend, "keyframe_blend", KEYFRAME_BLENDS)
     # memory: the clip, its guides and flows, a synthesis per keyframe side, the result (float64), and one
     # frame's exemplar with its guides and PatchMatch's patches
