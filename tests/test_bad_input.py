@@ -49,6 +49,8 @@ HUGE = {
     "torus": "texsynth.surface.torus(10**9)",
     "bumpy": "texsynth.surface.bumpy(10**9, rng=0)",
     "default_splotch": "texsynth.surface.default_splotch((100000, 100000), rng=0)",
+    "synthesize_geometry": "texsynth.geometry.synthesize_geometry(texsynth.data.volume('pebbles', 24), 10**5, rng=0)",
+    "mesh_to_sdf": "texsynth.geometry.mesh_to_sdf(texsynth.surface.sphere(42), 10**5)",
 }
 
 
@@ -59,7 +61,7 @@ def test_a_size_that_cannot_fit_is_refused_before_allocating(name):
         resource.setrlimit(resource.RLIMIT_AS, (4 * 2**30, 4 * 2**30))
         import texsynth, texsynth.core.flows, texsynth.optimization, texsynth.patch, texsynth.metrics
         import texsynth.core.neighborhood, texsynth.core.pyramid
-        import texsynth.procedural, texsynth.surface
+        import texsynth.procedural, texsynth.surface, texsynth.geometry
         ex = texsynth.data.load("bread")[:64, :64]
         try:
             {HUGE[name]}
@@ -71,7 +73,7 @@ def test_a_size_that_cannot_fit_is_refused_before_allocating(name):
     # refused (not a MemoryError or a kill under the 4 GiB cap: nothing large was allocated first),
     # naming the parameter and the memory it would need
     assert out.startswith("refused"), (proc.returncode, out, proc.stderr[-500:])
-    assert ("size" in out or "shape" in out or "n_vertices" in out) and "GiB" in out, out
+    assert any(word in out for word in ("size", "shape", "n_vertices", "voxels")) and "GiB" in out, out
 
 
 # --------------------------------------------------------------------------- junk values for every parameter

@@ -990,6 +990,43 @@ def test_coordinates_are_saved_and_applied_later(tmp_path, capsys):
     assert ".npz" in capsys.readouterr().err and not (tmp_path / "q.png").exists()
 
 
+# --------------------------------------------------------------------------- geometry
+def test_geometry_from_a_mesh_file_to_a_mesh_file_where_the_example_was(tmp_path, capsys):
+    """A closed mesh in, a larger mesh out in the example's units and place, and a preview."""
+    from texsynth.geometry import sdf_to_mesh
+    from texsynth.surface import read_mesh, write_mesh
+
+    vertices, faces = sdf_to_mesh(data.volume("pebbles", 24))
+    write_mesh(tmp_path / "pebbles.ply", (vertices * 0.01 + 5.0, faces))  # centimetres, away from the origin
+    argv = ["geometry", str(tmp_path / "pebbles.ply"), "-o", str(tmp_path / "out.obj"), "--voxels", "24",
+            "--size", "32", "--block", "8", "-s", "0", "--preview", str(tmp_path / "look.png")]
+    assert run(*argv) == 0
+    out = read_mesh(tmp_path / "out.obj")
+    low = out.vertices.min(0)
+    assert np.all(np.abs(low - 5.0) < 0.06)  # where the example was (not at 0), within a few voxels of 0.01
+    assert 0.25 < (out.vertices.max(0) - low).max() < 0.4  # 32 voxels of about 0.01 (the example's 24)
+    assert load_image(tmp_path / "look.png").shape[:2] == (768, 768)
+    assert run(*argv) == 2 and "exists" in capsys.readouterr().err  # nothing overwritten by surprise
+
+
+def test_geometry_volumes_sizes_and_refusals(tmp_path, capsys):
+    volume = tmp_path / "plate.npy"
+    example = data.volume("plate", 24)
+    np.save(volume, example)
+    assert run("geometry", str(volume), "-o", str(tmp_path / "out.npy"), "--size", "40x32x16", "-s", "0") == 0
+    assert np.load(tmp_path / "out.npy").shape == (16, 32, 40)  # WxHxD -> (depth, height, width)
+    assert run("geometry", str(volume), "-o", str(tmp_path / "twice.npy"), "-s", "0") == 0
+    assert np.load(tmp_path / "twice.npy").shape == tuple(2 * n for n in example.shape)  # the default: twice
+    for argv, words in ((["--size", "40x32"], "WxHxD"), ([], "must be a mesh")):
+        target = tmp_path / ("bad.npy" if argv else "bad.png")
+        err = _one_line_error(capsys, run("geometry", str(volume), "-o", str(target), *argv))
+        assert words in err and not target.exists()
+    mesh = tmp_path / "open.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n")
+    err = _one_line_error(capsys, run("geometry", str(mesh), "-o", str(tmp_path / "o.ply"), "--voxels", "8"))
+    assert "not closed" in err and not (tmp_path / "o.ply").exists()
+
+
 # --------------------------------------------------------------------------- surface
 def test_surface_follows_files_outside_the_mesh_folder_only_with_allow_outside(tmp_path, monkeypatch, capsys):
     import texsynth.surface

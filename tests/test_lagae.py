@@ -6,7 +6,7 @@ from scipy import ndimage
 
 from texsynth.core.search import masked_sq_distances
 from texsynth import data
-from texsynth.geometry import as_distance_field, sdf_to_mesh, synthesize_geometry
+from texsynth.geometry import as_distance_field, mesh_to_sdf, sdf_to_mesh, synthesize_geometry
 from texsynth.surface import as_mesh
 
 SIZE = 40
@@ -230,3 +230,47 @@ def test_memory_refused_before_allocation(example):
     finally:
         tracemalloc.stop()
     assert peak < 2**20  # refused before the example's field (0.9 MiB) or any output was made
+
+
+# --------------------------------------------------------------------------- a mesh as a distance volume
+def test_mesh_to_sdf_measures_a_sphere_and_a_torus():
+    """Against the shapes' exact distances, computed here: every voxel within a voxel, the inside exact."""
+    from texsynth.surface import sphere, torus
+
+    for mesh, exact in ((sphere(2562), lambda p: np.linalg.norm(p, axis=-1) - 1.0),
+                        (torus(4000), lambda p: np.hypot(np.hypot(p[..., 0], p[..., 1]) - 1.0, p[..., 2]) - 0.4)):
+        sdf, spacing, origin = mesh_to_sdf(mesh, 40, margin=2)
+        assert max(sdf.shape) == 40 + 4
+        z, y, x = np.indices(sdf.shape)
+        truth = exact(np.stack([x, y, z], -1) * spacing + origin) / spacing  # in voxels
+        # the occupancy's zero level lies half a voxel from a centre; the mesh's flat faces a little more
+        assert np.abs(sdf - truth).max() < 1.0
+        clear = np.abs(truth) > 0.6  # voxel centres clearly inside or outside the mesh's chords
+        assert np.array_equal((sdf < 0)[clear], (truth < 0)[clear])
+        vertices, faces = sdf_to_mesh(sdf, spacing=spacing)
+        # back where the input was: every vertex within a voxel of the shape
+        assert np.abs(exact(vertices + origin)).max() < spacing
+
+
+def test_mesh_to_sdf_on_a_grid_mesh_and_its_refusals():
+    # a box whose faces lie on the voxel centres' planes: the columns' jitter keeps the parity right
+    box = np.zeros((12, 12, 12), bool)
+    box[2:10, 3:9, 4:8] = True
+    vertices, faces = sdf_to_mesh(as_distance_field(box))
+    sdf, spacing, _ = mesh_to_sdf((vertices, faces), 8)
+    assert spacing == pytest.approx((vertices.max(0) - vertices.min(0)).max() / 8)
+    assert (sdf < 0).mean() > 0.5  # a box fills most of its own bounding box
+    from texsynth.surface import sphere
+
+    ball = sphere(642)
+    top = ball.vertices[ball.faces][:, :, 2].min(axis=1) > 0.8
+    with pytest.raises(ValueError, match="not closed"):
+        mesh_to_sdf((ball.vertices, ball.faces[~top]), 24)
+    with pytest.raises(ValueError, match="voxels"):
+        mesh_to_sdf(ball, 1)
+    with pytest.raises(TypeError, match="mesh"):
+        mesh_to_sdf("ball", 8)
+    with pytest.raises(ValueError, match="faces"):
+        mesh_to_sdf((ball.vertices, ball.faces + len(ball.vertices)), 8)
+    with pytest.raises(ValueError, match="voxels.*GiB"):
+        mesh_to_sdf(ball, 100_000)

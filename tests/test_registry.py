@@ -24,6 +24,8 @@ HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_
 # methods on meshes: one command of their own (`texsynth surface MESH EXEMPLAR`, --mode vertex or lapped),
 # since their input and output are meshes, not images
 SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped"}
+# the geometry family's methods: shapes in and out (meshes, volumes), each a command of its own
+GEOMETRY = {"synthesize_geometry": ("geometry", "lagae")}
 
 
 @pytest.mark.parametrize("name", list(METHODS))
@@ -65,6 +67,20 @@ def test_surface_methods_have_their_command_page_and_readme_row(function, mode):
     rows = [r for r in TABLE.splitlines() if "`texsynth surface" in r and function in r]
     assert rows, f"docs/methods/index.md's table has no row for {function} with `texsynth surface`"
     assert f"]({page}.md)" in rows[0]
+
+
+@pytest.mark.parametrize("function, command_page", GEOMETRY.items())
+def test_geometry_methods_have_their_command_page_and_methods_entry(function, command_page):
+    import texsynth.geometry
+
+    command, page = command_page
+    assert function in texsynth.geometry.__all__
+    commands = cli.build_parser()._subparsers._group_actions[0].choices
+    assert command in commands
+    assert function in (ROOT / "docs" / "methods" / f"{page}.md").read_text()
+    rows = [r for r in TABLE.splitlines() if f"`texsynth {command}`" in r and function in r]
+    assert rows and f"]({page}.md)" in rows[0], f"docs/methods/index.md needs a row of {function}"
+    assert f"texsynth.geometry.{function}" in {m.function for m in texsynth.methods()}
 
 
 def test_the_command_and_the_gallery_read_the_registry():

@@ -11,12 +11,14 @@
     texsynth quilt albedo.png -o out.png --coordinates out_map.npz
     texsynth apply-coordinates out_map.npz height.png -o out_height.png [--normal-map]
     texsynth surface MESH EXEMPLAR -o out.ply [--mode vertex|lapped] [--n-vertices N | --pixel-size S] [--field F]
+    texsynth geometry EXAMPLE.ply -o out.ply [--size N|WxHxD|2x] [--voxels N] [--block B] [--copy-elements]
 
 The methods and how each is exposed come from :mod:`texsynth.registry`. A
 method's command is its function's name with dashes (``texsynth
 synthesize-pixels`` runs :func:`texsynth.synthesize_pixels`, ``texsynth
 carve-seams`` :func:`texsynth.carve_seams`); ``texsynth surface`` runs one of the
-two surface methods, chosen by ``--mode``. A mistyped command names the
+two surface methods, chosen by ``--mode``, and ``texsynth geometry`` the geometry
+synthesis of :func:`texsynth.geometry.synthesize_geometry`. A mistyped command names the
 likeliest ones ("did you mean 'synthesize-pixels'?"). Each
 method's options are generated from the keyword-only parameters of its Python
 function and their numpydoc descriptions, so the command and the API never
@@ -73,12 +75,14 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import inspect
+import math
 import re
 import shutil
 import sys
 import textwrap
 from pathlib import Path
 
+from .core.files import atomic_write, prepare_target
 from .io._images import check_suffix
 from ._cli_text import HelpFull, did_you_mean, doc_params, group_heading, plain_text, short_help
 from ._cli_values import (FIELD_GREY, SIZE_FORMS, CommandError, parse_flow, parse_keyframes, parse_size, parse_value,
@@ -939,6 +943,7 @@ def build_parser():
     _add_batch_parser(sub)
     _add_apply_coordinates_parser(sub)
     _add_surface_parser(sub)
+    _add_geometry_parser(sub)
     for name, method in METHODS.items():
         _add_method_parser(sub, name, method)
     return parser
@@ -1107,6 +1112,102 @@ def _run_surface(args):
     return written
 
 
+_MESH_SUFFIXES = (".obj", ".ply")
+
+
+def _add_geometry_parser(sub):
+    geometry = sub.add_parser("geometry", help="a larger shape like an example mesh or volume (Lagae et al. 2005)",
+                              description="Synthesise a larger shape like an example (texsynth.geometry."
+                                          "synthesize_geometry): the example as a signed distance volume, quilted "
+                                          "block by block along 3-D minimum cuts, and the result's surface as a "
+                                          "mesh (docs/methods/lagae.md).")
+    geometry.add_argument("example", metavar="EXAMPLE",
+                          help="the example: a closed mesh (.obj, .ply; others with the mesh extra: trimesh), "
+                               "voxelised at --voxels, or a volume (.npy: a signed distance field, negative "
+                               "inside, or a bool occupancy)")
+    geometry.add_argument("-o", "--output", required=True,
+                          help="output: a mesh (.obj, .ply) or the distance volume (.npy)")
+    geometry.add_argument("--size", default="2x",
+                          help="output size in voxels: N (a cube), WxHxD, or a factor of the example's (default 2x)")
+    geometry.add_argument("--voxels", type=int, default=48,
+                          help="a mesh example: voxels along its longest side (default 48)")
+    geometry.add_argument("--block", type=int, help="side of the blocks in voxels (default: a third of the "
+                                                    "example's smallest side, 8 to 32)")
+    geometry.add_argument("--overlap", type=int, help="voxels by which blocks overlap (default: block / 4)")
+    geometry.add_argument("--levels", type=int, default=1, help="hierarchical passes (default 1)")
+    geometry.add_argument("--copy-elements", action="store_true",
+                          help="copy the example's separate elements whole instead of stitching the field")
+    geometry.add_argument("-s", "--seed", type=int, default=None, help="random seed")
+    geometry.add_argument("--preview", help="also write a rendered preview image (PNG)")
+    geometry.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
+    geometry.add_argument("--allow-outside", action="store_true",
+                          help="a mesh may name files outside its own folder (materials)")
+
+
+def _geometry_size(text, shape):
+    """``--size`` of ``texsynth geometry``: ``(depth, height, width)`` from N, WxHxD or a factor of ``shape``."""
+    factor = re.fullmatch(r"(\d+(?:\.\d*)?|\.\d+)[xX]", text.strip())
+    if factor:
+        size = tuple(int(math.floor(side * float(factor.group(1)) + 0.5)) for side in shape)
+        if min(size) < 1:
+            raise CommandError(f"--size {text} makes the example smaller than a voxel; pass a larger factor or N")
+        return size
+    size = parse_size(text)
+    if len(size) == 2:
+        if "x" in text.lower():
+            raise CommandError(f"--size of a volume is N (a cube), WxHxD or a factor such as 2x; got {text!r}")
+        size = (size[0],) * 3
+    return size
+
+
+def _save_volume(tmp, volume):
+    import numpy as np
+
+    with open(tmp, "wb") as f:  # a file object: np.save would append ".npy" to a name ending in ".NPY"
+        np.save(f, volume)
+
+
+def _run_geometry(args):
+    import numpy as np
+
+    from .geometry import mesh_to_sdf, sdf_to_mesh, synthesize_geometry
+    from .io import save_image
+    from .surface import read_mesh, render_mesh, write_mesh
+
+    out, example = Path(args.output), Path(args.example)
+    if out.suffix.lower() not in _MESH_SUFFIXES + (".npy",):
+        raise CommandError(f"output {args.output!r} must be a mesh (.obj, .ply) or a volume (.npy)")
+    if out.resolve() == example.resolve():
+        raise CommandError(f"output {args.output!r} is also the input; choose another output path")
+    if out.exists() and not args.overwrite:
+        raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
+    if args.preview:
+        check_suffix(Path(args.preview))
+        if Path(args.preview).exists() and not args.overwrite:
+            raise CommandError(f"--preview {args.preview!r} exists; pass --overwrite to replace it")
+    if example.suffix.lower() == ".npy":
+        volume, spacing, origin = np.load(example, allow_pickle=False), 1.0, np.zeros(3)
+    else:
+        volume, spacing, origin = mesh_to_sdf(read_mesh(example, allow_outside=args.allow_outside), args.voxels)
+    options = {"block": args.block, "overlap": args.overlap}
+    sdf = synthesize_geometry(volume, _geometry_size(args.size, np.shape(volume)), levels=args.levels,
+                              copy_elements=args.copy_elements, rng=args.seed,
+                              **{name: value for name, value in options.items() if value is not None})
+    written = [out]
+    if out.suffix.lower() == ".npy":
+        prepare_target(out, args.overwrite)
+        atomic_write(out, lambda tmp: _save_volume(tmp, sdf))
+        mesh = sdf_to_mesh(sdf) if args.preview else None
+    else:
+        vertices, faces = sdf_to_mesh(sdf, spacing=spacing)
+        mesh = (vertices + origin, faces)
+        write_mesh(out, mesh, overwrite=args.overwrite)
+    if args.preview:
+        save_image(args.preview, render_mesh(mesh, 768), overwrite=args.overwrite)
+        written.append(Path(args.preview))
+    return written
+
+
 def _add_batch_parser(sub):
     batch = sub.add_parser("batch", help="exemplars x methods x options x seeds -> a folder, on Dask (docs/scaling.md)")
     batch.add_argument("inputs", metavar="INPUT", help="a folder of exemplar images or a .csv/.json manifest "
@@ -1166,6 +1267,7 @@ def main(argv=None):
             print(f"{'batch':<{width}}  many exemplars x methods x seeds into a folder, on Dask (the dask extra)")
             print(f"{'apply-coordinates':<{width}}  render a channel through a map saved with --coordinates")
             print(f"{'surface':<{width}}  texture a mesh: vertex synthesis or lapped textures")
+            print(f"{'geometry':<{width}}  a larger shape like an example mesh or volume (Lagae et al. 2005)")
             for name, method in METHODS.items():
                 print(f"{name:<{width}}  {method.summary}")
             return 0
@@ -1183,6 +1285,9 @@ def main(argv=None):
             return 0
         if args.command == "surface":
             print("wrote " + ", ".join(str(p) for p in _run_surface(args)))
+            return 0
+        if args.command == "geometry":
+            print("wrote " + ", ".join(str(p) for p in _run_geometry(args)))
             return 0
         written = _run_method(args)
         print("wrote " + ", ".join(str(p) for p in written))

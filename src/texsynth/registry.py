@@ -785,6 +785,15 @@ _SURFACE_METHODS = (
 )
 
 
+_LAGAE = ("Lagae, Dumont & Dutré, \"Geometry synthesis by example\", Shape Modeling International 2005, "
+          "doi:10.1109/SMI.2005.19")
+_GEOMETRY_METHODS = (
+    MethodEntry("texsynth.geometry.synthesize_geometry", "texsynth geometry",
+                "Geometry synthesis: an example shape (a closed mesh or a distance volume) quilted into a larger one "
+                "block by block along 3-D minimum cuts", _LAGAE),
+)
+
+
 def methods():
     """The methods of texsynth, one line each: function, command, summary and paper.
 
@@ -799,7 +808,7 @@ def methods():
 
     The same list as ``texsynth list`` on the command line, read from
     :data:`texsynth.registry.METHODS`: example-based methods first,
-    procedural ones last, then the two methods on meshes.
+    procedural ones last, then the methods on meshes and the geometry methods.
 
     Returns
     -------
@@ -820,4 +829,5 @@ def methods():
         entries.append(MethodEntry(f"{where}.{function}", f"texsynth {name}", _short_summary(method.summary),
                                    method.paper))
     entries.extend(_SURFACE_METHODS)
+    entries.extend(_GEOMETRY_METHODS)
     return entries

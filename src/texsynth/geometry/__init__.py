@@ -3,9 +3,11 @@
 - :func:`synthesize_geometry`: after Lagae, Dumont & Dutré 2005, the example as a signed distance
   volume, quilted block by block (3-D minimum cuts) into a larger one, optionally copying the example's
   own separate elements whole; :func:`sdf_to_mesh` turns a distance volume into a watertight triangle
-  mesh (marching cubes) that :func:`texsynth.render_mesh` and :func:`texsynth.write_mesh` take.
+  mesh (marching cubes) that :func:`texsynth.render_mesh` and :func:`texsynth.write_mesh` take;
+  :func:`mesh_to_sdf` the other way: a closed mesh (an OBJ or PLY file's) as a distance volume.
 """
 
 from ._lagae import GeometryInfo, as_distance_field, sdf_to_mesh, synthesize_geometry
+from ._voxelize import mesh_to_sdf
 
-__all__ = ["synthesize_geometry", "sdf_to_mesh", "as_distance_field", "GeometryInfo"]
+__all__ = ["synthesize_geometry", "sdf_to_mesh", "mesh_to_sdf", "as_distance_field", "GeometryInfo"]
