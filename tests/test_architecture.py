@@ -313,6 +313,7 @@ HELPER_MODULES = {
     "_meshio": "surfaces",                        # mesh files (tests/test_meshio.py)
     "_shapes": "surfaces",                        # test surfaces (tests/test_shapes.py)
     "_render": "surfaces",                        # previews (tests/test_render.py)
+    "_voxelize": "lagae",                         # a closed mesh as a distance volume (tests/test_lagae.py)
 }
 # docs/methods pages that are no algorithm's: the index, the core's search layer and seams, the surface family,
 # the front door

@@ -1027,6 +1027,30 @@ def test_geometry_volumes_sizes_and_refusals(tmp_path, capsys):
     assert "not closed" in err and not (tmp_path / "o.ply").exists()
 
 
+def test_mesh_quilting_bundled_swatch_over_a_surface_file(tmp_path, capsys):
+    """A bundled swatch by name over a mesh file: the surface and its elements, every element whole."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from texsynth.surface import read_mesh, sphere, write_mesh
+
+    ball = sphere(2562)
+    write_mesh(tmp_path / "ball.ply", ball)
+    argv = ["mesh-quilting", "rivets", str(tmp_path / "ball.ply"), "-o", str(tmp_path / "out.ply"), "-s", "0"]
+    assert run(*argv, "--elements-only") == 0
+    out = read_mesh(tmp_path / "out.ply")
+    edges = np.concatenate([out.faces[:, [0, 1]], out.faces[:, [1, 2]]])
+    n = len(out.vertices)
+    elements = connected_components(coo_matrix((np.ones(len(edges)), edges.T), shape=(n, n)), directed=False)[0]
+    assert 100 <= elements <= 300  # the default unit length aims at about 200 elements over the surface
+    assert np.all(np.linalg.norm(out.vertices, axis=1) > 0.98)  # on the sphere's outside, in its shell
+    assert run(*argv) == 2 and "exists" in capsys.readouterr().err
+    assert run(*argv, "--overwrite") == 0  # with the surface: its vertices first
+    assert len(read_mesh(tmp_path / "out.ply").vertices) == len(ball.vertices) + n
+    err = _one_line_error(capsys, run("mesh-quilting", "rivets", "bumpy", "-o", str(tmp_path / "out.png")))
+    assert "must be a mesh" in err
+
+
 # --------------------------------------------------------------------------- surface
 def test_surface_follows_files_outside_the_mesh_folder_only_with_allow_outside(tmp_path, monkeypatch, capsys):
     import texsynth.surface

@@ -25,7 +25,7 @@ HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_
 # since their input and output are meshes, not images
 SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped"}
 # the geometry family's methods: shapes in and out (meshes, volumes), each a command of its own
-GEOMETRY = {"synthesize_geometry": ("geometry", "lagae")}
+GEOMETRY = {"synthesize_geometry": ("geometry", "lagae"), "mesh_quilting": ("mesh-quilting", "mesh_quilting")}
 
 
 @pytest.mark.parametrize("name", list(METHODS))

@@ -12,13 +12,15 @@
     texsynth apply-coordinates out_map.npz height.png -o out_height.png [--normal-map]
     texsynth surface MESH EXEMPLAR -o out.ply [--mode vertex|lapped] [--n-vertices N | --pixel-size S] [--field F]
     texsynth geometry EXAMPLE.ply -o out.ply [--size N|WxHxD|2x] [--voxels N] [--block B] [--copy-elements]
+    texsynth mesh-quilting SWATCH.ply SURFACE.obj -o out.ply [--unit-length L] [--thickness T]  (or: rivets bumpy)
 
 The methods and how each is exposed come from :mod:`texsynth.registry`. A
 method's command is its function's name with dashes (``texsynth
 synthesize-pixels`` runs :func:`texsynth.synthesize_pixels`, ``texsynth
 carve-seams`` :func:`texsynth.carve_seams`); ``texsynth surface`` runs one of the
 two surface methods, chosen by ``--mode``, and ``texsynth geometry`` the geometry
-synthesis of :func:`texsynth.geometry.synthesize_geometry`. A mistyped command names the
+synthesis of :func:`texsynth.geometry.synthesize_geometry`, ``texsynth mesh-quilting``
+:func:`texsynth.geometry.mesh_quilting`. A mistyped command names the
 likeliest ones ("did you mean 'synthesize-pixels'?"). Each
 method's options are generated from the keyword-only parameters of its Python
 function and their numpydoc descriptions, so the command and the API never
@@ -944,6 +946,7 @@ def build_parser():
     _add_apply_coordinates_parser(sub)
     _add_surface_parser(sub)
     _add_geometry_parser(sub)
+    _add_mesh_quilting_parser(sub)
     for name, method in METHODS.items():
         _add_method_parser(sub, name, method)
     return parser
@@ -1208,6 +1211,98 @@ def _run_geometry(args):
     return written
 
 
+def _add_mesh_quilting_parser(sub):
+    from .data import swatch_names
+
+    quilting = sub.add_parser("mesh-quilting", help="a swatch of geometry elements quilted over a surface "
+                                                    "(Zhou et al. 2006)",
+                              description="Quilt a swatch of separate geometry elements over a surface inside a "
+                                          "thin shell (texsynth.geometry.mesh_quilting, docs/methods/"
+                                          "mesh_quilting.md); the output is the surface with its elements.")
+    quilting.add_argument("swatch", metavar="SWATCH",
+                          help="the swatch: a mesh file whose connected components are the elements, standing on "
+                               f"z = 0, or a bundled swatch: {', '.join(swatch_names())}")
+    quilting.add_argument("surface", metavar="SURFACE",
+                          help="the base surface: a mesh file, or one of sphere, torus, bumpy")
+    quilting.add_argument("-o", "--output", required=True, help="output mesh (.obj, .ply)")
+    quilting.add_argument("--unit-length", type=float, default=None,
+                          help="surface length of one swatch unit (default: the surface holds about 200 elements)")
+    quilting.add_argument("--thickness", type=float, default=None,
+                          help="the shell's thickness in surface units (default: the swatch's height, scaled)")
+    quilting.add_argument("--elements-only", action="store_true", help="write the elements without the surface")
+    quilting.add_argument("-s", "--seed", type=int, default=None, help="random seed")
+    quilting.add_argument("--preview", help="also write a rendered preview image (PNG)")
+    quilting.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
+    quilting.add_argument("--allow-outside", action="store_true",
+                          help="a mesh may name files outside its own folder (materials)")
+
+
+def _named_mesh(text, names, make, allow_outside):
+    """A mesh file, or (no such file) one of ``names`` made by ``make(name)``."""
+    from .surface import read_mesh
+
+    if text in names and not Path(text).exists():
+        return make(text)
+    return read_mesh(text, allow_outside=allow_outside)
+
+
+_QUILTED_ELEMENTS = 200  # mesh-quilting's default --unit-length: about this many elements over the surface
+
+
+def _unit_length(swatch, base):
+    """The unit length that puts about ``_QUILTED_ELEMENTS`` of the swatch's elements over ``base``:
+    ``sqrt(n_swatch * area / (n * swatch_area))``, the swatch's area that of its base's bounding box."""
+    import numpy as np
+    from scipy import sparse
+    from scipy.sparse import csgraph
+
+    vertices, faces = (swatch.vertices, swatch.faces) if hasattr(swatch, "faces") else swatch
+    vertices, faces = np.asarray(vertices, float), np.asarray(faces)
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]]])
+    graph = sparse.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(len(vertices),) * 2)
+    n_swatch = csgraph.connected_components(graph, directed=False)[0]
+    extent = np.ptp(vertices[:, :2], axis=0)
+    a, b, c = (base.vertices[base.faces[:, i]] for i in range(3))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
+    return float(np.sqrt(n_swatch * area / (_QUILTED_ELEMENTS * max(extent[0] * extent[1], 1e-12))))
+
+
+def _run_mesh_quilting(args):
+    import numpy as np
+
+    from . import surface
+    from .data import swatch, swatch_names
+    from .geometry import mesh_quilting
+    from .io import save_image
+
+    out = Path(args.output)
+    if out.suffix.lower() not in _MESH_SUFFIXES:
+        raise CommandError(f"output {args.output!r} must be a mesh (.obj, .ply)")
+    if out.resolve() in {Path(args.swatch).resolve(), Path(args.surface).resolve()}:
+        raise CommandError(f"output {args.output!r} is also an input; choose another output path")
+    if out.exists() and not args.overwrite:
+        raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
+    if args.preview:
+        check_suffix(Path(args.preview))
+        if Path(args.preview).exists() and not args.overwrite:
+            raise CommandError(f"--preview {args.preview!r} exists; pass --overwrite to replace it")
+    elements = _named_mesh(args.swatch, swatch_names(), swatch, args.allow_outside)
+    base = surface.as_mesh(_named_mesh(args.surface, ("sphere", "torus", "bumpy"),
+                                       lambda name: getattr(surface, name)(20000), args.allow_outside), "surface")
+    unit_length = _unit_length(elements, base) if args.unit_length is None else args.unit_length
+    options = {} if args.thickness is None else {"thickness": args.thickness}
+    vertices, faces = mesh_quilting(elements, base, unit_length=unit_length, rng=args.seed, **options)
+    if not args.elements_only:
+        faces = np.concatenate([base.faces, faces + len(base.vertices)])
+        vertices = np.concatenate([base.vertices, vertices])
+    surface.write_mesh(out, (vertices, faces), overwrite=args.overwrite)
+    written = [out]
+    if args.preview:
+        save_image(args.preview, surface.render_mesh((vertices, faces), 768), overwrite=args.overwrite)
+        written.append(Path(args.preview))
+    return written
+
+
 def _add_batch_parser(sub):
     batch = sub.add_parser("batch", help="exemplars x methods x options x seeds -> a folder, on Dask (docs/scaling.md)")
     batch.add_argument("inputs", metavar="INPUT", help="a folder of exemplar images or a .csv/.json manifest "
@@ -1268,6 +1363,7 @@ def main(argv=None):
             print(f"{'apply-coordinates':<{width}}  render a channel through a map saved with --coordinates")
             print(f"{'surface':<{width}}  texture a mesh: vertex synthesis or lapped textures")
             print(f"{'geometry':<{width}}  a larger shape like an example mesh or volume (Lagae et al. 2005)")
+            print(f"{'mesh-quilting':<{width}}  a swatch of geometry elements quilted over a surface (Zhou et al. 2006)")
             for name, method in METHODS.items():
                 print(f"{name:<{width}}  {method.summary}")
             return 0
@@ -1288,6 +1384,9 @@ def main(argv=None):
             return 0
         if args.command == "geometry":
             print("wrote " + ", ".join(str(p) for p in _run_geometry(args)))
+            return 0
+        if args.command == "mesh-quilting":
+            print("wrote " + ", ".join(str(p) for p in _run_mesh_quilting(args)))
             return 0
         written = _run_method(args)
         print("wrote " + ", ".join(str(p) for p in written))

@@ -787,10 +787,15 @@ _SURFACE_METHODS = (
 
 _LAGAE = ("Lagae, Dumont & Dutré, \"Geometry synthesis by example\", Shape Modeling International 2005, "
           "doi:10.1109/SMI.2005.19")
+_ZHOU_2006 = ("Zhou, Huang, Wang, Tong, Desbrun, Guo & Shum, \"Mesh quilting for geometric texture synthesis\", "
+              "SIGGRAPH 2006, doi:10.1145/1141911.1141921")
 _GEOMETRY_METHODS = (
     MethodEntry("texsynth.geometry.synthesize_geometry", "texsynth geometry",
                 "Geometry synthesis: an example shape (a closed mesh or a distance volume) quilted into a larger one "
                 "block by block along 3-D minimum cuts", _LAGAE),
+    MethodEntry("texsynth.geometry.mesh_quilting", "texsynth mesh-quilting",
+                "Mesh quilting: a swatch of separate geometry elements quilted over a surface inside a thin shell, "
+                "patches matched by their elements in the overlap", _ZHOU_2006),
 )
 
 

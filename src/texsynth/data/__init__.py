@@ -5,7 +5,8 @@ Apache-2.0 photographs from the Efros-Leung, Portilla-Simoncelli and
 Embark Studios sample sets). ``bricks_hole`` is a colour image with an alpha
 channel whose transparent disc is a hole to fill. :func:`clip` makes simulated clips for the video
 methods (a candle flame, waves, raindrops): no photographed clip is bundled; :func:`volume` makes
-example shapes for geometry synthesis (pebbles, a riveted plate).
+example shapes for geometry synthesis (pebbles, a riveted plate); :func:`swatch` makes swatches of separate
+geometry elements for mesh quilting (rivets in rows, pebbles, spikes) as ``(vertices, faces)``.
 
 Examples
 --------
@@ -23,8 +24,10 @@ from pathlib import Path
 from ..io import load_image
 from ._clips import CLIPS, clip, clip_names
 from ._shapes import VOLUMES, volume, volume_names
+from ._swatches import SWATCHES, swatch, swatch_names
 
-__all__ = ["load", "names", "path", "clip", "clip_names", "CLIPS", "volume", "volume_names", "VOLUMES"]
+__all__ = ["load", "names", "path", "clip", "clip_names", "CLIPS", "volume", "volume_names", "VOLUMES", "swatch",
+           "swatch_names", "SWATCHES"]
 
 _FILES = {
     "bread": "bread.png",

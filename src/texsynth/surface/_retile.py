@@ -64,6 +64,7 @@ import numpy as np
 
 from ..core._validate import as_rng, check_memory, check_positive_float, check_positive_int
 from ..core.search import point_tree
+from ..core.triangles import closest_on_triangles
 from ._mesh import Mesh
 from ._meshio import as_mesh
 
@@ -83,31 +84,6 @@ _BYTES_PER_POINT = 4 * 16 * (3 * 8 + 3 * 8 + 8) + 40 * 8 * 4
 def lattice_spacing(area, n):
     """Edge of the triangular lattice that puts ``n`` points on ``area``: ``sqrt(2 A / (sqrt(3) n))``."""
     return float(np.sqrt(2.0 * area / (np.sqrt(3.0) * n)))
-
-
-def _closest_on_triangles(q, a, b, c):
-    """Closest points of triangles ``(a, b, c)`` to points ``q`` (all ``(..., 3)``), and squared distances."""
-    ab, ac = b - a, c - a
-    normal = np.cross(ab, ac)
-    nn = np.einsum("...j,...j->...", normal, normal)
-    nn = np.where(nn > 0, nn, 1.0)
-    aq = q - a
-    # barycentric coordinates of the projection onto the plane
-    v = np.einsum("...j,...j->...", np.cross(aq, ac), normal) / nn
-    w = np.einsum("...j,...j->...", np.cross(ab, aq), normal) / nn
-    inside = (v >= 0) & (w >= 0) & (v + w <= 1)
-    best = a + v[..., None] * ab + w[..., None] * ac
-    best_d = np.where(inside, np.einsum("...j,...j->...", q - best, q - best), np.inf)
-    for p0, p1 in ((a, b), (b, c), (c, a)):
-        e = p1 - p0
-        ee = np.einsum("...j,...j->...", e, e)
-        t = np.clip(np.einsum("...j,...j->...", q - p0, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
-        p = p0 + t[..., None] * e
-        d = np.einsum("...j,...j->...", q - p, q - p)
-        closer = d < best_d
-        best = np.where(closer[..., None], p, best)
-        best_d = np.where(closer, d, best_d)
-    return best, best_d
 
 
 def closest_points(mesh, queries, *, tree=None, chunk=20000):
@@ -131,7 +107,8 @@ def closest_points(mesh, queries, *, tree=None, chunk=20000):
         _, cand = tree.query(q, k=k)
         cand = cand.reshape(len(q), k)
         t = tri[cand]
-        p, d = _closest_on_triangles(q[:, None, :], t[:, :, 0], t[:, :, 1], t[:, :, 2])
+        p, _ = closest_on_triangles(q[:, None, :], t[:, :, 0], t[:, :, 1], t[:, :, 2])
+        d = np.einsum("pkj,pkj->pk", p - q[:, None, :], p - q[:, None, :])
         best = np.argmin(d, axis=1)
         rows = np.arange(len(q))
         points[start:start + chunk] = p[rows, best]
