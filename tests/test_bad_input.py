@@ -49,6 +49,8 @@ HUGE = {
     "torus": "texsynth.surface.torus(10**9)",
     "bumpy": "texsynth.surface.bumpy(10**9, rng=0)",
     "default_splotch": "texsynth.surface.default_splotch((100000, 100000), rng=0)",
+    "progressive_surface": "texsynth.surface.progressive_surface(texsynth.surface.sphere(42), ex, ex, "
+                           "lambda p: 0 * p[:, 0], n_vertices=10**9, rng=0)",
     "synthesize_geometry": "texsynth.geometry.synthesize_geometry(texsynth.data.volume('pebbles', 24), 10**5, rng=0)",
     "mesh_to_sdf": "texsynth.geometry.mesh_to_sdf(texsynth.surface.sphere(42), 10**5)",
 }

@@ -1072,6 +1072,24 @@ def test_surface_follows_files_outside_the_mesh_folder_only_with_allow_outside(t
     assert "--allow-outside follow the files MESH names" in " ".join(capsys.readouterr().out.split())
 
 
+def test_surface_progressive_mode_blends_two_exemplars_along_an_axis(tmp_path, capsys):
+    from texsynth.surface import read_mesh, sphere, write_mesh
+
+    write_mesh(tmp_path / "ball.ply", sphere(642))
+    a = save_image(tmp_path / "a.png", np.full((40, 40, 3), 0.1))  # dark where z is lowest
+    b = save_image(tmp_path / "b.png", np.full((40, 40, 3), 0.9))  # light where z is highest
+    base = ["surface", str(tmp_path / "ball.ply"), str(a), "-o", str(tmp_path / "out.ply"), "--mode", "progressive"]
+    err = _one_line_error(capsys, run(*base))
+    assert "--exemplar-b" in err and not (tmp_path / "out.ply").exists()
+    assert run(*base, "--exemplar-b", str(b), "--n-vertices", "600", "--levels", "2", "-s", "0") == 0
+    out = read_mesh(tmp_path / "out.ply")
+    grey, z = out.colors[:, :3].mean(axis=1), out.vertices[:, 2]
+    assert grey[z < -0.6].mean() < 0.3 and grey[z > 0.6].mean() > 0.7
+    err = _one_line_error(capsys, run("surface", str(tmp_path / "ball.ply"), str(a), "-o", str(tmp_path / "o.ply"),
+                                      "--exemplar-b", str(b)))
+    assert "--mode progressive" in err
+
+
 def test_surface_preview_is_checked_before_the_synthesis(tmp_path, monkeypatch, capsys):
     import texsynth.surface
 

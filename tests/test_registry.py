@@ -23,7 +23,7 @@ HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_
            "learn_dynamic_texture"}  # the model behind dynamic_texture (its command)
 # methods on meshes: one command of their own (`texsynth surface MESH EXEMPLAR`, --mode vertex or lapped),
 # since their input and output are meshes, not images
-SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped"}
+SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped", "progressive_surface": "progressive"}
 # the geometry family's methods: shapes in and out (meshes, volumes), each a command of its own
 GEOMETRY = {"synthesize_geometry": ("geometry", "lagae"), "mesh_quilting": ("mesh-quilting", "mesh_quilting")}
 

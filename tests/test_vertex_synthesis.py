@@ -161,18 +161,18 @@ def test_queries_hold_exemplar_colours_not_blends():
     # of the resampling matrix is a single 1. The blended resampling of the first version (a Gaussian-weighted
     # mean of the 4 nearest vertices) made queries softer than any exemplar neighbourhood: mortar lines and
     # paving cracks melted into the stones, and in the sweep order the blends grew into streaks.
-    from texsynth.surface._vertex_synthesis import _Frame, _grid_offsets, _matrix, _resampling
+    from texsynth.surface._vertex_synthesis import SurfaceFrame, grid_offsets, resample_grid, resampling_matrix
     s = sphere(642)
-    frame = _Frame(s, tangent_field(s, rng=0), 0.1)
-    vertex, valid = _resampling(frame, frame, _grid_offsets((5, 5)), 0.1)
+    frame = SurfaceFrame(s, tangent_field(s, rng=0), 0.1)
+    vertex, valid = resample_grid(frame, frame, grid_offsets((5, 5)), 0.1)
     assert valid.all() and vertex.shape == (642, 25)
     assert np.array_equal(vertex[:, 12], np.arange(642))  # the centre point reads the vertex itself
-    matrix = _matrix(vertex, valid, 642)
+    matrix = resampling_matrix(vertex, valid, 642)
     assert np.array_equal(matrix.getnnz(axis=1), np.ones(matrix.shape[0])) and np.allclose(matrix.data, 1)
     # a point off an open surface's edge reads nothing
     cut = valid.copy()
     cut[0, :5] = False
-    assert _matrix(vertex, cut, 642)[:5].nnz == 0
+    assert resampling_matrix(vertex, cut, 642)[:5].nnz == 0
 
 
 def test_paper_preset_and_global_search_run():
@@ -198,14 +198,14 @@ def _flat_square(n=30):
 
 def test_sweep_distance_scans_the_rows_downwards():
     from texsynth.surface._meshio import as_mesh
-    from texsynth.surface._vertex_synthesis import _Frame, _sweep_distance
+    from texsynth.surface._vertex_synthesis import SurfaceFrame, _sweep_distance
 
     # a flat square with the field along x: the exemplar's rows run along x and go down along -y, so the sweep
     # distance is the height measured downwards, in vertex spacings (exactly: the field has a potential)
     square = retile(as_mesh(_flat_square()), 3000, rng=0)
     t = np.tile([1.0, 0, 0], (len(square.vertices), 1))
     spacing = 1 / 50
-    s = _sweep_distance(_Frame(square, t, spacing), 1)
+    s = _sweep_distance(SurfaceFrame(square, t, spacing), 1)
     assert np.corrcoef(s, -square.vertices[:, 1])[0, 1] > 0.999
     assert abs((s.max() - s.min()) * spacing - np.ptp(square.vertices[:, 1])) < 0.01
     # a texture with 2- or 4-fold symmetry may have its field turned by a half or a quarter turn between
@@ -216,26 +216,26 @@ def test_sweep_distance_scans_the_rows_downwards():
     turned = t.copy()
     turned[rng.random(len(t)) < 0.5] *= -1
     height, across = -square.vertices[:, 1], square.vertices[:, 0]
-    assert np.corrcoef(_sweep_distance(_Frame(square, turned, spacing), 2), height)[0, 1] ** 2 > 0.998
+    assert np.corrcoef(_sweep_distance(SurfaceFrame(square, turned, spacing), 2), height)[0, 1] ** 2 > 0.998
     quarter = rng.random(len(t)) < 0.5
     turned[quarter] = np.cross([0, 0, 1.0], turned[quarter])
-    s4 = _sweep_distance(_Frame(square, turned, spacing), 4)
+    s4 = _sweep_distance(SurfaceFrame(square, turned, spacing), 4)
     assert max(np.corrcoef(s4, height)[0, 1] ** 2, np.corrcoef(s4, across)[0, 1] ** 2) > 0.998
     # on a sphere with the field along the latitudes the sweep runs from pole to pole
     ball = sphere(2562)
     lat = tangent_field(ball, lambda p: np.cross([0, 0, 1.0], p))
-    assert abs(np.corrcoef(_sweep_distance(_Frame(ball, lat, 0.05), 1), ball.vertices[:, 2])[0, 1]) > 0.99
+    assert abs(np.corrcoef(_sweep_distance(SurfaceFrame(ball, lat, 0.05), 1), ball.vertices[:, 2])[0, 1]) > 0.99
 
 
 def test_sweep_queries_see_only_the_vertices_already_visited():
-    from texsynth.surface._vertex_synthesis import (_Exemplar, _Frame, _grid_offsets, _resampling, _sweep_distance,
-                                                    _sweep_level)
+    from texsynth.surface._vertex_synthesis import (ExemplarLevel, SurfaceFrame, grid_offsets, resample_grid,
+                                                    _sweep_distance, _sweep_level)
     from texsynth.core._progress import Progress
 
     ball = sphere(642)
-    frame = _Frame(ball, tangent_field(ball, lambda p: np.cross([0, 0, 1.0], p)), 0.1)
-    ex = _Exemplar(load("bread")[:24, :24], None, (5, 5), (3, 3), 0.5)
-    vertex, valid = _resampling(frame, frame, _grid_offsets((5, 5)), 0.1)
+    frame = SurfaceFrame(ball, tangent_field(ball, lambda p: np.cross([0, 0, 1.0], p)), 0.1)
+    ex = ExemplarLevel(load("bread")[:24, :24], None, (5, 5), (3, 3), 0.5)
+    vertex, valid = resample_grid(frame, frame, grid_offsets((5, 5)), 0.1)
     sweep = _sweep_distance(frame, 1)
     rank = np.empty(len(sweep), dtype=int)
     rank[np.argsort(sweep, kind="stable")] = np.arange(len(sweep))

@@ -44,7 +44,7 @@ __getattr__, __dir__, __all__ = attach(
                          "interpolate_statistics", "random_phase_noise", "tile_and_blend", "tile_and_blend_at"],
                         ".statistical"),
         **dict.fromkeys(["read_mesh", "write_mesh", "render_mesh", "synthesize_surface", "SurfaceSchedule",
-                         "lapped_textures"], ".surface"),
+                         "lapped_textures", "progressive_surface"], ".surface"),
         **dict.fromkeys(["dynamic_texture", "learn_dynamic_texture", "video_texture", "graphcut_video", "stylize_video"], ".video"),
         **dict.fromkeys(["Schedule", "Terms", "Constraints", "Guides", "Fields", "Animation"], ".core.em"),
         "Search": ".core.search",

@@ -11,6 +11,7 @@
     texsynth quilt albedo.png -o out.png --coordinates out_map.npz
     texsynth apply-coordinates out_map.npz height.png -o out_height.png [--normal-map]
     texsynth surface MESH EXEMPLAR -o out.ply [--mode vertex|lapped] [--n-vertices N | --pixel-size S] [--field F]
+    texsynth surface MESH A.png -o out.ply --mode progressive --exemplar-b B.png --blend z
     texsynth geometry EXAMPLE.ply -o out.ply [--size N|WxHxD|2x] [--voxels N] [--block B] [--copy-elements]
     texsynth mesh-quilting SWATCH.ply SURFACE.obj -o out.ply [--unit-length L] [--thickness T]  (or: rivets bumpy)
 
@@ -1024,8 +1025,13 @@ def _add_surface_parser(sub):
     surface.add_argument("mesh", metavar="MESH", help="the surface: .obj or .ply (others with the mesh extra: trimesh)")
     surface.add_argument("exemplar", metavar="EXEMPLAR", help="the texture image")
     surface.add_argument("-o", "--output", required=True, help="output mesh (.ply or .obj; a texture goes beside it)")
-    surface.add_argument("--mode", choices=("vertex", "lapped"), default="vertex",
-                         help="vertex: colour retiled vertices (default); lapped: paste patches into a texture atlas")
+    surface.add_argument("--mode", choices=("vertex", "lapped", "progressive"), default="vertex",
+                         help="vertex: colour retiled vertices (default); lapped: paste patches into a texture atlas; "
+                              "progressive: from EXEMPLAR to --exemplar-b along --blend (Zhang et al. 2003)")
+    surface.add_argument("--exemplar-b", help="progressive mode: the texture where the transition reaches 1")
+    surface.add_argument("--blend", default="z",
+                         help="progressive mode: the transition, x, y or z (0 at the mesh's lowest coordinate, 1 at "
+                              "its highest; default z) or an .npy file of one value in [0, 1] per vertex")
     surface.add_argument("--n-vertices", type=int, help="vertex mode: retile to about this many vertices")
     surface.add_argument("--pixel-size", type=float,
                          help="surface length of one exemplar pixel; vertex mode: sets the density instead of "
@@ -1069,9 +1075,26 @@ def _surface_field(text, mesh):
     return np.load(text, allow_pickle=False)
 
 
+def _surface_blend(text):
+    """The --blend value: an axis (a callable of positions, 0 to 1 over the mesh's extent) or a .npy file."""
+    import numpy as np
+
+    if text in ("x", "y", "z"):
+        axis = "xyz".index(text)
+
+        def along(p):
+            low, high = p[:, axis].min(), p[:, axis].max()
+            return (p[:, axis] - low) / max(high - low, 1e-12)
+
+        return along
+    if not text.endswith(".npy"):
+        raise CommandError(f"--blend must be x, y, z or an .npy file of one value per vertex, got {text!r}")
+    return np.load(text, allow_pickle=False)
+
+
 def _run_surface(args):
     from .io import load_image, save_image
-    from .surface import lapped_textures, read_mesh, render_mesh, synthesize_surface, write_mesh
+    from .surface import lapped_textures, progressive_surface, read_mesh, render_mesh, synthesize_surface, write_mesh
 
     out = Path(args.output)
     if out.resolve() in {Path(args.mesh).resolve(), Path(args.exemplar).resolve()}:
@@ -1092,6 +1115,10 @@ def _run_surface(args):
         check_suffix(preview)
         if preview.exists() and not args.overwrite:
             raise CommandError(f"--preview {args.preview!r} exists; pass --overwrite to replace it")
+    if args.exemplar_b is not None and args.mode != "progressive":
+        raise CommandError("--exemplar-b belongs to --mode progressive")
+    if args.exemplar_b is not None and out.resolve() == Path(args.exemplar_b).resolve():
+        raise CommandError(f"output {args.output!r} is also an input; choose another output path")
     mesh = read_mesh(args.mesh, allow_outside=args.allow_outside)
     exemplar = load_image(args.exemplar)
     field = _surface_field(args.field, mesh)
@@ -1101,6 +1128,17 @@ def _run_surface(args):
                                "the mesh")
         result = lapped_textures(mesh, exemplar, pixel_size=args.pixel_size, field=field, symmetry=args.symmetry,
                                  rng=args.seed)
+    elif args.mode == "progressive":
+        if args.exemplar_b is None:
+            raise CommandError("--mode progressive needs --exemplar-b B.png, the texture where --blend reaches 1")
+        if args.pixel_size is not None or args.order is not None or args.preset != "default":
+            raise CommandError("--pixel-size, --order and --preset belong to --mode vertex; progressive mode takes "
+                               "--n-vertices and --levels")
+        options = group_options(progressive_surface, {
+            "n_vertices": args.n_vertices, "field": field, "rng": args.seed,
+            **({"levels": args.levels} if args.levels is not None else {})})
+        result = progressive_surface(mesh, exemplar, load_image(args.exemplar_b), _surface_blend(args.blend),
+                                     **options)
     else:
         options = group_options(synthesize_surface, {
             "n_vertices": args.n_vertices, "pixel_size": args.pixel_size, "field": field, "symmetry": args.symmetry,

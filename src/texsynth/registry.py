@@ -709,6 +709,7 @@ def _surface_demo(mode):
 _TURK = ("Turk, SIGGRAPH 2001, doi:10.1145/383259.383297; Wei & Levoy, SIGGRAPH 2001, "
          "doi:10.1145/383259.383298")
 _PRAUN = "Praun, Finkelstein & Hoppe, SIGGRAPH 2000, doi:10.1145/344779.344987"
+_ZHANG_SURFACE = "Zhang, Zhou, Velho, Guo & Shum, SIGGRAPH 2003, doi:10.1145/882262.882344"
 
 SURFACE_DEMOS = [
     Demo("surface_vertex_brick", "vertex synthesis on a sphere, courses along the latitudes (texsynth surface)",
@@ -782,6 +783,9 @@ _SURFACE_METHODS = (
     MethodEntry("texsynth.lapped_textures", "texsynth surface --mode lapped",
                 "Lapped textures: patches of the exemplar pasted over a mesh along a tangent field, baked into "
                 "an atlas", _PRAUN),
+    MethodEntry("texsynth.progressive_surface", "texsynth surface --mode progressive",
+                "Progressively-variant texture on a mesh: a texton mask, then the texture, varying between two "
+                "exemplars along a per-vertex transition function", _ZHANG_SURFACE),
 )
 
 

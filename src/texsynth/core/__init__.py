@@ -24,6 +24,9 @@
                                    written)
 :mod:`texsynth.core.color`         colour decorrelation: the principal axes of an image's colours
 :mod:`texsynth.core.chunked`       outputs rendered block by block as lazy Dask arrays
+:mod:`texsynth.core.textons`       texton masks, and two exemplars warped and blended into a
+                                   progressively-variant sample (Zhang et al. 2003)
+:mod:`texsynth.core.triangles`     the closest point of a triangle (meshes, shells)
 =============================  ==========================================================
 
 The core imports no algorithm family; the families import the core (see
@@ -32,4 +35,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve", "files", "color", "chunked"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve", "files", "color", "chunked", "textons", "triangles"])

@@ -59,7 +59,6 @@ References
 
 from __future__ import annotations
 
-import numbers
 import time
 from dataclasses import dataclass, field
 
@@ -73,6 +72,7 @@ from ..core.fields import as_field as _field, bilinear as _bilinear, frames as _
 from ..core.fields import taps as _taps
 from ..core.neighborhood import SHAPES, causal_parts, footprint, mask_offsets, patch_shape, wavefronts
 from ..core.pyramid import gaussian_pyramid, level_shapes
+from ..core.textons import find_textons
 from ..core.search import KCoherence, Search, check_method, is_auto, nearest_candidates, refuse_augment, resolve
 from ._options import check_fits, check_output_levels, default_parent_size
 from ._wei_levoy import Neighborhood, Source, candidate_pixels
@@ -138,85 +138,8 @@ class ControlledSynthesisInfo:
 
 
 # --------------------------------------------------------------------------- #
-# the texton mask
+# the texton mask (find_textons: texsynth.core.textons, shared with the surface method)
 # --------------------------------------------------------------------------- #
-def find_textons(exemplar, *, sigma=1.0, threshold="auto"):
-    """A binary texton mask of an exemplar: its blurred luminance, thresholded.
-
-    Examples
-    --------
-    >>> import texsynth
-    >>> brick = texsynth.data.load("brick")[:64, :64]
-    >>> mask = texsynth.find_textons(brick)  # the mortar, the rarer phase
-    >>> mask.shape, mask.dtype
-    ((64, 64), dtype('bool'))
-
-    What ``texton_mask="auto"`` of :func:`synthesize_controlled` uses; call
-    it yourself to adjust the mask (or draw one) and pass the result.
-
-    Parameters
-    ----------
-    exemplar : array_like
-        ``(h, w)`` or ``(h, w, C)`` texture.
-    sigma : float
-        Width in pixels of the Gaussian blur before thresholding (default 1:
-        removes pixel noise, keeps thin mortar lines and strokes). 0 is no
-        blur.
-    threshold : float or "auto"
-        Luminance in [0, 1] that separates the two phases. ``"auto"``
-        (default): Otsu's threshold of the blurred luminance (the two-cluster
-        split that minimises the within-class variance, i.e. 1-D two-means).
-
-    Returns
-    -------
-    numpy.ndarray of bool
-        ``(h, w)``; True marks the rarer of the two phases (letters on
-        paper, mortar between bricks, the gaps between pebbles). The
-        polarity does not change a synthesis: the mask is compared by
-        squared differences.
-
-    Raises
-    ------
-    ValueError, TypeError
-        For an invalid exemplar, a negative ``sigma`` or a ``threshold``
-        outside [0, 1].
-
-    Notes
-    -----
-    Zhang et al. [1]_ mark the texture elements of an exemplar by hand or
-    with simple image segmentation; which segmentation they used could not
-    be checked here. Luminance is the mean of the colour channels. The blur
-    widens thin elements:
-
-    >>> import numpy as np
-    >>> image = np.zeros((8, 8)); image[2:4, 2:6] = 1.0
-    >>> int(texsynth.find_textons(image, sigma=0).sum()), int(texsynth.find_textons(image).sum())
-    (8, 12)
-
-    References
-    ----------
-    .. [1] J. Zhang, K. Zhou, L. Velho, B. Guo and H.-Y. Shum, "Synthesis of
-       progressively-variant textures on arbitrary surfaces", SIGGRAPH 2003.
-       :doi:`10.1145/882262.882344`
-    """
-    from scipy.ndimage import gaussian_filter
-    from skimage.filters import threshold_otsu
-
-    image, _ = with_channels(as_image(exemplar, "exemplar"))
-    sigma = check_positive_float(sigma, "sigma", allow_zero=True)
-    luminance = image[..., : min(3, image.shape[-1])].mean(axis=-1).astype(np.float64)
-    if sigma > 0:
-        luminance = gaussian_filter(luminance, sigma, mode="reflect")
-    if is_auto(threshold):
-        threshold = float(threshold_otsu(luminance)) if np.ptp(luminance) > 0 else float(luminance.max())
-    elif not isinstance(threshold, numbers.Real) or isinstance(threshold, bool):
-        raise TypeError(f"threshold must be a number in [0, 1] or 'auto' (Otsu), got {threshold!r}")
-    elif not 0.0 <= float(threshold) <= 1.0:
-        raise ValueError(f"threshold must lie in [0, 1] (a luminance), got {threshold}")
-    mask = luminance > threshold
-    return ~mask if mask.sum() * 2 > mask.size else mask
-
-
 def _as_texton_mask(value, image, name):
     """A texton mask of the exemplar's size as floats in [0, 1] (None: no mask)."""
     if value is None:

@@ -134,7 +134,7 @@ PRESETS = {
 
 _RESAMPLE_NEIGHBORS = 4    # nearest vertices of a grid point, of which the first facing its way gives the colour
 _COHERENT_NEIGHBORS = 8    # vertices whose copies are continued
-_SUBPASSES = 4             # groups of vertices matched in turn within a pass
+SUBPASSES = 4              # groups of vertices matched in turn within a pass
 _FACING = 0.2              # a vertex whose normal is below this cosine to the centre's does not count
 _SWEEP_BYTES = 4096        # the sweep distance's sparse solve per vertex (measured 2.1-3.0 kB, 50,000 to 10^6 vertices)
 
@@ -224,14 +224,14 @@ class SurfaceSchedule:
     passes: object = "auto"
 
 
-def _grid_offsets(size):
+def grid_offsets(size):
     """(row, col) offsets of a ``size`` grid about its centre (the convention of ``extract``)."""
     h, w = size
     rows, cols = np.mgrid[-(h // 2):h - h // 2, -(w // 2):w - w // 2]
     return np.stack([rows.ravel(), cols.ravel()], axis=1)
 
 
-class _Frame:
+class SurfaceFrame:
     """A level's points with their normals, field and bitangents (``b = n x t``) and a kd-tree."""
 
     def __init__(self, mesh, tangents, spacing):
@@ -250,7 +250,7 @@ class _Frame:
                          np.einsum("mjk,mk->mj", d, self.t[centers])], axis=-1) / self.spacing
 
 
-def _resampling(frame, source, offsets, step):
+def resample_grid(frame, source, offsets, step):
     """Which of ``source``'s vertices gives its colour to each grid point of every vertex of ``frame``.
 
     Grid point ``j`` of vertex ``p`` is ``p + step (col_j t - row_j b)``; its value is that of the nearest
@@ -268,14 +268,14 @@ def _resampling(frame, source, offsets, step):
     return near[rows, first].reshape(n, j), facing[rows, first].reshape(n, j)
 
 
-def _matrix(vertex, valid, count):
-    """The sparse ``(N * J, count)`` map from vertex values to the grid points of :func:`_resampling`."""
+def resampling_matrix(vertex, valid, count):
+    """The sparse ``(N * J, count)`` map from vertex values to the grid points of :func:`resample_grid`."""
     rows = np.flatnonzero(valid.ravel())
     return scipy.sparse.csr_matrix((np.ones(rows.shape[0]), (rows, vertex.ravel()[rows])),
                                    shape=(valid.size, count))
 
 
-class _Exemplar:
+class ExemplarLevel:
     """One exemplar pyramid level: its candidate centres, their neighbourhood vectors and weights.
 
     The weights are Gaussian fall-offs of sigma ``falloff`` times each neighbourhood's larger side.
@@ -466,56 +466,49 @@ def synthesize_surface(
                                rng=rng)
     info.stage_seconds["hierarchy"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    spacing = lattice_spacing(float(mesh.face_areas.sum()), len(hierarchy[0].vertices))
-    # one field for every level: made on the finest, carried to the coarser ones by the nearest finest vertex
-    # (per-level fields would turn the parent's structure against the child's neighbourhoods)
-    tangents = field_vectors(hierarchy[0].vertices, hierarchy[0].vertex_normals, field, symmetry=symmetry, rng=rng,
-                             vertices=mesh.vertices)
-    frames = [_Frame(m, tangents if level == 0 else field_vectors(m.vertices, m.vertex_normals, tangents,
-                                                                  vertices=hierarchy[0].vertices),
-                     spacing * 2 ** level)
-              for level, m in enumerate(hierarchy)]
+    frames, spacing = level_frames(mesh, hierarchy, field, symmetry, rng)
     info.stage_seconds["field"] = time.perf_counter() - t0
     info.pixel_size = spacing
 
-    offsets, parent_offsets = _grid_offsets(size), _grid_offsets(psize)
+    offsets, parent_offsets = grid_offsets(size), grid_offsets(psize)
     colors, sources, parent_centers = None, None, None
     with Progress(progress, levels * passes, "surface") as bar:
         for level in range(levels - 1, -1, -1):
             t0 = time.perf_counter()
             frame = frames[level]
             parent = frames[level + 1] if level + 1 < levels else None
-            ex = _Exemplar(pyramid[level], None if parent is None else pyramid[level + 1], size, psize,
+            ex = ExemplarLevel(pyramid[level], None if parent is None else pyramid[level + 1], size, psize,
                            chosen["falloff"])
             channels = image.shape[2]
-            vertex, valid = _resampling(frame, frame, offsets, frame.spacing)
+            vertex, valid = resample_grid(frame, frame, offsets, frame.spacing)
             weights = ex.weights
             fixed_part = None
             if parent is not None:
-                up, pvalid = _resampling(frame, parent, parent_offsets, parent.spacing)
-                fixed_part = (_matrix(up, pvalid, len(parent.points)) @ colors).reshape(len(frame.points), -1)
+                up, pvalid = resample_grid(frame, parent, parent_offsets, parent.spacing)
+                fixed_part = (resampling_matrix(up, pvalid, len(parent.points)) @ colors).reshape(len(frame.points),
+                                                                                                  -1)
                 valid = np.concatenate([valid, pvalid], axis=1)
             query_weights = None
             if not valid.all() or order == "sweep":  # grid points off an open surface's edge do not count
                 query_weights = np.repeat(valid, channels, axis=1) * weights
             if parent is None:
-                predicted = _seed(frame, ex, rng)
+                predicted = seed_sources(frame, ex, rng)
             else:
-                predicted = _predict(frame, parent, parent_centers, ex, rng)
+                predicted = predict_sources(frame, parent, parent_centers, ex, rng)
             sources = predicted
             if candidates == "k-coherent":
-                searcher = _Coherent(frame, ex, k, method, predicted, rng)
+                searcher = CoherentSearch(frame, ex, k, method, predicted, rng)
             elif order == "sweep":
                 searcher = _Causal(ex)
             else:
-                searcher = _Global(ex, method, len(frame.points), rng)
+                searcher = GlobalSearch(ex, method, len(frame.points), rng)
             if order == "sweep":
                 sources, d2 = _sweep_level(ex, vertex, fixed_part, query_weights, sources, searcher, passes,
                                            _sweep_distance(frame, symmetry), rng, bar, level)
             else:
-                sources, d2 = _match_level(frame, ex, _matrix(vertex, valid[:, :len(offsets)], len(frame.points)),
-                                           fixed_part, query_weights, sources, searcher, passes, _SUBPASSES, rng, bar,
-                                           level)
+                here = resampling_matrix(vertex, valid[:, :len(offsets)], len(frame.points))
+                sources, d2 = match_level(frame, ex, here, fixed_part, query_weights, sources, searcher, passes,
+                                          SUBPASSES, rng, bar, level)
             info.method = searcher.method
             colors = ex.colors[sources]
             parent_centers = ex.centers[sources]
@@ -529,7 +522,25 @@ def synthesize_surface(
     return (out, info) if return_info else out
 
 
-def _predict(frame, parent, parent_centers, ex, rng):
+def level_frames(mesh, hierarchy, field, symmetry, rng):
+    """The :class:`SurfaceFrame` of every level of a mesh hierarchy (finest first), and the finest spacing.
+
+    One field for every level: made on the finest (from ``field``, checked by
+    :func:`~texsynth.surface._field.check_field` against ``mesh``'s vertices), carried to the coarser ones by
+    the nearest finest vertex (per-level fields would turn the parent's structure against the child's
+    neighbourhoods). Level ``l``'s spacing is ``2**l`` times the finest, the lattice spacing of the surface.
+    """
+    spacing = lattice_spacing(float(mesh.face_areas.sum()), len(hierarchy[0].vertices))
+    tangents = field_vectors(hierarchy[0].vertices, hierarchy[0].vertex_normals, field, symmetry=symmetry, rng=rng,
+                             vertices=mesh.vertices)
+    frames = [SurfaceFrame(m, tangents if level == 0 else field_vectors(m.vertices, m.vertex_normals, tangents,
+                                                                        vertices=hierarchy[0].vertices),
+                           spacing * 2 ** level)
+              for level, m in enumerate(hierarchy)]
+    return frames, spacing
+
+
+def predict_sources(frame, parent, parent_centers, ex, rng):
     """The exemplar cell the parent level predicts for each vertex: its nearest parent vertex's copy, continued.
 
     ``parent_centers`` (N_parent, 2) are the parent level's source pixels; a vertex at offset ``d`` (parent
@@ -540,14 +551,14 @@ def _predict(frame, parent, parent_centers, ex, rng):
     return ex.cell(np.rint(2 * (parent_centers[near] + d)).astype(np.int64), rng)
 
 
-def _seed(frame, ex, rng):
+def seed_sources(frame, ex, rng):
     """Coarsest-level start: random copies of the exemplar, each continued from a seed vertex to its region.
 
     Seeds lie about half the exemplar level's smaller side apart; every vertex continues the copy of its
-    nearest seed (the same continuation as :func:`_predict`, at this level's scale), so the level starts from
+    nearest seed (the same continuation as :func:`predict_sources`, at this level's scale), so the level starts from
     coherent pieces with random seams, which the passes then repair (instead of per-vertex noise, which
     parallel matching turns into structure slowly). A copy that runs past the candidate region wraps around
-    it: the seeds' pieces are as wide as the region, so with Ashikhmin's random restart (:meth:`_Exemplar.cell`)
+    it: the seeds' pieces are as wide as the region, so with Ashikhmin's random restart (:meth:`ExemplarLevel.cell`)
     20-30 % of the coarsest level's vertices (a flat patch, bricks, seeds 0-2) started as per-vertex noise,
     which the passes never repaired.
     """
@@ -620,7 +631,7 @@ def _sweep_level(ex, vertex, fixed_part, query_weights, sources, search, passes,
     Each vertex's query holds, at this level, only the grid points whose vertices are already visited (the
     surface's causal neighbourhood, as the half-square of a scanline; the others weigh 0), and the whole parent
     neighbourhood; its match is taken at once, so the next vertices see it. A second pass (``passes=2``) sees
-    every vertex. ``vertex`` is :func:`_resampling`'s for this level; ``query_weights`` ``(N, D)`` the
+    every vertex. ``vertex`` is :func:`resample_grid`'s for this level; ``query_weights`` ``(N, D)`` the
     fall-off with the grid points off the surface set to 0.
     """
     n, j = vertex.shape
@@ -648,12 +659,17 @@ def _sweep_level(ex, vertex, fixed_part, query_weights, sources, search, passes,
     return sources, d2
 
 
-def _match_level(frame, ex, here, fixed_part, query_weights, sources, search, passes, subpasses, rng, bar, level):
+def match_level(frame, ex, here, fixed_part, query_weights, sources, search, passes, subpasses, rng, bar, level, *,
+                guide=None):
     """``passes`` parallel passes over a level, each in ``subpasses`` random groups of vertices.
 
     Every vertex of a group is matched at once from the current colours; the groups take turns, so a vertex
     sees its neighbours' updates of the same pass (the subpasses of Lefebvre & Hoppe 2005, which keep parallel
     matching from oscillating). Returns the sources and each vertex's last squared distance.
+
+    ``guide`` ``(N, G)``, optional: per-vertex values that stand for the last ``G`` channels of the exemplar's
+    colours in every query (channels that are given, not synthesised: a target the match must follow, as the
+    transition function and the synthesised texton mask of :mod:`texsynth.surface._progressive_surface`).
     """
     n = len(frame.points)
     j = here.shape[0] // n
@@ -663,7 +679,10 @@ def _match_level(frame, ex, here, fixed_part, query_weights, sources, search, pa
     d2 = np.zeros(n)
     for _ in range(passes):
         for g, resample in zip(groups, rows):
-            vectors = (resample @ ex.colors[sources]).reshape(len(g), -1)
+            values = ex.colors[sources]
+            if guide is not None:
+                values = np.concatenate([values[:, :values.shape[1] - guide.shape[1]], guide], axis=1)
+            vectors = (resample @ values).reshape(len(g), -1)
             if fixed_part is not None:
                 vectors = np.concatenate([vectors, fixed_part[g]], axis=1)
             weights = ex.weights if query_weights is None else query_weights[g]
@@ -672,7 +691,7 @@ def _match_level(frame, ex, here, fixed_part, query_weights, sources, search, pa
     return sources, d2
 
 
-class _Global:
+class GlobalSearch:
     """Every exemplar neighbourhood is a candidate (:class:`~texsynth.core.search.PatchIndex`)."""
 
     def __init__(self, ex, method, queries, rng):
@@ -706,7 +725,7 @@ class _Causal:
         return idx, d2
 
 
-class _Coherent:
+class CoherentSearch:
     """k-coherent candidates of every vertex of a level (:class:`~texsynth.core.search.KCoherence`)."""
 
     def __init__(self, frame, ex, k, method, predicted, rng):
