@@ -478,7 +478,7 @@ def synthesize_surface(
             frame = frames[level]
             parent = frames[level + 1] if level + 1 < levels else None
             ex = ExemplarLevel(pyramid[level], None if parent is None else pyramid[level + 1], size, psize,
-                           chosen["falloff"])
+                               chosen["falloff"])
             channels = image.shape[2]
             vertex, valid = resample_grid(frame, frame, offsets, frame.spacing)
             weights = ex.weights
