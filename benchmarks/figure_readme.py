@@ -166,7 +166,23 @@ def clip():
     return row(waves[0], water[99], water[199], np.ones((1, 16, 3)), *flame)
 
 
-FIGURES = {f.__name__: f for f in (hero, enlarge, tileable, hole, uncrop, pbr, batch, surface, animation, clip)}
+def geometry():
+    """Geometry by example: the pebbles volume (48³) and a 96³ volume synthesised from it; rivets quilted over a
+    bumpy sphere (about 200 elements), each rendered from one side."""
+    from texsynth.geometry import mesh_quilting, sdf_to_mesh, synthesize_geometry
+    from texsynth.surface import bumpy
+
+    pebbles = data.volume("pebbles")
+    more = synthesize_geometry(pebbles, 96, rng=0)
+    views = [render_mesh(sdf_to_mesh(v), 256, views=[(30, 30)]) for v in (pebbles, more)]
+    ball = bumpy(10242, rng=0)
+    elements, faces = mesh_quilting(data.swatch("rivets"), ball, unit_length=0.13, rng=0)
+    joined = (np.concatenate([ball.vertices, elements]), np.concatenate([ball.faces, faces + len(ball.vertices)]))
+    return row(*views, render_mesh(joined, 256, views=[(30, 20)]))
+
+
+FIGURES = {f.__name__: f for f in (hero, enlarge, tileable, hole, uncrop, pbr, batch, surface, animation, clip,
+                                   geometry)}
 
 
 def main(names):
