@@ -11,7 +11,7 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src" / "texsynth"
 FAMILIES = {"pixel", "patch", "optimization", "statistical", "procedural", "surface", "video", "geometry"}
 TOOLS = {"io", "data", "metrics", "testing"}
-FRONT = {"__init__", "__main__", "cli", "_cli_text", "_cli_values", "demo", "registry", "_batch", "_synthesize"}
+FRONT = {"__init__", "__main__", "cli", "_cli_text", "_cli_values", "_cli_shapes", "demo", "registry", "_batch", "_synthesize"}
 # Ruiters et al. run one Portilla-Simoncelli step per iteration (Section 4.5): documented in
 # docs/architecture.md as the one import across families; and the core's one place images enter
 # (as_image) reads a file name given for an image through texsynth.io, on first use; a dynamic texture's

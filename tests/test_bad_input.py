@@ -52,6 +52,9 @@ HUGE = {
     "progressive_surface": "texsynth.surface.progressive_surface(texsynth.surface.sphere(42), ex, ex, "
                            "lambda p: 0 * p[:, 0], n_vertices=10**9, rng=0)",
     "synthesize_geometry": "texsynth.geometry.synthesize_geometry(texsynth.data.volume('pebbles', 24), 10**5, rng=0)",
+    "geometry_analogies": "texsynth.geometry.geometry_analogies(texsynth.data.volume('cylinder', 24), "
+                          "texsynth.data.volume('grooved_cylinder', 24), np.broadcast_to(False, (4000,) * 3), "
+                          "field_a=(1, 0, 0), field_b=(1, 0, 0))",
     "mesh_to_sdf": "texsynth.geometry.mesh_to_sdf(texsynth.surface.sphere(42), 10**5)",
 }
 

@@ -1027,6 +1027,44 @@ def test_geometry_volumes_sizes_and_refusals(tmp_path, capsys):
     assert "not closed" in err and not (tmp_path / "o.ply").exists()
 
 
+def test_geometry_analogies_from_volumes_to_a_mesh(tmp_path, capsys):
+    """The cylinder pair's grooves carried to another cylinder: a mesh out, every input refused as the output."""
+    from texsynth.surface import read_mesh
+
+    for name, volume in (("a", data.volume("cylinder", 24)), ("ap", data.volume("grooved_cylinder", 24))):
+        np.save(tmp_path / f"{name}.npy", volume[:16])
+    inputs = ["geometry-analogies", str(tmp_path / "a.npy"), str(tmp_path / "ap.npy"), "cylinder", "--size", "24"]
+    argv = inputs + ["-o", str(tmp_path / "out.ply"), "--levels", "1", "-s", "0"]
+    assert run(*argv) == 0
+    out = read_mesh(tmp_path / "out.ply")
+    assert np.ptp(out.vertices[:, 2]) > 16  # the whole of b (24 voxels deep), not the example's 16 slices
+    err = _one_line_error(capsys, run(*inputs, "-o", str(tmp_path / "a.npy"), "--overwrite"))
+    assert "also an input" in err
+    err = _one_line_error(capsys, run(*inputs, "--field-b", "sideways", "-o", str(tmp_path / "o.ply")))
+    assert "field" in err and not (tmp_path / "o.ply").exists()
+
+
+def test_btf_on_the_plane_and_over_a_mesh(tmp_path, capsys):
+    from texsynth.surface import read_mesh, sphere, write_mesh
+
+    sample = data.btf("stones", 64, n_lights=8)
+    np.savez(tmp_path / "s.npz", images=sample.images, lights=sample.lights)
+    base = ["btf", str(tmp_path / "s.npz"), "--n-textons", "8", "-s", "0"]
+    assert run(*base, "-o", str(tmp_path / "out.npz"), "--size", "72x66", "--preview", str(tmp_path / "p.png")) == 0
+    with np.load(tmp_path / "out.npz") as out:
+        assert out["images"].shape == (8, 66, 72) and np.allclose(out["lights"], sample.lights)
+    assert load_image(tmp_path / "p.png").shape[:2] == (66, 288)  # four lights side by side
+    write_mesh(tmp_path / "ball.ply", sphere(642))
+    assert run(*base, "--mesh", str(tmp_path / "ball.ply"), "-o", str(tmp_path / "lit.ply"), "--n-vertices", "600",
+               "--light", "0,0,1") == 0
+    lit = read_mesh(tmp_path / "lit.ply")
+    grey = lit.colors[:, 0]
+    assert grey[lit.vertices[:, 2] > 0.5].mean() > grey[lit.vertices[:, 2] < -0.5].mean() + 0.1  # lit from above
+    for argv, words in (([], "must be a BTF"), (["--mesh", str(tmp_path / "ball.ply")], "must be a mesh")):
+        err = _one_line_error(capsys, run(*base, *argv, "-o", str(tmp_path / "out.png")))
+        assert words in err
+
+
 def test_mesh_quilting_bundled_swatch_over_a_surface_file(tmp_path, capsys):
     """A bundled swatch by name over a mesh file: the surface and its elements, every element whole."""
     from scipy.sparse import coo_matrix

@@ -87,10 +87,12 @@ def test_rules_of_the_vocabulary(where, func):
         params = inspect.signature(func).parameters
     except (TypeError, ValueError):
         return
-    # baselines, sample clips and example shapes are the same every time unless a seed is asked for
+    # baselines, sample clips, example shapes, swatches and BTF samples are the same every time unless a seed is
+    # asked for
     if "rng" in params and not where.startswith(("texsynth.metrics.baselines", "texsynth.metrics.texture_report",
                                                  "texsynth.testing.assert_texture_like", "texsynth.data.clip",
-                                                 "texsynth.data.volume")):
+                                                 "texsynth.data.volume", "texsynth.data.swatch",
+                                                 "texsynth.data.btf")):
         assert params["rng"].default is None, f"{where}: rng must default to None"
     if "tileable" in params:
         assert params["tileable"].default is False

@@ -24,8 +24,12 @@ HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_
 # methods on meshes: one command of their own (`texsynth surface MESH EXEMPLAR`, --mode vertex or lapped),
 # since their input and output are meshes, not images
 SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped", "progressive_surface": "progressive"}
-# the geometry family's methods: shapes in and out (meshes, volumes), each a command of its own
-GEOMETRY = {"synthesize_geometry": ("geometry", "lagae"), "mesh_quilting": ("mesh-quilting", "mesh_quilting")}
+# methods whose inputs are neither images nor clips (shapes, meshes, BTF samples): a command of their own each,
+# function -> (family, command, page)
+OWN_COMMANDS = {"synthesize_geometry": ("geometry", "geometry", "lagae"),
+                "mesh_quilting": ("geometry", "mesh-quilting", "mesh_quilting"),
+                "geometry_analogies": ("geometry", "geometry-analogies", "geometry_analogies"),
+                "synthesize_btf": ("pixel", "btf", "btf"), "synthesize_btf_surface": ("surface", "btf", "btf")}
 
 
 @pytest.mark.parametrize("name", list(METHODS))
@@ -69,18 +73,16 @@ def test_surface_methods_have_their_command_page_and_readme_row(function, mode):
     assert f"]({page}.md)" in rows[0]
 
 
-@pytest.mark.parametrize("function, command_page", GEOMETRY.items())
-def test_geometry_methods_have_their_command_page_and_methods_entry(function, command_page):
-    import texsynth.geometry
-
-    command, page = command_page
-    assert function in texsynth.geometry.__all__
+@pytest.mark.parametrize("function, where", OWN_COMMANDS.items())
+def test_methods_of_their_own_command_have_their_page_row_and_methods_entry(function, where):
+    family, command, page = where
+    assert function in importlib.import_module(f"texsynth.{family}").__all__
     commands = cli.build_parser()._subparsers._group_actions[0].choices
     assert command in commands
     assert function in (ROOT / "docs" / "methods" / f"{page}.md").read_text()
     rows = [r for r in TABLE.splitlines() if f"`texsynth {command}`" in r and function in r]
     assert rows and f"]({page}.md)" in rows[0], f"docs/methods/index.md needs a row of {function}"
-    assert f"texsynth.geometry.{function}" in {m.function for m in texsynth.methods()}
+    assert f"texsynth.{family}.{function}" in {m.function for m in texsynth.methods()}
 
 
 def test_the_command_and_the_gallery_read_the_registry():

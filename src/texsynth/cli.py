@@ -13,6 +13,8 @@
     texsynth surface MESH EXEMPLAR -o out.ply [--mode vertex|lapped] [--n-vertices N | --pixel-size S] [--field F]
     texsynth surface MESH A.png -o out.ply --mode progressive --exemplar-b B.png --blend z
     texsynth geometry EXAMPLE.ply -o out.ply [--size N|WxHxD|2x] [--voxels N] [--block B] [--copy-elements]
+    texsynth btf SAMPLE.npz -o out.npz [--size N] | --mesh MESH -o out.ply --light X,Y,Z   (SAMPLE: or stones)
+    texsynth geometry-analogies A.npy A_PRIME.npy B.ply -o out.ply --field-a z --field-b around-z
     texsynth mesh-quilting SWATCH.ply SURFACE.obj -o out.ply [--unit-length L] [--thickness T]  (or: rivets bumpy)
 
 The methods and how each is exposed come from :mod:`texsynth.registry`. A
@@ -21,7 +23,8 @@ synthesize-pixels`` runs :func:`texsynth.synthesize_pixels`, ``texsynth
 carve-seams`` :func:`texsynth.carve_seams`); ``texsynth surface`` runs one of the
 two surface methods, chosen by ``--mode``, and ``texsynth geometry`` the geometry
 synthesis of :func:`texsynth.geometry.synthesize_geometry`, ``texsynth mesh-quilting``
-:func:`texsynth.geometry.mesh_quilting`. A mistyped command names the
+:func:`texsynth.geometry.mesh_quilting`, ``texsynth btf`` the BTF synthesis of
+:func:`texsynth.pixel.synthesize_btf` and :func:`texsynth.surface.synthesize_btf_surface`. A mistyped command names the
 likeliest ones ("did you mean 'synthesize-pixels'?"). Each
 method's options are generated from the keyword-only parameters of its Python
 function and their numpydoc descriptions, so the command and the API never
@@ -78,20 +81,21 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import inspect
-import math
 import re
 import shutil
 import sys
 import textwrap
 from pathlib import Path
 
-from .core.files import atomic_write, prepare_target
 from .io._images import check_suffix
+from ._cli_shapes import (add_btf_parser, add_geometry_analogies_parser, add_geometry_parser,
+                          add_mesh_quilting_parser, add_surface_parser, run_btf, run_geometry,
+                          run_geometry_analogies, run_mesh_quilting, run_surface)
 from ._cli_text import HelpFull, did_you_mean, doc_params, group_heading, plain_text, short_help
 from ._cli_values import (FIELD_GREY, SIZE_FORMS, CommandError, parse_flow, parse_keyframes, parse_size, parse_value,
                           parse_weights, ramp, read_field, read_grey_map)
-from .registry import (COORDINATE_METHODS, METHODS, VIDEO_COORDINATE_METHODS, Method, group_fields, group_options,
-                       is_group, option_holder)
+from .registry import (COORDINATE_METHODS, METHODS, VIDEO_COORDINATE_METHODS, Method, group_fields, is_group,
+                       option_holder)
 
 __all__ = ["main", "METHODS", "Method"]
 
@@ -945,9 +949,11 @@ def build_parser():
                       help="only these gallery images, by the names the demo prints (e.g. optimize_bread,quilt_brick)")
     _add_batch_parser(sub)
     _add_apply_coordinates_parser(sub)
-    _add_surface_parser(sub)
-    _add_geometry_parser(sub)
-    _add_mesh_quilting_parser(sub)
+    add_surface_parser(sub)
+    add_geometry_parser(sub)
+    add_geometry_analogies_parser(sub)
+    add_mesh_quilting_parser(sub)
+    add_btf_parser(sub)
     for name, method in METHODS.items():
         _add_method_parser(sub, name, method)
     return parser
@@ -1016,331 +1022,6 @@ def _run_apply_coordinates(args):
     return [out]
 
 
-def _add_surface_parser(sub):
-    surface = sub.add_parser("surface", help="texture a mesh: vertex synthesis (Turk; Wei & Levoy) or lapped "
-                                             "textures (Praun et al.)",
-                             description="Synthesise a texture over a triangle mesh (texsynth.synthesize_surface) "
-                                         "or paste lapped textures (texsynth.lapped_textures); docs/methods/"
-                                         "vertex_synthesis.md and lapped.md.")
-    surface.add_argument("mesh", metavar="MESH", help="the surface: .obj or .ply (others with the mesh extra: trimesh)")
-    surface.add_argument("exemplar", metavar="EXEMPLAR", help="the texture image")
-    surface.add_argument("-o", "--output", required=True, help="output mesh (.ply or .obj; a texture goes beside it)")
-    surface.add_argument("--mode", choices=("vertex", "lapped", "progressive"), default="vertex",
-                         help="vertex: colour retiled vertices (default); lapped: paste patches into a texture atlas; "
-                              "progressive: from EXEMPLAR to --exemplar-b along --blend (Zhang et al. 2003)")
-    surface.add_argument("--exemplar-b", help="progressive mode: the texture where the transition reaches 1")
-    surface.add_argument("--blend", default="z",
-                         help="progressive mode: the transition, x, y or z (0 at the mesh's lowest coordinate, 1 at "
-                              "its highest; default z) or an .npy file of one value in [0, 1] per vertex")
-    surface.add_argument("--n-vertices", type=int, help="vertex mode: retile to about this many vertices")
-    surface.add_argument("--pixel-size", type=float,
-                         help="surface length of one exemplar pixel; vertex mode: sets the density instead of "
-                              "--n-vertices (neither: the mesh's own vertices); lapped mode: default a quarter of "
-                              "the square root of the area per exemplar side")
-    surface.add_argument("--field", default="smooth",
-                         help="texture orientation: smooth (default), random, latitude or meridian (about the z "
-                              "axis through the mesh's centre), or an .npy file of one (x, y, z) vector per vertex")
-    surface.add_argument("--symmetry", type=int, choices=(1, 2, 4), default=1,
-                         help="rotational symmetry of the texture, for the smooth field (default 1)")
-    surface.add_argument("--levels", type=int, help="vertex mode: hierarchy levels (default 3)")
-    surface.add_argument("--preset", choices=("default", "paper"), default="default", help="vertex mode: defaults")
-    surface.add_argument("--order", choices=("independent", "sweep"),
-                         help="vertex mode: all vertices of a level at once per pass (independent, the default "
-                              "preset's) or one at a time along Turk's sweep (the paper preset's)")
-    surface.add_argument("-s", "--seed", type=int, default=None, help="random seed")
-    surface.add_argument("--preview", help="also write a rendered preview image (PNG)")
-    surface.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
-    surface.add_argument("--allow-outside", action="store_true",
-                         help="follow the files MESH names (mtllib, map_Kd, TextureFile) even outside the mesh's "
-                              "folder; off by default, so a mesh from elsewhere cannot read other files")
-
-
-def _surface_field(text, mesh):
-    """The --field value: a name, a latitude/meridian callable about the mesh's vertical axis, or a .npy file."""
-    import numpy as np
-
-    center = mesh.vertices.mean(axis=0) * np.array([1.0, 1.0, 0.0])
-
-    def latitude(p):
-        return np.cross([0.0, 0.0, 1.0], p - center)
-
-    if text in ("smooth", "random"):
-        return text
-    if text == "latitude":
-        return latitude
-    if text == "meridian":
-        return lambda p: np.cross(p - center, latitude(p))
-    if not text.endswith(".npy"):
-        raise CommandError(f"--field must be smooth, random, latitude, meridian or an .npy file, got {text!r}")
-    return np.load(text, allow_pickle=False)
-
-
-def _surface_blend(text):
-    """The --blend value: an axis (a callable of positions, 0 to 1 over the mesh's extent) or a .npy file."""
-    import numpy as np
-
-    if text in ("x", "y", "z"):
-        axis = "xyz".index(text)
-
-        def along(p):
-            low, high = p[:, axis].min(), p[:, axis].max()
-            return (p[:, axis] - low) / max(high - low, 1e-12)
-
-        return along
-    if not text.endswith(".npy"):
-        raise CommandError(f"--blend must be x, y, z or an .npy file of one value per vertex, got {text!r}")
-    return np.load(text, allow_pickle=False)
-
-
-def _run_surface(args):
-    from .io import load_image, save_image
-    from .surface import lapped_textures, progressive_surface, read_mesh, render_mesh, synthesize_surface, write_mesh
-
-    out = Path(args.output)
-    if out.resolve() in {Path(args.mesh).resolve(), Path(args.exemplar).resolve()}:
-        raise CommandError(f"output {args.output!r} is also an input; choose another output path")
-    if out.exists() and not args.overwrite:
-        raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
-    if args.mode == "lapped":  # lapped textures write a texture (and, for .obj, a material) beside the mesh
-        for companion in (out.with_suffix(".png"), out.with_suffix(".mtl")):
-            if companion.exists() and not args.overwrite:
-                raise CommandError(f"{str(companion)!r}, the texture or material of output {args.output!r}, exists; "
-                                   "pass --overwrite to replace it")
-    if args.preview:  # checked before the synthesis, as the output is
-        preview = Path(args.preview)
-        if preview.resolve() in {out.with_suffix(s).resolve() for s in ("", ".png", ".mtl")}:
-            raise CommandError(f"--preview {args.preview!r} is a file the mesh output writes (its texture "
-                               f"{out.stem}.png or material {out.stem}.mtl); choose another name, e.g. "
-                               f"{out.stem}_preview.png")
-        check_suffix(preview)
-        if preview.exists() and not args.overwrite:
-            raise CommandError(f"--preview {args.preview!r} exists; pass --overwrite to replace it")
-    if args.exemplar_b is not None and args.mode != "progressive":
-        raise CommandError("--exemplar-b belongs to --mode progressive")
-    if args.exemplar_b is not None and out.resolve() == Path(args.exemplar_b).resolve():
-        raise CommandError(f"output {args.output!r} is also an input; choose another output path")
-    mesh = read_mesh(args.mesh, allow_outside=args.allow_outside)
-    exemplar = load_image(args.exemplar)
-    field = _surface_field(args.field, mesh)
-    if args.mode == "lapped":
-        if args.n_vertices is not None or args.levels is not None or args.order is not None:
-            raise CommandError("--n-vertices, --levels and --order belong to --mode vertex; lapped textures keep "
-                               "the mesh")
-        result = lapped_textures(mesh, exemplar, pixel_size=args.pixel_size, field=field, symmetry=args.symmetry,
-                                 rng=args.seed)
-    elif args.mode == "progressive":
-        if args.exemplar_b is None:
-            raise CommandError("--mode progressive needs --exemplar-b B.png, the texture where --blend reaches 1")
-        if args.pixel_size is not None or args.order is not None or args.preset != "default":
-            raise CommandError("--pixel-size, --order and --preset belong to --mode vertex; progressive mode takes "
-                               "--n-vertices and --levels")
-        options = group_options(progressive_surface, {
-            "n_vertices": args.n_vertices, "field": field, "rng": args.seed,
-            **({"levels": args.levels} if args.levels is not None else {})})
-        result = progressive_surface(mesh, exemplar, load_image(args.exemplar_b), _surface_blend(args.blend),
-                                     **options)
-    else:
-        options = group_options(synthesize_surface, {
-            "n_vertices": args.n_vertices, "pixel_size": args.pixel_size, "field": field, "symmetry": args.symmetry,
-            "preset": args.preset, "rng": args.seed,
-            **{name: value for name, value in (("levels", args.levels), ("order", args.order)) if value is not None}})
-        result = synthesize_surface(mesh, exemplar[..., :3] if exemplar.ndim == 3 and exemplar.shape[2] == 4
-                                    else exemplar, **options)
-    written = [write_mesh(out, result, overwrite=args.overwrite)]
-    if args.preview:
-        save_image(args.preview, render_mesh(result, 768), overwrite=args.overwrite)
-        written.append(Path(args.preview))
-    return written
-
-
-_MESH_SUFFIXES = (".obj", ".ply")
-
-
-def _add_geometry_parser(sub):
-    geometry = sub.add_parser("geometry", help="a larger shape like an example mesh or volume (Lagae et al. 2005)",
-                              description="Synthesise a larger shape like an example (texsynth.geometry."
-                                          "synthesize_geometry): the example as a signed distance volume, quilted "
-                                          "block by block along 3-D minimum cuts, and the result's surface as a "
-                                          "mesh (docs/methods/lagae.md).")
-    geometry.add_argument("example", metavar="EXAMPLE",
-                          help="the example: a closed mesh (.obj, .ply; others with the mesh extra: trimesh), "
-                               "voxelised at --voxels, or a volume (.npy: a signed distance field, negative "
-                               "inside, or a bool occupancy)")
-    geometry.add_argument("-o", "--output", required=True,
-                          help="output: a mesh (.obj, .ply) or the distance volume (.npy)")
-    geometry.add_argument("--size", default="2x",
-                          help="output size in voxels: N (a cube), WxHxD, or a factor of the example's (default 2x)")
-    geometry.add_argument("--voxels", type=int, default=48,
-                          help="a mesh example: voxels along its longest side (default 48)")
-    geometry.add_argument("--block", type=int, help="side of the blocks in voxels (default: a third of the "
-                                                    "example's smallest side, 8 to 32)")
-    geometry.add_argument("--overlap", type=int, help="voxels by which blocks overlap (default: block / 4)")
-    geometry.add_argument("--levels", type=int, default=1, help="hierarchical passes (default 1)")
-    geometry.add_argument("--copy-elements", action="store_true",
-                          help="copy the example's separate elements whole instead of stitching the field")
-    geometry.add_argument("-s", "--seed", type=int, default=None, help="random seed")
-    geometry.add_argument("--preview", help="also write a rendered preview image (PNG)")
-    geometry.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
-    geometry.add_argument("--allow-outside", action="store_true",
-                          help="a mesh may name files outside its own folder (materials)")
-
-
-def _geometry_size(text, shape):
-    """``--size`` of ``texsynth geometry``: ``(depth, height, width)`` from N, WxHxD or a factor of ``shape``."""
-    factor = re.fullmatch(r"(\d+(?:\.\d*)?|\.\d+)[xX]", text.strip())
-    if factor:
-        size = tuple(int(math.floor(side * float(factor.group(1)) + 0.5)) for side in shape)
-        if min(size) < 1:
-            raise CommandError(f"--size {text} makes the example smaller than a voxel; pass a larger factor or N")
-        return size
-    size = parse_size(text)
-    if len(size) == 2:
-        if "x" in text.lower():
-            raise CommandError(f"--size of a volume is N (a cube), WxHxD or a factor such as 2x; got {text!r}")
-        size = (size[0],) * 3
-    return size
-
-
-def _save_volume(tmp, volume):
-    import numpy as np
-
-    with open(tmp, "wb") as f:  # a file object: np.save would append ".npy" to a name ending in ".NPY"
-        np.save(f, volume)
-
-
-def _run_geometry(args):
-    import numpy as np
-
-    from .geometry import mesh_to_sdf, sdf_to_mesh, synthesize_geometry
-    from .io import save_image
-    from .surface import read_mesh, render_mesh, write_mesh
-
-    out, example = Path(args.output), Path(args.example)
-    if out.suffix.lower() not in _MESH_SUFFIXES + (".npy",):
-        raise CommandError(f"output {args.output!r} must be a mesh (.obj, .ply) or a volume (.npy)")
-    if out.resolve() == example.resolve():
-        raise CommandError(f"output {args.output!r} is also the input; choose another output path")
-    if out.exists() and not args.overwrite:
-        raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
-    if args.preview:
-        check_suffix(Path(args.preview))
-        if Path(args.preview).exists() and not args.overwrite:
-            raise CommandError(f"--preview {args.preview!r} exists; pass --overwrite to replace it")
-    if example.suffix.lower() == ".npy":
-        volume, spacing, origin = np.load(example, allow_pickle=False), 1.0, np.zeros(3)
-    else:
-        volume, spacing, origin = mesh_to_sdf(read_mesh(example, allow_outside=args.allow_outside), args.voxels)
-    options = {"block": args.block, "overlap": args.overlap}
-    sdf = synthesize_geometry(volume, _geometry_size(args.size, np.shape(volume)), levels=args.levels,
-                              copy_elements=args.copy_elements, rng=args.seed,
-                              **{name: value for name, value in options.items() if value is not None})
-    written = [out]
-    if out.suffix.lower() == ".npy":
-        prepare_target(out, args.overwrite)
-        atomic_write(out, lambda tmp: _save_volume(tmp, sdf))
-        mesh = sdf_to_mesh(sdf) if args.preview else None
-    else:
-        vertices, faces = sdf_to_mesh(sdf, spacing=spacing)
-        mesh = (vertices + origin, faces)
-        write_mesh(out, mesh, overwrite=args.overwrite)
-    if args.preview:
-        save_image(args.preview, render_mesh(mesh, 768), overwrite=args.overwrite)
-        written.append(Path(args.preview))
-    return written
-
-
-def _add_mesh_quilting_parser(sub):
-    from .data import swatch_names
-
-    quilting = sub.add_parser("mesh-quilting", help="a swatch of geometry elements quilted over a surface "
-                                                    "(Zhou et al. 2006)",
-                              description="Quilt a swatch of separate geometry elements over a surface inside a "
-                                          "thin shell (texsynth.geometry.mesh_quilting, docs/methods/"
-                                          "mesh_quilting.md); the output is the surface with its elements.")
-    quilting.add_argument("swatch", metavar="SWATCH",
-                          help="the swatch: a mesh file whose connected components are the elements, standing on "
-                               f"z = 0, or a bundled swatch: {', '.join(swatch_names())}")
-    quilting.add_argument("surface", metavar="SURFACE",
-                          help="the base surface: a mesh file, or one of sphere, torus, bumpy")
-    quilting.add_argument("-o", "--output", required=True, help="output mesh (.obj, .ply)")
-    quilting.add_argument("--unit-length", type=float, default=None,
-                          help="surface length of one swatch unit (default: the surface holds about 200 elements)")
-    quilting.add_argument("--thickness", type=float, default=None,
-                          help="the shell's thickness in surface units (default: the swatch's height, scaled)")
-    quilting.add_argument("--elements-only", action="store_true", help="write the elements without the surface")
-    quilting.add_argument("-s", "--seed", type=int, default=None, help="random seed")
-    quilting.add_argument("--preview", help="also write a rendered preview image (PNG)")
-    quilting.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
-    quilting.add_argument("--allow-outside", action="store_true",
-                          help="a mesh may name files outside its own folder (materials)")
-
-
-def _named_mesh(text, names, make, allow_outside):
-    """A mesh file, or (no such file) one of ``names`` made by ``make(name)``."""
-    from .surface import read_mesh
-
-    if text in names and not Path(text).exists():
-        return make(text)
-    return read_mesh(text, allow_outside=allow_outside)
-
-
-_QUILTED_ELEMENTS = 200  # mesh-quilting's default --unit-length: about this many elements over the surface
-
-
-def _unit_length(swatch, base):
-    """The unit length that puts about ``_QUILTED_ELEMENTS`` of the swatch's elements over ``base``:
-    ``sqrt(n_swatch * area / (n * swatch_area))``, the swatch's area that of its base's bounding box."""
-    import numpy as np
-    from scipy import sparse
-    from scipy.sparse import csgraph
-
-    vertices, faces = (swatch.vertices, swatch.faces) if hasattr(swatch, "faces") else swatch
-    vertices, faces = np.asarray(vertices, float), np.asarray(faces)
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]]])
-    graph = sparse.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(len(vertices),) * 2)
-    n_swatch = csgraph.connected_components(graph, directed=False)[0]
-    extent = np.ptp(vertices[:, :2], axis=0)
-    a, b, c = (base.vertices[base.faces[:, i]] for i in range(3))
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
-    return float(np.sqrt(n_swatch * area / (_QUILTED_ELEMENTS * max(extent[0] * extent[1], 1e-12))))
-
-
-def _run_mesh_quilting(args):
-    import numpy as np
-
-    from . import surface
-    from .data import swatch, swatch_names
-    from .geometry import mesh_quilting
-    from .io import save_image
-
-    out = Path(args.output)
-    if out.suffix.lower() not in _MESH_SUFFIXES:
-        raise CommandError(f"output {args.output!r} must be a mesh (.obj, .ply)")
-    if out.resolve() in {Path(args.swatch).resolve(), Path(args.surface).resolve()}:
-        raise CommandError(f"output {args.output!r} is also an input; choose another output path")
-    if out.exists() and not args.overwrite:
-        raise CommandError(f"output {args.output!r} exists; pass --overwrite to replace it")
-    if args.preview:
-        check_suffix(Path(args.preview))
-        if Path(args.preview).exists() and not args.overwrite:
-            raise CommandError(f"--preview {args.preview!r} exists; pass --overwrite to replace it")
-    elements = _named_mesh(args.swatch, swatch_names(), swatch, args.allow_outside)
-    base = surface.as_mesh(_named_mesh(args.surface, ("sphere", "torus", "bumpy"),
-                                       lambda name: getattr(surface, name)(20000), args.allow_outside), "surface")
-    unit_length = _unit_length(elements, base) if args.unit_length is None else args.unit_length
-    options = {} if args.thickness is None else {"thickness": args.thickness}
-    vertices, faces = mesh_quilting(elements, base, unit_length=unit_length, rng=args.seed, **options)
-    if not args.elements_only:
-        faces = np.concatenate([base.faces, faces + len(base.vertices)])
-        vertices = np.concatenate([base.vertices, vertices])
-    surface.write_mesh(out, (vertices, faces), overwrite=args.overwrite)
-    written = [out]
-    if args.preview:
-        save_image(args.preview, surface.render_mesh((vertices, faces), 768), overwrite=args.overwrite)
-        written.append(Path(args.preview))
-    return written
-
-
 def _add_batch_parser(sub):
     batch = sub.add_parser("batch", help="exemplars x methods x options x seeds -> a folder, on Dask (docs/scaling.md)")
     batch.add_argument("inputs", metavar="INPUT", help="a folder of exemplar images or a .csv/.json manifest "
@@ -1401,7 +1082,9 @@ def main(argv=None):
             print(f"{'apply-coordinates':<{width}}  render a channel through a map saved with --coordinates")
             print(f"{'surface':<{width}}  texture a mesh: vertex synthesis or lapped textures")
             print(f"{'geometry':<{width}}  a larger shape like an example mesh or volume (Lagae et al. 2005)")
+            print(f"{'geometry-analogies':<{width}}  a geometric texture carried to another shape (Bhat et al. 2004)")
             print(f"{'mesh-quilting':<{width}}  a swatch of geometry elements quilted over a surface (Zhou et al. 2006)")
+            print(f"{'btf':<{width}}  a BTF (images under many lights) larger or over a mesh (Tong et al. 2002)")
             for name, method in METHODS.items():
                 print(f"{name:<{width}}  {method.summary}")
             return 0
@@ -1418,13 +1101,19 @@ def main(argv=None):
             print("wrote " + ", ".join(str(p) for p in _run_apply_coordinates(args)))
             return 0
         if args.command == "surface":
-            print("wrote " + ", ".join(str(p) for p in _run_surface(args)))
+            print("wrote " + ", ".join(str(p) for p in run_surface(args)))
             return 0
         if args.command == "geometry":
-            print("wrote " + ", ".join(str(p) for p in _run_geometry(args)))
+            print("wrote " + ", ".join(str(p) for p in run_geometry(args)))
+            return 0
+        if args.command == "geometry-analogies":
+            print("wrote " + ", ".join(str(p) for p in run_geometry_analogies(args)))
+            return 0
+        if args.command == "btf":
+            print("wrote " + ", ".join(str(p) for p in run_btf(args)))
             return 0
         if args.command == "mesh-quilting":
-            print("wrote " + ", ".join(str(p) for p in _run_mesh_quilting(args)))
+            print("wrote " + ", ".join(str(p) for p in run_mesh_quilting(args)))
             return 0
         written = _run_method(args)
         print("wrote " + ", ".join(str(p) for p in written))

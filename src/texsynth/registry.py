@@ -791,12 +791,27 @@ _SURFACE_METHODS = (
 
 _LAGAE = ("Lagae, Dumont & Dutré, \"Geometry synthesis by example\", Shape Modeling International 2005, "
           "doi:10.1109/SMI.2005.19")
+_TONG_2002 = ("Tong, Zhang, Liu, Wang, Guo & Shum, \"Synthesis of bidirectional texture functions on arbitrary "
+              "surfaces\", SIGGRAPH 2002, doi:10.1145/566654.566634")
+_BTF_METHODS = (
+    MethodEntry("texsynth.pixel.synthesize_btf", "texsynth btf",
+                "BTF synthesis on the plane: one k-coherent synthesis of the sample's 3-D textons, every light's "
+                "image copied through its source-coordinate map", _TONG_2002),
+    MethodEntry("texsynth.surface.synthesize_btf_surface", "texsynth btf --mesh",
+                "BTF synthesis on a mesh: a sample position per vertex from the 3-D textons, rendered for any light "
+                "and view", _TONG_2002),
+)
 _ZHOU_2006 = ("Zhou, Huang, Wang, Tong, Desbrun, Guo & Shum, \"Mesh quilting for geometric texture synthesis\", "
               "SIGGRAPH 2006, doi:10.1145/1141911.1141921")
+_BHAT = ("Bhat, Ingram & Turk, \"Geometric texture synthesis by example\", Eurographics Symposium on Geometry "
+         "Processing 2004, doi:10.2312/SGP/SGP04/041-044")
 _GEOMETRY_METHODS = (
     MethodEntry("texsynth.geometry.synthesize_geometry", "texsynth geometry",
                 "Geometry synthesis: an example shape (a closed mesh or a distance volume) quilted into a larger one "
                 "block by block along 3-D minimum cuts", _LAGAE),
+    MethodEntry("texsynth.geometry.geometry_analogies", "texsynth geometry-analogies",
+                "Geometric texture analogies: a : a' :: b : b' on volumes, the texture laid along a vector field "
+                "on b", _BHAT),
     MethodEntry("texsynth.geometry.mesh_quilting", "texsynth mesh-quilting",
                 "Mesh quilting: a swatch of separate geometry elements quilted over a surface inside a thin shell, "
                 "patches matched by their elements in the overlap", _ZHOU_2006),
@@ -838,5 +853,6 @@ def methods():
         entries.append(MethodEntry(f"{where}.{function}", f"texsynth {name}", _short_summary(method.summary),
                                    method.paper))
     entries.extend(_SURFACE_METHODS)
+    entries.extend(_BTF_METHODS)
     entries.extend(_GEOMETRY_METHODS)
     return entries

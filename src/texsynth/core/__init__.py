@@ -27,6 +27,8 @@
 :mod:`texsynth.core.textons`       texton masks, and two exemplars warped and blended into a
                                    progressively-variant sample (Zhang et al. 2003)
 :mod:`texsynth.core.triangles`     the closest point of a triangle (meshes, shells)
+:mod:`texsynth.core.btf`           BTF samples (images under many lights and views), the
+                                   Leung-Malik filter bank, 3-D textons and their dot products
 =============================  ==========================================================
 
 The core imports no algorithm family; the families import the core (see
@@ -35,4 +37,4 @@ The core imports no algorithm family; the families import the core (see
 
 from ._lazy import attach
 
-__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve", "files", "color", "chunked", "textons", "triangles"])
+__getattr__, __dir__, __all__ = attach(__name__, ["neighborhood", "pyramid", "search", "em", "flows", "tps", "scale", "seams", "histogram", "coordinates", "fields", "convolve", "files", "color", "chunked", "textons", "triangles", "btf"])

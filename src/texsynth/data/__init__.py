@@ -6,7 +6,8 @@ Embark Studios sample sets). ``bricks_hole`` is a colour image with an alpha
 channel whose transparent disc is a hole to fill. :func:`clip` makes simulated clips for the video
 methods (a candle flame, waves, raindrops): no photographed clip is bundled; :func:`volume` makes
 example shapes for geometry synthesis (pebbles, a riveted plate); :func:`swatch` makes swatches of separate
-geometry elements for mesh quilting (rivets in rows, pebbles, spikes) as ``(vertices, faces)``.
+geometry elements for mesh quilting (rivets in rows, pebbles, spikes) as ``(vertices, faces)``; :func:`btf`
+renders example BTF samples (a stack of images under many light directions) from height fields (stones, bumps).
 
 Examples
 --------
@@ -25,9 +26,10 @@ from ..io import load_image
 from ._clips import CLIPS, clip, clip_names
 from ._shapes import VOLUMES, volume, volume_names
 from ._swatches import SWATCHES, swatch, swatch_names
+from ._btf import BTFS, btf, btf_names
 
 __all__ = ["load", "names", "path", "clip", "clip_names", "CLIPS", "volume", "volume_names", "VOLUMES", "swatch",
-           "swatch_names", "SWATCHES"]
+           "swatch_names", "SWATCHES", "btf", "btf_names", "BTFS"]
 
 _FILES = {
     "bread": "bread.png",

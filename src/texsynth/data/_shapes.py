@@ -13,7 +13,18 @@ VOLUMES = {
     "pebbles": "separate spheres of radii 3-5 voxels, at least 2 voxels apart (26 in 48^3): separate elements",
     "plate": "a slab 4 voxels thick with rivets (hemispheres), spikes (cones) and two grooves, a third as deep "
              "as it is wide: elements joined to a base",
+    "cylinder": "a plain cylinder along the depth axis, radius 0.3 size, through the whole volume (the unfiltered "
+                "example A of geometric texture analogies)",
+    "grooved_cylinder": "the cylinder with 8 straight grooves along its axis, 0.09 size wide and 0.06 size deep",
+    "pitted_cylinder": "the cylinder with staggered rows of hemispherical pits of radius 0.06 size",
+    "spiked_cylinder": "the cylinder with staggered rows of cones 0.08 size high on bases of radius 0.05 size",
+    "dilated_cylinder": "the cylinder grown by 0.05 size (radius 0.35 size)",
+    "torus": "a torus about the depth axis, major radius 0.3 size and tube radius 0.13 size (a target shape)",
 }
+
+#: The cylinders' radius and the torus's radii, as fractions of ``size``.
+CYLINDER_RADIUS = 0.3
+TORUS_RADII = (0.3, 0.13)
 
 
 def volume_names():
@@ -34,16 +45,23 @@ def volume(name, size=48, *, rng=1):
     Parameters
     ----------
     name : str
-        ``"pebbles"`` or ``"plate"``.
+        A key of :data:`VOLUMES`.
     size : int
         Side in voxels, at least 16 (``"plate"``: ``(size // 3, size, size)``).
     rng : None, int or numpy.random.Generator
-        Seed of the elements' places and sizes.
+        Seed of the elements' places and sizes (the cylinders and the torus
+        are the same for every seed).
     """
     name = check_choice(name, "name", volume_names())
     size = check_positive_int(size, "size", minimum=16)
     gen = as_rng(rng)
-    return _pebbles(size, gen) if name == "pebbles" else _plate(size, gen)
+    if name == "pebbles":
+        return _pebbles(size, gen)
+    if name == "plate":
+        return _plate(size, gen)
+    if name == "torus":
+        return _torus(size)
+    return _cylinder(size, name.partition("_")[0] if "_" in name else "plain")
 
 
 def _pebbles(n, gen):
@@ -74,3 +92,41 @@ def _plate(n, gen):
     for gy in (n // 4, 3 * n // 4):
         occ &= ~((np.abs(y - gy) < 1.5) & (z >= 2))
     return occ
+
+
+def _cylinder(n, relief):
+    """A cylinder along axis 0 through the volume, with a relief carved in or added to its side."""
+    z, y, x = np.indices((n, n, n)).astype(float)
+    c = (n - 1) / 2
+    r = np.hypot(y - c, x - c)
+    radius = CYLINDER_RADIUS * n
+    if relief == "dilated":
+        return r < radius + 0.05 * n
+    occ = r < radius
+    if relief == "plain":
+        return occ
+    phi = np.arctan2(y - c, x - c)
+    if relief == "grooved":  # 8 grooves along the axis: arc distance to the nearest groove's centre line
+        arc = np.abs((phi * 8 / (2 * np.pi) + 0.5) % 1 - 0.5) * 2 * np.pi / 8 * radius
+        return occ & ~((arc < 0.045 * n) & (r > radius - 0.06 * n))
+    # staggered rows of bumps: 8 around, a row every 0.2 size, odd rows turned by half a step
+    rows = 0.2 * n
+    row = np.floor(z / rows)
+    zc = (row + 0.5) * rows
+    turn = phi * 8 / (2 * np.pi) - 0.5 * (row % 2)
+    phic = (np.round(turn) + 0.5 * (row % 2)) * 2 * np.pi / 8
+    centre = np.stack([zc, c + radius * np.sin(phic), c + radius * np.cos(phic)])
+    d = np.sqrt(((np.stack([z, y, x]) - centre) ** 2).sum(0))
+    if relief == "pitted":
+        return occ & ~(d < 0.06 * n)
+    height, base = 0.08 * n, 0.05 * n  # spikes: cones standing on the surface, pointing outwards
+    outwards = r - radius
+    lateral = np.sqrt(np.maximum(d ** 2 - outwards ** 2, 0))
+    return occ | ((outwards >= 0) & (outwards < height) & (lateral < base * (1 - outwards / height)))
+
+
+def _torus(n):
+    z, y, x = np.indices((n, n, n)).astype(float)
+    c = (n - 1) / 2
+    major, minor = TORUS_RADII[0] * n, TORUS_RADII[1] * n
+    return (np.hypot(y - c, x - c) - major) ** 2 + (z - c) ** 2 < minor ** 2

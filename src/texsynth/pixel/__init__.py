@@ -9,12 +9,15 @@
   pixel by pixel from a seed; hole filling.
 - :func:`synthesize_controlled`: Zhang et al. 2003, texton masks, orientation
   and magnification fields, progressive variation between two exemplars.
+- :func:`synthesize_btf`: Tong et al. 2002, a BTF (images under many lights)
+  of any size through one k-coherent synthesis of its 3-D texton image.
 
 Option groups: :class:`Neighborhood` (the multi-resolution neighbourhood of
 the Wei-Levoy family and Zhang et al.), :class:`Sampling` (Efros-Leung's
 sampling); the search is :class:`texsynth.core.search.Search`.
 """
 
+from ._btf import BTFSynthesisInfo, synthesize_btf
 from ._efros_leung import EfrosLeungInfo, Sampling, efros_leung
 from ._options import ORDERS
 from ._texton import ControlledSynthesisInfo, find_textons, synthesize_controlled
@@ -23,4 +26,4 @@ from ._wei_levoy import SHAPES, Neighborhood, PixelSynthesisInfo, synthesize_pix
 
 __all__ = ["synthesize_pixels", "mix_textures", "synthesize_solid", "efros_leung", "PixelSynthesisInfo",
            "EfrosLeungInfo", "ORDERS", "SHAPES", "synthesize_controlled", "find_textons", "ControlledSynthesisInfo",
-           "Neighborhood", "Sampling"]
+           "Neighborhood", "Sampling", "synthesize_btf", "BTFSynthesisInfo"]

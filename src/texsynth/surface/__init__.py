@@ -13,6 +13,8 @@
   (Turk 2001; Wei & Levoy 2001), its options grouped in
   :class:`SurfaceSchedule` and :class:`~texsynth.core.search.Search`; :func:`lapped_textures`: Praun et al.'s
   pasted splotches, baked into a texture atlas.
+- :func:`synthesize_btf_surface`, :func:`render_btf_surface`: Tong et al. 2002, a BTF over a mesh
+  as a surface texton map (a sample position per vertex), rendered for any light and view.
 - :func:`progressive_surface`: progressively-variant textures (Zhang et al. 2003): a texton
   mask, then the texture, varying between two exemplars along a per-vertex transition function.
 """
@@ -26,7 +28,9 @@ from ._field import tangent_field
 from ._vertex_synthesis import SurfaceSchedule, SurfaceSynthesisInfo, synthesize_surface
 from ._lapped import LappedInfo, default_splotch, lapped_textures
 from ._progressive_surface import ProgressiveSurfaceInfo, progressive_surface
+from ._btf import BTFSurface, BTFSurfaceInfo, render_btf_surface, synthesize_btf_surface
 
 __all__ = ["Mesh", "as_mesh", "read_mesh", "write_mesh", "render_mesh", "PROJECTIONS", "sphere", "torus", "bumpy",
            "scanned_mesh", "SCANNED_MESHES", "retile", "tangent_field", "synthesize_surface", "SurfaceSchedule", "SurfaceSynthesisInfo",
-           "lapped_textures", "LappedInfo", "default_splotch", "progressive_surface", "ProgressiveSurfaceInfo"]
+           "lapped_textures", "LappedInfo", "default_splotch", "progressive_surface", "ProgressiveSurfaceInfo",
+           "synthesize_btf_surface", "render_btf_surface", "BTFSurface", "BTFSurfaceInfo"]
