@@ -52,6 +52,10 @@ HUGE = {
     "progressive_surface": "texsynth.surface.progressive_surface(texsynth.surface.sphere(42), ex, ex, "
                            "lambda p: 0 * p[:, 0], n_vertices=10**9, rng=0)",
     "synthesize_geometry": "texsynth.geometry.synthesize_geometry(texsynth.data.volume('pebbles', 24), 10**5, rng=0)",
+    "feature_aligned_surface": "texsynth.surface.feature_aligned_surface(texsynth.surface.sphere(42), ex, "
+                               "curves=np.arange(10), n_vertices=10**9, rng=0)",
+    "feature_aligned_texture": "texsynth.feature_aligned_texture(ex, np.broadcast_to(np.True_, (100000, 100000)), "
+                               "rng=0)",
     "geometry_analogies": "texsynth.geometry.geometry_analogies(texsynth.data.volume('cylinder', 24), "
                           "texsynth.data.volume('grooved_cylinder', 24), np.broadcast_to(False, (4000,) * 3), "
                           "field_a=(1, 0, 0), field_b=(1, 0, 0))",
@@ -78,7 +82,7 @@ def test_a_size_that_cannot_fit_is_refused_before_allocating(name):
     # refused (not a MemoryError or a kill under the 4 GiB cap: nothing large was allocated first),
     # naming the parameter and the memory it would need
     assert out.startswith("refused"), (proc.returncode, out, proc.stderr[-500:])
-    assert any(word in out for word in ("size", "shape", "n_vertices", "voxels")) and "GiB" in out, out
+    assert any(word in out for word in ("size", "shape", "n_vertices", "voxels", "b=")) and "GiB" in out, out
 
 
 # --------------------------------------------------------------------------- junk values for every parameter
@@ -148,6 +152,8 @@ CALLS = {
                        dict(block=(4, 24, 24), rng=0)),
     "stylize_video": (texsynth.stylize_video, (np.stack([EX, EX[::-1], EX[:, ::-1]]), {0: EX[..., ::-1]}),
                       dict(rng=0)),
+    "feature_aligned_texture": (texsynth.feature_aligned_texture, (EX, np.eye(24, dtype=bool)),
+                                dict(schedule=texsynth.optimization.Schedule(levels=1, max_iterations=2), rng=0)),
     "graphcut_merge": (texsynth.graphcut_merge, (EX, EX[::-1]), dict(from_a=np.eye(24, dtype=bool),
                                                                     from_b=np.eye(24, dtype=bool)[::-1])),
 }

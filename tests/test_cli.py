@@ -1128,6 +1128,27 @@ def test_surface_progressive_mode_blends_two_exemplars_along_an_axis(tmp_path, c
     assert "--mode progressive" in err
 
 
+def test_feature_aligned_on_a_creased_mesh_and_on_drawn_curves(tmp_path):
+    """The surface mode finds the crests by itself; the planar command takes the curves as a second image."""
+    from texsynth.surface import Mesh, read_mesh, sphere, write_mesh
+
+    ball = sphere(2562)
+    v = ball.vertices
+    phi = np.arctan2(v[:, 1], v[:, 0])  # four sharp crests along meridians
+    v = v * (1 + 0.25 * (1 - np.abs(np.sin(2 * phi))) * np.sqrt(np.clip(1 - v[:, 2] ** 2, 0, 1)))[:, None]
+    write_mesh(tmp_path / "crease.ply", Mesh(v * [1, 1, 0.7], ball.faces))
+    brick = save_image(tmp_path / "brick.png", data.load("brick"))
+    assert run("surface", str(tmp_path / "crease.ply"), str(brick), "-o", str(tmp_path / "out.ply"), "--mode",
+               "feature-aligned", "--n-vertices", "1500", "--levels", "2", "-s", "0") == 0
+    assert len(read_mesh(tmp_path / "out.ply").colors) > 1000
+    curves = np.zeros((48, 48, 3))
+    curves[4:44, 24] = 1.0  # drawn in colour: the channels are averaged
+    save_image(tmp_path / "curves.png", curves)
+    assert run("feature-aligned-texture", str(brick), str(tmp_path / "curves.png"), "-o", str(tmp_path / "f.png"),
+               "--levels", "1", "--max-iterations", "2", "-s", "0") == 0
+    assert load_image(tmp_path / "f.png").shape[:2] == (48, 48)
+
+
 def test_surface_preview_is_checked_before_the_synthesis(tmp_path, monkeypatch, capsys):
     import texsynth.surface
 

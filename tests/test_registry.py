@@ -23,7 +23,8 @@ HELPERS = {"ps_statistics", "ps_step", "interpolate_statistics", "ridge_feature_
            "learn_dynamic_texture"}  # the model behind dynamic_texture (its command)
 # methods on meshes: one command of their own (`texsynth surface MESH EXEMPLAR`, --mode vertex or lapped),
 # since their input and output are meshes, not images
-SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped", "progressive_surface": "progressive"}
+SURFACE = {"synthesize_surface": "vertex", "lapped_textures": "lapped", "progressive_surface": "progressive",
+           "feature_aligned_surface": "feature-aligned"}
 # methods whose inputs are neither images nor clips (shapes, meshes, BTF samples): a command of their own each,
 # function -> (family, command, page)
 OWN_COMMANDS = {"synthesize_geometry": ("geometry", "geometry", "lagae"),

@@ -31,9 +31,11 @@ def add_surface_parser(sub):
     surface.add_argument("mesh", metavar="MESH", help="the surface: .obj or .ply (others with the mesh extra: trimesh)")
     surface.add_argument("exemplar", metavar="EXEMPLAR", help="the texture image")
     surface.add_argument("-o", "--output", required=True, help="output mesh (.ply or .obj; a texture goes beside it)")
-    surface.add_argument("--mode", choices=("vertex", "lapped", "progressive"), default="vertex",
+    surface.add_argument("--mode", choices=("vertex", "lapped", "progressive", "feature-aligned"), default="vertex",
                          help="vertex: colour retiled vertices (default); lapped: paste patches into a texture atlas; "
-                              "progressive: from EXEMPLAR to --exemplar-b along --blend (Zhang et al. 2003)")
+                              "progressive: from EXEMPLAR to --exemplar-b along --blend (Zhang et al. 2003); "
+                              "feature-aligned: the exemplar's edges along the mesh's ridges and valleys (Xu et al. "
+                              "2009)")
     surface.add_argument("--exemplar-b", help="progressive mode: the texture where the transition reaches 1")
     surface.add_argument("--blend", default="z",
                          help="progressive mode: the transition, x, y or z (0 at the mesh's lowest coordinate, 1 at "
@@ -100,7 +102,8 @@ def _surface_blend(text):
 
 def run_surface(args):
     from .io import load_image, save_image
-    from .surface import lapped_textures, progressive_surface, read_mesh, render_mesh, synthesize_surface, write_mesh
+    from .surface import (feature_aligned_surface, lapped_textures, progressive_surface, read_mesh, render_mesh,
+                          synthesize_surface, write_mesh)
 
     out = Path(args.output)
     if out.resolve() in {Path(args.mesh).resolve(), Path(args.exemplar).resolve()}:
@@ -134,6 +137,15 @@ def run_surface(args):
                                "the mesh")
         result = lapped_textures(mesh, exemplar, pixel_size=args.pixel_size, field=field, symmetry=args.symmetry,
                                  rng=args.seed)
+    elif args.mode == "feature-aligned":
+        if args.pixel_size is not None or args.order is not None or args.preset != "default" or args.field != "smooth":
+            raise CommandError("--pixel-size, --order, --preset and --field belong to --mode vertex; the curves set "
+                               "the field in feature-aligned mode, which takes --n-vertices, --levels, --symmetry")
+        options = group_options(feature_aligned_surface, {
+            "n_vertices": args.n_vertices, "symmetry": args.symmetry, "rng": args.seed,
+            **({"levels": args.levels} if args.levels is not None else {})})
+        result = feature_aligned_surface(mesh, exemplar[..., :3] if exemplar.ndim == 3 and exemplar.shape[2] == 4
+                                         else exemplar, **options)
     elif args.mode == "progressive":
         if args.exemplar_b is None:
             raise CommandError("--mode progressive needs --exemplar-b B.png, the texture where --blend reaches 1")

@@ -399,6 +399,8 @@ def _make_tileable(exemplar, seed):
 
 
 # --------------------------------------------------------------------------- the methods
+_XU = ("Xu, Cohen-Or, Ju, Liu, Zhang, Zhou & Xiong, \"Feature-aligned shape texturing\", SIGGRAPH Asia 2009, "
+       "doi:10.1145/1618452.1618454")
 _WEI_LEVOY = "Wei & Levoy, SIGGRAPH 2000, doi:10.1145/344779.345009"
 _WEI = "Wei, \"Texture synthesis from multiple sources\", SIGGRAPH 2003 sketch, doi:10.1145/965400.965507"
 _EFROS_LEUNG = "Efros & Leung, ICCV 1999, doi:10.1109/ICCV.1999.790383"
@@ -521,6 +523,10 @@ METHODS: dict[str, Method] = {
         maps=("alpha",), ramps=("alpha",), map_pairs=("features",), spatial="alpha",
         demos=[("interpolate_brick_bumpy", "Ruiters texture interpolation, alpha = 0.5: brick halfway "
                 "to bumpy plaster (small: 64x64, stages (2, 17), (1, 17))", "brick", _interpolate)]),
+    "feature-aligned-texture": _m("optimization:feature_aligned_texture",
+                                  "After Xu et al. 2009: a texture whose direction follows drawn curves and whose "
+                                  "feature lines (edges) lie on them (EXEMPLAR CURVES.png)", _XU, "feature_aligned",
+                                  inputs="pair", size=None),
     "patchwork": _m("patch:patchwork", "Harrison 2002: Voronoi patchwork with invisible joins (fast, tileable)",
                     _HARRISON, "patchwork",
                     demos=[("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", "water",
@@ -783,6 +789,9 @@ _SURFACE_METHODS = (
     MethodEntry("texsynth.lapped_textures", "texsynth surface --mode lapped",
                 "Lapped textures: patches of the exemplar pasted over a mesh along a tangent field, baked into "
                 "an atlas", _PRAUN),
+    MethodEntry("texsynth.feature_aligned_surface", "texsynth surface --mode feature-aligned",
+                "Feature-aligned texturing of a mesh: the texture along its ridges and valleys, the exemplar's edges "
+                "laid on them", _XU),
     MethodEntry("texsynth.progressive_surface", "texsynth surface --mode progressive",
                 "Progressively-variant texture on a mesh: a texton mask, then the texture, varying between two "
                 "exemplars along a per-vertex transition function", _ZHANG_SURFACE),

@@ -19,6 +19,8 @@
   with hard constraints (hole filling with a sampling area; extending an
   image beyond its borders); :func:`make_tileable`: re-synthesise a band
   along a photo's edges so that it tiles seamlessly.
+- :func:`feature_aligned_texture`: after Xu et al. 2009, a texture along drawn
+  curves, its feature lines (edges) laid on them (with :func:`curve_orientation`).
 """
 
 from ..core._lazy import attach
@@ -33,16 +35,19 @@ from ._completion import inpaint, make_tileable, uncrop
 _RUITERS = ("interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
             "linear_blend", "transition_alpha_map", "InterpolationInfo", "InterpolationSchedule", "Correspondences",
             "NeighborhoodSet", "InterpolationUpdate", "VaryingAlpha")
-__getattr__ = attach(__name__, names={name: "._ruiters" for name in _RUITERS})[0]
+# the feature-aligned planar form reads Ruiters' edge feature map: loaded on first use too
+_FEATURE_ALIGNED = ("feature_aligned_texture", "curve_orientation", "FeatureTextureInfo")
+__getattr__ = attach(__name__, names={**{name: "._ruiters" for name in _RUITERS},
+                                      **{name: "._feature_aligned" for name in _FEATURE_ALIGNED}})[0]
 
 __all__ = [
     "optimize_texture", "animate_texture", "inpaint", "uncrop",
     "make_tileable",
     "interpolate_textures", "interpolate_neighborhoods", "ridge_feature_map", "edge_feature_map",
     "linear_blend", "transition_alpha_map", "InterpolationInfo", "InterpolationSchedule", "Correspondences",
-    "NeighborhoodSet", "InterpolationUpdate", "VaryingAlpha",
+    "NeighborhoodSet", "InterpolationUpdate", "VaryingAlpha", *_FEATURE_ALIGNED,
 ]
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_RUITERS))
+    return sorted(set(globals()) | set(_RUITERS) | set(_FEATURE_ALIGNED))

@@ -15,6 +15,9 @@
   pasted splotches, baked into a texture atlas.
 - :func:`synthesize_btf_surface`, :func:`render_btf_surface`: Tong et al. 2002, a BTF over a mesh
   as a surface texton map (a sample position per vertex), rendered for any light and view.
+- :func:`feature_aligned_surface`: Xu et al. 2009, a texture along the mesh's
+  salient curves (:func:`salient_curves`: ridges, valleys) or the user's, the
+  exemplar's feature lines laid on them; :func:`curve_alignment` measures it.
 - :func:`progressive_surface`: progressively-variant textures (Zhang et al. 2003): a texton
   mask, then the texture, varying between two exemplars along a per-vertex transition function.
 """
@@ -28,9 +31,12 @@ from ._field import tangent_field
 from ._vertex_synthesis import SurfaceSchedule, SurfaceSynthesisInfo, synthesize_surface
 from ._lapped import LappedInfo, default_splotch, lapped_textures
 from ._progressive_surface import ProgressiveSurfaceInfo, progressive_surface
+from ._feature_aligned import (FeatureAlignedInfo, SalientCurves, curve_alignment, feature_aligned_surface,
+                               salient_curves)
 from ._btf import BTFSurface, BTFSurfaceInfo, render_btf_surface, synthesize_btf_surface
 
 __all__ = ["Mesh", "as_mesh", "read_mesh", "write_mesh", "render_mesh", "PROJECTIONS", "sphere", "torus", "bumpy",
            "scanned_mesh", "SCANNED_MESHES", "retile", "tangent_field", "synthesize_surface", "SurfaceSchedule", "SurfaceSynthesisInfo",
            "lapped_textures", "LappedInfo", "default_splotch", "progressive_surface", "ProgressiveSurfaceInfo",
-           "synthesize_btf_surface", "render_btf_surface", "BTFSurface", "BTFSurfaceInfo"]
+           "synthesize_btf_surface", "render_btf_surface", "BTFSurface", "BTFSurfaceInfo", "feature_aligned_surface",
+           "salient_curves", "curve_alignment", "SalientCurves", "FeatureAlignedInfo"]
