@@ -1097,25 +1097,9 @@ def main(argv=None):
             return 0
         if args.command == "batch":
             return _run_batch(args)
-        if args.command == "apply-coordinates":
-            print("wrote " + ", ".join(str(p) for p in _run_apply_coordinates(args)))
-            return 0
-        if args.command == "surface":
-            print("wrote " + ", ".join(str(p) for p in run_surface(args)))
-            return 0
-        if args.command == "geometry":
-            print("wrote " + ", ".join(str(p) for p in run_geometry(args)))
-            return 0
-        if args.command == "geometry-analogies":
-            print("wrote " + ", ".join(str(p) for p in run_geometry_analogies(args)))
-            return 0
-        if args.command == "btf":
-            print("wrote " + ", ".join(str(p) for p in run_btf(args)))
-            return 0
-        if args.command == "mesh-quilting":
-            print("wrote " + ", ".join(str(p) for p in run_mesh_quilting(args)))
-            return 0
-        written = _run_method(args)
+        commands = {"apply-coordinates": _run_apply_coordinates, "surface": run_surface, "geometry": run_geometry,
+                    "geometry-analogies": run_geometry_analogies, "btf": run_btf, "mesh-quilting": run_mesh_quilting}
+        written = commands[args.command](args) if args.command in commands else _run_method(args)
         print("wrote " + ", ".join(str(p) for p in written))
         return 0
     except (CommandError, ValueError, TypeError, OSError, MemoryError, ImportError) as exc:

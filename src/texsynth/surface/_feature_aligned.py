@@ -92,18 +92,15 @@ import scipy.sparse.csgraph
 import scipy.sparse.linalg
 
 from ..core._progress import Progress
-from ..core._validate import (as_array, as_image, as_rng, check_group, check_memory, check_positive_float,
-                              check_positive_int, is_auto, with_channels)
-from ..core.neighborhood import patch_shape
+from ..core._validate import (as_array, as_image, as_rng, check_memory, check_positive_float, check_positive_int,
+                              is_auto, with_channels)
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import Search, check_method, point_tree, refuse_augment
+from ..core.search import Search, point_tree
 from ..metrics import dominant_orientation
 from ._field import check_symmetry, tangent_frames
 from ._meshio import as_mesh
 from ._retile import mesh_hierarchy, resolve_count
-from ._vertex_synthesis import (PRESETS, SUBPASSES, CoherentSearch, ExemplarLevel, GlobalSearch, SurfaceSchedule,
-                                grid_offsets, level_frames, match_level, predict_sources, resample_grid,
-                                resampling_matrix, seed_sources)
+from ._vertex_synthesis import SurfaceSchedule, guided_levels, guided_options, level_frames
 
 __all__ = ["feature_aligned_surface", "salient_curves", "curve_alignment", "SalientCurves", "FeatureAlignedInfo"]
 
@@ -465,47 +462,6 @@ def _exemplar_features(exemplar_features, image):
     return arr.astype(np.float64) > 0.5
 
 
-def _synthesize(frames, work, guides, schedule, k, method, rng, bar, info):
-    """A multi-level vertex synthesis of ``work`` (a pyramid, finest first) whose last channel is given per vertex.
-
-    ``guides[l]`` ``(N_l, 1)`` stands for the feature channel of ``work`` in every query at level ``l``
-    (:func:`~texsynth.surface._vertex_synthesis.match_level`'s ``guide``). Returns the finest level's values per
-    level and the finest sources.
-    """
-    size, psize, passes, falloff = schedule
-    levels = len(frames)
-    offsets, parent_offsets = grid_offsets(size), grid_offsets(psize)
-    channels = work[0].shape[2]
-    values, sources, centers, energies = [None] * levels, None, None, []
-    for level in range(levels - 1, -1, -1):
-        t0 = time.perf_counter()
-        frame = frames[level]
-        parent = frames[level + 1] if level + 1 < levels else None
-        n = len(frame.points)
-        ex = ExemplarLevel(work[level], None if parent is None else work[level + 1], size, psize, falloff)
-        vertex, valid = resample_grid(frame, frame, offsets, frame.spacing)
-        fixed_part = None
-        if parent is None:
-            predicted = seed_sources(frame, ex, rng)
-            searcher = GlobalSearch(ex, method, n, rng)
-        else:
-            up, pvalid = resample_grid(frame, parent, parent_offsets, parent.spacing)
-            above = np.concatenate([values[level + 1][:, :channels - 1], guides[level + 1]], axis=1)
-            fixed_part = (resampling_matrix(up, pvalid, len(parent.points)) @ above).reshape(n, -1)
-            valid = np.concatenate([valid, pvalid], axis=1)
-            predicted = predict_sources(frame, parent, centers, ex, rng)
-            searcher = CoherentSearch(frame, ex, k, method, predicted, rng)
-        query_weights = None if valid.all() else np.repeat(valid, channels, axis=1) * ex.weights
-        here = resampling_matrix(vertex, valid[:, :len(offsets)], n)
-        sources, d2 = match_level(frame, ex, here, fixed_part, query_weights, predicted, searcher, passes,
-                                  SUBPASSES, rng, bar, level, guide=guides[level])
-        values[level], centers = ex.colors[sources], ex.centers[sources]
-        energies.append(float(np.mean(d2)))
-        info.stage_seconds[f"level {level}"] = time.perf_counter() - t0
-    info.energy, info.stage = np.array(energies), np.arange(levels)
-    return values, centers
-
-
 def feature_aligned_surface(
     mesh,
     exemplar,
@@ -598,26 +554,9 @@ def feature_aligned_surface(
     """
     start = time.perf_counter()
     mesh = as_mesh(mesh)
-    schedule = check_group(schedule, SurfaceSchedule, "schedule")
-    search = check_group(search, Search, "search")
-    refuse_augment(search.augment, "feature_aligned_surface", "the tangent field already orients the exemplar")
-    if not (is_auto(search.candidates) or search.candidates == "k-coherent"):
-        raise ValueError(f"feature_aligned_surface searches k-coherent candidates below the coarsest level; pass "
-                         f"search=Search(candidates='k-coherent'), got candidates={search.candidates!r}")
-    if not (is_auto(schedule.order) or schedule.order == "independent"):
-        raise ValueError(f"feature_aligned_surface matches in the independent order only; pass "
-                         f"schedule=SurfaceSchedule(order='independent'), got order={schedule.order!r}")
-    chosen = dict(PRESETS["default"])
-    for name, value in dict(neighborhood_size=schedule.neighborhood_size, parent_size=schedule.parent_size,
-                            levels=schedule.levels, passes=schedule.passes, k=search.k, method=search.method).items():
-        if not is_auto(value):
-            chosen[name] = value
-    size = patch_shape(chosen["neighborhood_size"], "neighborhood_size")
-    psize = patch_shape(chosen["parent_size"], "parent_size")
-    levels = check_positive_int(chosen["levels"], "levels")
-    passes = check_positive_int(chosen["passes"], "passes")
-    k = check_positive_int(chosen["k"], "k")
-    method = check_method(chosen["method"])
+    opts = guided_options(schedule, search, "feature_aligned_surface", "the tangent field already orients the "
+                          "exemplar")
+    size, psize, levels, passes = opts.size, opts.parent_size, opts.levels, opts.passes
     alignment_weight = check_positive_float(alignment_weight, "alignment_weight", allow_zero=True, maximum=1e6)
     symmetry = check_symmetry(symmetry)
     rng = as_rng(rng)
@@ -681,8 +620,8 @@ def feature_aligned_surface(
         given.append(mean + (1.0 - mean) * _feature(near))
         guides.append(wf * given[-1][:, None])
     with Progress(progress, levels * passes, "Xu et al.") as bar:
-        values, sources = _synthesize(frames, work, guides, (size, psize, passes, chosen["falloff"]), k, method,
-                                      rng, bar, info)
+        values, sources, energies = guided_levels(frames, work, guides, opts, rng, bar, info.stage_seconds)
+    info.energy, info.stage = np.array(energies), np.arange(levels)
     count = image.shape[2]
     info.levels = [m.with_colors(np.clip(values[level][:, :count], 0, 1)) for level, m in enumerate(hierarchy)]
     out = info.levels[0]

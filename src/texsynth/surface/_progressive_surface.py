@@ -59,18 +59,14 @@ from dataclasses import dataclass, field as dataclass_field
 import numpy as np
 
 from ..core._progress import Progress
-from ..core._validate import (as_array, as_image, as_rng, check_group, check_memory, check_positive_float,
-                              check_positive_int, with_channels)
-from ..core.neighborhood import patch_shape
+from ..core._validate import as_array, as_image, as_rng, check_memory, check_positive_float, with_channels
 from ..core.pyramid import gaussian_pyramid
-from ..core.search import Search, check_method, is_auto, point_tree, refuse_augment
+from ..core.search import Search, point_tree
 from ..core.textons import find_textons, progressive_sample
 from ._field import check_field
 from ._meshio import as_mesh
 from ._retile import mesh_hierarchy, resolve_count
-from ._vertex_synthesis import (PRESETS, SUBPASSES, CoherentSearch, ExemplarLevel, GlobalSearch, SurfaceSchedule,
-                                grid_offsets, level_frames, match_level, predict_sources, resample_grid,
-                                resampling_matrix, seed_sources)
+from ._vertex_synthesis import SurfaceSchedule, guided_levels, guided_options, level_frames
 
 __all__ = ["progressive_surface", "ProgressiveSurfaceInfo"]
 
@@ -172,50 +168,6 @@ def _check_blend(blend, mesh):
     return values.astype(np.float64)
 
 
-def _synthesize(frames, work, guides, schedule, k, method, rng, bar, name, info):
-    """A multi-level vertex synthesis of the ``work`` image whose last channels are the per-vertex ``guides``.
-
-    ``guides[l]`` ``(N_l, G)`` stands for the last ``G`` channels of ``work`` in every query at level ``l``
-    (:func:`~texsynth.surface._vertex_synthesis.match_level`); the rest is synthesised as in
-    :func:`~texsynth.surface.synthesize_surface` (independent order; global search at the coarsest level,
-    k-coherent candidates below). Returns each level's synthesised values (finest first) and the finest
-    level's source pixels.
-    """
-    size, psize, passes, falloff = schedule
-    levels = len(frames)
-    pyramid = gaussian_pyramid(work, levels)
-    offsets, parent_offsets = grid_offsets(size), grid_offsets(psize)
-    channels = work.shape[2]
-    values, sources, centers = [None] * levels, None, None
-    for level in range(levels - 1, -1, -1):
-        t0 = time.perf_counter()
-        frame = frames[level]
-        parent = frames[level + 1] if level + 1 < levels else None
-        n = len(frame.points)
-        ex = ExemplarLevel(pyramid[level], None if parent is None else pyramid[level + 1], size, psize, falloff)
-        vertex, valid = resample_grid(frame, frame, offsets, frame.spacing)
-        fixed_part = None
-        if parent is None:
-            predicted = seed_sources(frame, ex, rng)
-            searcher = GlobalSearch(ex, method, n, rng)
-        else:
-            up, pvalid = resample_grid(frame, parent, parent_offsets, parent.spacing)
-            above = np.concatenate([values[level + 1][:, :channels - guides[level + 1].shape[1]],
-                                    guides[level + 1]], axis=1)
-            fixed_part = (resampling_matrix(up, pvalid, len(parent.points)) @ above).reshape(n, -1)
-            valid = np.concatenate([valid, pvalid], axis=1)
-            predicted = predict_sources(frame, parent, centers, ex, rng)
-            searcher = CoherentSearch(frame, ex, k, method, predicted, rng)
-        query_weights = None if valid.all() else np.repeat(valid, channels, axis=1) * ex.weights
-        here = resampling_matrix(vertex, valid[:, :len(offsets)], n)
-        sources, d2 = match_level(frame, ex, here, fixed_part, query_weights, predicted, searcher, passes,
-                                  SUBPASSES, rng, bar, level, guide=guides[level])
-        values[level], centers = ex.colors[sources], ex.centers[sources]
-        info.energy.append(float(np.mean(d2)))
-        info.stage_seconds[f"{name} level {level}"] = time.perf_counter() - t0
-    return values, centers
-
-
 def progressive_surface(
     mesh,
     exemplar,
@@ -314,26 +266,8 @@ def progressive_surface(
     """
     start = time.perf_counter()
     mesh = as_mesh(mesh)
-    schedule = check_group(schedule, SurfaceSchedule, "schedule")
-    search = check_group(search, Search, "search")
-    refuse_augment(search.augment, "progressive_surface", "the tangent field already orients the sample")
-    if not (is_auto(search.candidates) or search.candidates == "k-coherent"):
-        raise ValueError(f"progressive_surface searches k-coherent candidates below the coarsest level; pass "
-                         f"search=Search(candidates='k-coherent'), got candidates={search.candidates!r}")
-    if not (is_auto(schedule.order) or schedule.order == "independent"):
-        raise ValueError(f"progressive_surface matches in the independent order only; pass "
-                         f"schedule=SurfaceSchedule(order='independent'), got order={schedule.order!r}")
-    chosen = dict(PRESETS["default"])
-    for name, value in dict(neighborhood_size=schedule.neighborhood_size, parent_size=schedule.parent_size,
-                            levels=schedule.levels, passes=schedule.passes, k=search.k, method=search.method).items():
-        if not is_auto(value):
-            chosen[name] = value
-    size = patch_shape(chosen["neighborhood_size"], "neighborhood_size")
-    psize = patch_shape(chosen["parent_size"], "parent_size")
-    levels = check_positive_int(chosen["levels"], "levels")
-    passes = check_positive_int(chosen["passes"], "passes")
-    k = check_positive_int(chosen["k"], "k")
-    method = check_method(chosen["method"])
+    opts = guided_options(schedule, search, "progressive_surface", "the tangent field already orients the sample")
+    size, psize, levels, passes = opts.size, opts.parent_size, opts.levels, opts.passes
     texton_weight = check_positive_float(texton_weight, "texton_weight", allow_zero=True, maximum=1e6)
     blend_weight = check_positive_float(blend_weight, "blend_weight", allow_zero=True, maximum=1e6)
     field = check_field(field, len(mesh.vertices), 1)
@@ -370,13 +304,14 @@ def progressive_surface(
     info.stage_seconds["field"] = time.perf_counter() - t0
 
     wf = np.sqrt(blend_weight)
-    schedule_values = (size, psize, passes, chosen["falloff"])
     with Progress(progress, levels * passes * (2 if masks is not None else 1), "Zhang et al.") as bar:
         guides = [wf * t[:, None] for t in targets]
         if masks is not None:
             # step 2: the texton mask, with F as the guide
             work = np.stack([sample_mask.astype(np.float64), wf * sample_blend], axis=-1)
-            mask_values, _ = _synthesize(frames, work, guides, schedule_values, k, method, rng, bar, "mask", info)
+            mask_values, _, energies = guided_levels(frames, gaussian_pyramid(work, levels), guides, opts, rng, bar,
+                                                     info.stage_seconds, "mask level")
+            info.energy.extend(energies)
             wm = np.sqrt(texton_weight)
             guides = [np.concatenate([wm * v[:, :1], g], axis=1) for v, g in zip(mask_values, guides)]
             info.texton_mask = mask_values[0][:, 0] > 0.5
@@ -384,8 +319,9 @@ def progressive_surface(
         else:
             parts = [sample, wf * sample_blend[..., None]]
         # step 3: the texture, with the mask and F as guides
-        values, sources = _synthesize(frames, np.concatenate(parts, axis=-1), guides, schedule_values, k, method,
-                                      rng, bar, "texture", info)
+        values, sources, energies = guided_levels(frames, gaussian_pyramid(np.concatenate(parts, axis=-1), levels),
+                                                  guides, opts, rng, bar, info.stage_seconds, "texture level")
+        info.energy.extend(energies)
     color_count = images[0].shape[2]
     for level, m in enumerate(hierarchy):
         info.levels.append(m.with_colors(np.clip(values[level][:, :color_count], 0, 1)))

@@ -522,6 +522,98 @@ def synthesize_surface(
     return (out, info) if return_info else out
 
 
+@dataclass(frozen=True)
+class GuidedSchedule:
+    """The resolved options of a guided vertex synthesis (:func:`guided_options`, :func:`guided_levels`)."""
+
+    size: tuple
+    parent_size: tuple
+    levels: int
+    passes: int
+    k: int
+    method: str
+    falloff: float
+
+
+def guided_options(schedule, search, function, why):
+    """A :class:`GuidedSchedule` from a method's ``schedule`` and ``search`` (``"auto"``: the default preset's).
+
+    For the methods that synthesise guided vertex colours on :func:`guided_levels` (progressively-variant
+    and feature-aligned textures): k-coherent candidates below the coarsest level and the independent
+    order only; ``function`` names the method in the errors and ``why`` says why it refuses augmentation.
+    """
+    schedule = check_group(schedule, SurfaceSchedule, "schedule")
+    search = check_group(search, Search, "search")
+    refuse_augment(search.augment, function, why)
+    if not (is_auto(search.candidates) or search.candidates == "k-coherent"):
+        raise ValueError(f"{function} searches k-coherent candidates below the coarsest level; pass "
+                         f"search=Search(candidates='k-coherent'), got candidates={search.candidates!r}")
+    if not (is_auto(schedule.order) or schedule.order == "independent"):
+        raise ValueError(f"{function} matches in the independent order only; pass "
+                         f"schedule=SurfaceSchedule(order='independent'), got order={schedule.order!r}")
+    chosen = dict(PRESETS["default"])
+    for name, value in dict(neighborhood_size=schedule.neighborhood_size, parent_size=schedule.parent_size,
+                            levels=schedule.levels, passes=schedule.passes, k=search.k, method=search.method).items():
+        if not is_auto(value):
+            chosen[name] = value
+    return GuidedSchedule(patch_shape(chosen["neighborhood_size"], "neighborhood_size"),
+                          patch_shape(chosen["parent_size"], "parent_size"),
+                          check_positive_int(chosen["levels"], "levels"), check_positive_int(chosen["passes"], "passes"),
+                          check_positive_int(chosen["k"], "k"), check_method(chosen["method"]), chosen["falloff"])
+
+
+def guided_levels(frames, pyramid, guides, schedule, rng, bar, stage_seconds, label="level"):
+    """A multi-level vertex synthesis whose last channels are given per vertex (a guide).
+
+    ``pyramid`` holds the exemplar's levels, finest first, each ``(h, w, C)``; ``guides[l]`` ``(N_l, G)``
+    stands for the last ``G`` channels in every query at level ``l`` (:func:`match_level`'s ``guide``). The
+    rest is synthesised as :func:`synthesize_surface` does in the independent order: a global search at the
+    coarsest level, k-coherent candidates below it (``schedule``: a :class:`GuidedSchedule`). Each level's
+    time goes into ``stage_seconds["{label} {level}"]``.
+
+    Returns
+    -------
+    values : list of numpy.ndarray
+        Per level, finest first, ``(N_l, C)`` the synthesised values.
+    sources : numpy.ndarray of int
+        ``(N, 2)`` the finest level's exemplar pixels.
+    energies : list of float
+        Per level, coarsest first, the mean squared distance of the last pass.
+    """
+    levels = len(frames)
+    offsets, parent_offsets = grid_offsets(schedule.size), grid_offsets(schedule.parent_size)
+    channels = pyramid[0].shape[2]
+    values, centers, energies = [None] * levels, None, []
+    for level in range(levels - 1, -1, -1):
+        t0 = time.perf_counter()
+        frame = frames[level]
+        parent = frames[level + 1] if level + 1 < levels else None
+        n = len(frame.points)
+        ex = ExemplarLevel(pyramid[level], None if parent is None else pyramid[level + 1], schedule.size,
+                           schedule.parent_size, schedule.falloff)
+        vertex, valid = resample_grid(frame, frame, offsets, frame.spacing)
+        fixed_part = None
+        if parent is None:
+            predicted = seed_sources(frame, ex, rng)
+            searcher = GlobalSearch(ex, schedule.method, n, rng)
+        else:
+            up, pvalid = resample_grid(frame, parent, parent_offsets, parent.spacing)
+            above = np.concatenate([values[level + 1][:, :channels - guides[level + 1].shape[1]],
+                                    guides[level + 1]], axis=1)
+            fixed_part = (resampling_matrix(up, pvalid, len(parent.points)) @ above).reshape(n, -1)
+            valid = np.concatenate([valid, pvalid], axis=1)
+            predicted = predict_sources(frame, parent, centers, ex, rng)
+            searcher = CoherentSearch(frame, ex, schedule.k, schedule.method, predicted, rng)
+        query_weights = None if valid.all() else np.repeat(valid, channels, axis=1) * ex.weights
+        here = resampling_matrix(vertex, valid[:, :len(offsets)], n)
+        sources, d2 = match_level(frame, ex, here, fixed_part, query_weights, predicted, searcher, schedule.passes,
+                                  SUBPASSES, rng, bar, level, guide=guides[level])
+        values[level], centers = ex.colors[sources], ex.centers[sources]
+        energies.append(float(np.mean(d2)))
+        stage_seconds[f"{label} {level}"] = time.perf_counter() - t0
+    return values, centers, energies
+
+
 def level_frames(mesh, hierarchy, field, symmetry, rng):
     """The :class:`SurfaceFrame` of every level of a mesh hierarchy (finest first), and the finest spacing.
 
