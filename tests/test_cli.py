@@ -1141,6 +1141,14 @@ def test_feature_aligned_on_a_creased_mesh_and_on_drawn_curves(tmp_path):
     assert run("surface", str(tmp_path / "crease.ply"), str(brick), "-o", str(tmp_path / "out.ply"), "--mode",
                "feature-aligned", "--n-vertices", "1500", "--levels", "2", "-s", "0") == 0
     assert len(read_mesh(tmp_path / "out.ply").colors) > 1000
+    from texsynth.surface import torus
+
+    ring = torus(2500)  # no sharp ridge: the curves are given, the vertices of its outer equator
+    write_mesh(tmp_path / "ring.ply", ring)
+    np.save(tmp_path / "equator.npy", np.abs(ring.vertices[:, 2]) < 0.03)
+    assert run("surface", str(tmp_path / "ring.ply"), str(brick), "-o", str(tmp_path / "ring_out.ply"), "--mode",
+               "feature-aligned", "--curves", str(tmp_path / "equator.npy"), "--n-vertices", "1500", "--levels", "2",
+               "-s", "0") == 0
     curves = np.zeros((48, 48, 3))
     curves[4:44, 24] = 1.0  # drawn in colour: the channels are averaged
     save_image(tmp_path / "curves.png", curves)

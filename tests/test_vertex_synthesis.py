@@ -310,3 +310,15 @@ def test_synthesis_bad_input():
         synthesize_surface(s, ex, schedule={"levels": 2})
     with pytest.raises(ValueError, match="passes must be"):
         synthesize_surface(s, ex, schedule=SurfaceSchedule(levels=2, passes=0))
+
+
+def test_a_mesh_of_pieces_smaller_than_the_spacing_is_refused_by_name():
+    """300 specks, each far smaller than the vertex spacing: retiled vertices on no face would give no frame."""
+    from texsynth.surface import Mesh
+
+    speck = sphere(42)
+    centers = np.random.default_rng(0).uniform(-3, 3, (300, 3))
+    vertices = np.concatenate([speck.vertices * 0.05 + c for c in centers])
+    faces = np.concatenate([speck.faces + i * len(speck.vertices) for i in range(300)])
+    with pytest.raises(ValueError, match="mesh: .* lie on no face .*n_vertices"):
+        synthesize_surface(Mesh(vertices, faces), load("bread")[:48, :48], n_vertices=600, rng=0)

@@ -36,6 +36,8 @@ def add_surface_parser(sub):
                               "progressive: from EXEMPLAR to --exemplar-b along --blend (Zhang et al. 2003); "
                               "feature-aligned: the exemplar's edges along the mesh's ridges and valleys (Xu et al. "
                               "2009)")
+    surface.add_argument("--curves", help="feature-aligned mode: an .npy of the curves' vertices (a bool mask or "
+                                          "indices of MESH's vertices); default: its ridges and valleys")
     surface.add_argument("--exemplar-b", help="progressive mode: the texture where the transition reaches 1")
     surface.add_argument("--blend", default="z",
                          help="progressive mode: the transition, x, y or z (0 at the mesh's lowest coordinate, 1 at "
@@ -101,6 +103,8 @@ def _surface_blend(text):
 
 
 def run_surface(args):
+    import numpy as np
+
     from .io import load_image, save_image
     from .surface import (feature_aligned_surface, lapped_textures, progressive_surface, read_mesh, render_mesh,
                           synthesize_surface, write_mesh)
@@ -126,6 +130,8 @@ def run_surface(args):
             raise CommandError(f"--preview {args.preview!r} exists; pass --overwrite to replace it")
     if args.exemplar_b is not None and args.mode != "progressive":
         raise CommandError("--exemplar-b belongs to --mode progressive")
+    if args.curves is not None and args.mode != "feature-aligned":
+        raise CommandError("--curves belongs to --mode feature-aligned")
     if args.exemplar_b is not None and out.resolve() == Path(args.exemplar_b).resolve():
         raise CommandError(f"output {args.output!r} is also an input; choose another output path")
     mesh = read_mesh(args.mesh, allow_outside=args.allow_outside)
@@ -143,6 +149,7 @@ def run_surface(args):
                                "the field in feature-aligned mode, which takes --n-vertices, --levels, --symmetry")
         options = group_options(feature_aligned_surface, {
             "n_vertices": args.n_vertices, "symmetry": args.symmetry, "rng": args.seed,
+            **({"curves": np.load(args.curves, allow_pickle=False)} if args.curves else {}),
             **({"levels": args.levels} if args.levels is not None else {})})
         result = feature_aligned_surface(mesh, exemplar[..., :3] if exemplar.ndim == 3 and exemplar.shape[2] == 4
                                          else exemplar, **options)

@@ -623,6 +623,13 @@ def level_frames(mesh, hierarchy, field, symmetry, rng):
     neighbourhoods). Level ``l``'s spacing is ``2**l`` times the finest, the lattice spacing of the surface.
     """
     spacing = lattice_spacing(float(mesh.face_areas.sum()), len(hierarchy[0].vertices))
+    for level, m in enumerate(hierarchy):
+        lost = int(np.count_nonzero(~(np.linalg.norm(m.vertex_normals, axis=1) > 0)))
+        if lost:
+            raise ValueError(f"mesh: {lost} of the {len(m.vertices)} vertices retiled at level {level} lie on no "
+                             f"face (the mesh has parts smaller than the vertex spacing {spacing * 2 ** level:.3g}, "
+                             "such as many small separate pieces); pass more n_vertices or fewer levels, or remove "
+                             "the small pieces")
     tangents = field_vectors(hierarchy[0].vertices, hierarchy[0].vertex_normals, field, symmetry=symmetry, rng=rng,
                              vertices=mesh.vertices)
     frames = [SurfaceFrame(m, tangents if level == 0 else field_vectors(m.vertices, m.vertex_normals, tangents,
