@@ -58,13 +58,13 @@ def grid_kept(out, lattice, found_by):
     """Per axis (rows, columns): the share of the lines the exemplar's lattice predicts that the output shows,
     found by the near-regular method's own line detector (lines of the exemplar's polarity at its period within
     5 %), or None where it finds none."""
-    from texsynth.patch._near_regular import _axis_lattice, _luminance
+    from texsynth.patch._near_regular import axis_lattice, luminance
 
-    grey = _luminance(out)
+    grey = luminance(out)
     sign = 1 if found_by == "dark lines" else -1
     shares = []
     for axis, period in ((1, lattice[0]), (0, lattice[1])):
-        found = _axis_lattice(grey.mean(axis=axis), sign, 3)
+        found = axis_lattice(grey.mean(axis=axis), sign, 3)
         shares.append(found[2] if found is not None and abs(found[0] - period) <= 0.05 * period else None)
     return shares
 

@@ -137,13 +137,13 @@ class NearRegularInfo(QuiltInfo):
 # 1. The lattice
 
 
-def _luminance(image):
+def luminance(image):
     """The mean of the colour channels (alpha left out), as the structure metrics measure it."""
     channels = image.shape[2]
     return image[..., : 3 if channels >= 3 else 1].mean(-1)
 
 
-def _axis_lattice(profile, sign, min_distance):
+def axis_lattice(profile, sign, min_distance):
     """``(period, origin, share)`` of one axis from its profile's dips (``sign`` 1: dark lines, -1: bright; share:
     of the lines the lattice predicts inside the profile, those found), or None when fewer than two strong dips
     or the dips do not fall on one period."""
@@ -214,8 +214,8 @@ def _lines_lattice(grey):
     """``(lattice, found_by, shares)`` from full-length dark (else bright) lines along both axes, or None."""
     min_distance = 3  # peaks closer than this are one line (and so are those of one dip: _dips)
     for sign, name in ((1, "dark lines"), (-1, "bright lines")):
-        rows = _axis_lattice(grey.mean(axis=1), sign, min_distance)
-        cols = _axis_lattice(grey.mean(axis=0), sign, min_distance)
+        rows = axis_lattice(grey.mean(axis=1), sign, min_distance)
+        cols = axis_lattice(grey.mean(axis=0), sign, min_distance)
         if rows is not None and cols is not None:
             return (rows[0], cols[0], rows[1], cols[1]), name, (rows[2], cols[2])
     return None
@@ -244,7 +244,7 @@ def _autocorrelation_lattice(image, grey):
 def find_lattice(image):
     """``(lattice, found_by)``: the axis-aligned lattice ``(period_rows, period_cols, origin_row, origin_col)``
     of a channels-last image, or a ValueError naming ``lattice`` when there is none."""
-    grey = _luminance(image)
+    grey = luminance(image)
     found = _lines_lattice(grey)
     if found is not None:
         return tuple(round(v, 2) for v in found[0]), found[1]
@@ -575,7 +575,7 @@ def near_regular_texture(exemplar, size, *, lattice="auto", overlap="auto", erro
     tileable = check_bool(tileable, "tileable")
     tolerance = check_tolerance(error_tolerance)
     gen = as_rng(rng)
-    grey = _luminance(ex64)
+    grey = luminance(ex64)
     lines = None  # the grid of lines, when lattice="auto" found one
     if is_auto(lattice):
         found, found_by = find_lattice(ex64)
