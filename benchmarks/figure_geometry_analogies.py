@@ -13,16 +13,13 @@ the field along the axis; the target ``b`` a torus, the field along its tube.
   field: image analogies on a voxel grid), four sides;
 - ``geometry_analogies_variants.png``: pits, spikes and the dilation on a 72^3 torus, two sides each.
 
-Each mesh is ``texsynth.geometry.sdf_to_mesh`` of the volume, rendered by ``texsynth.render_mesh``. Where the
-raw volume's marching-cubes mesh has non-manifold edges (which ``render_mesh`` refuses), the volume is
-rendered after a Gaussian filter of 0.5 voxel; the script prints which.
+Each mesh is ``texsynth.geometry.sdf_to_mesh`` of the volume, rendered by ``texsynth.render_mesh``.
 """
 
 import argparse
 import os
 
 import numpy as np
-from scipy import ndimage
 
 import texsynth
 from texsynth import data
@@ -35,12 +32,7 @@ def along_tube(size):
 
 
 def render(volume, size, views, label):
-    try:
-        return texsynth.render_mesh(sdf_to_mesh(volume), size, views=views)
-    except ValueError as error:  # a few non-manifold edges from marching cubes' ambiguous cells
-        print(f"{label}: rendered after a 0.5-voxel Gaussian filter ({str(error)[:60]}...)")
-        field = ndimage.gaussian_filter(texsynth.geometry.as_distance_field(volume), 0.5)
-        return texsynth.render_mesh(sdf_to_mesh(field), size, views=views)
+    return texsynth.render_mesh(sdf_to_mesh(volume), size, views=views)
 
 
 def save(out, name, image):

@@ -274,3 +274,13 @@ def test_mesh_to_sdf_on_a_grid_mesh_and_its_refusals():
         mesh_to_sdf((ball.vertices, ball.faces + len(ball.vertices)), 8)
     with pytest.raises(ValueError, match="voxels.*GiB"):
         mesh_to_sdf(ball, 100_000)
+
+
+def test_sdf_to_mesh_is_manifold_where_cube_faces_tie():
+    """Random occupancy: every cube face's corners tie at +-1/2, an ambiguity marching cubes may resolve two ways
+    in the two cubes that share it (198 edges of three or four faces before the ties were broken)."""
+    occupancy = np.random.default_rng(0).random((24, 24, 24)) > 0.5
+    vertices, faces = sdf_to_mesh(occupancy)
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), 1)
+    assert np.all(np.unique(edges, axis=0, return_counts=True)[1] == 2)  # closed and manifold
+    as_mesh((vertices, faces))  # the surface family's checks accept it

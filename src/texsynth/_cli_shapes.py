@@ -350,31 +350,17 @@ def _checked_output(args, inputs, kinds):
 
 
 def _write_volume_or_mesh(args, out, sdf, spacing, origin):
-    """A distance volume as an .npy file or as a mesh in the input's units and place, and its preview.
-
-    A surface that pinches along a voxel edge (two inside voxels meeting only there) gives marching cubes'
-    mesh non-manifold edges, which the mesh writers refuse: such a volume is meshed after smoothing it by
-    half a voxel (a Gaussian), which opens the pinches."""
-    import numpy as np
-    from scipy import ndimage
-
+    """A distance volume as an .npy file or as a mesh in the input's units and place, and its preview."""
     from .geometry import sdf_to_mesh
     from .io import save_image
     from .surface import render_mesh, write_mesh
 
-    def mesh_of(field, spacing=1.0):
-        vertices, faces = sdf_to_mesh(field, spacing=spacing)
-        edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-        if np.unique(edges, axis=0, return_counts=True)[1].max() > 2:
-            vertices, faces = sdf_to_mesh(ndimage.gaussian_filter(field, 0.5), spacing=spacing)
-        return vertices, faces
-
     if out.suffix.lower() == ".npy":
         prepare_target(out, args.overwrite)
         atomic_write(out, lambda tmp: _save_volume(tmp, sdf))
-        mesh = mesh_of(sdf) if args.preview else None
+        mesh = sdf_to_mesh(sdf) if args.preview else None
     else:
-        vertices, faces = mesh_of(sdf, spacing)
+        vertices, faces = sdf_to_mesh(sdf, spacing=spacing)
         mesh = (vertices + origin, faces)
         write_mesh(out, mesh, overwrite=args.overwrite)
     written = [out]

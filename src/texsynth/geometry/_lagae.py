@@ -69,6 +69,8 @@ from ..core.seams import graph_cut
 
 __all__ = ["GeometryInfo", "synthesize_geometry", "sdf_to_mesh", "as_distance_field"]
 
+#: Voxels: the largest shift of the distance values by which sdf_to_mesh breaks ties (see there)
+_TIE_BREAK = 1e-4
 #: Blocks never smaller than this many voxels a side by default ...
 MIN_AUTO_BLOCK = 8
 #: ... nor larger (a third of the example's smallest side in between).
@@ -614,6 +616,11 @@ def sdf_to_mesh(sdf, iso_level=0.0, spacing=1.0, *, closed=True):
     # values exactly at the iso_level put vertices on voxel corners and make zero-area triangles: nudge them outside
     scale = max(float(np.abs(field - iso_level).max()), 1.0)
     field = np.where(field == iso_level, iso_level + 1e-6 * scale, field)
+    # a cube face whose corners tie (an occupancy's +-1/2 in a checkerboard, a clipped field's copies) is
+    # ambiguous, and marching cubes may resolve it differently in the two cubes that share it: edges of three or
+    # four faces. A fixed, irrational pattern of at most _TIE_BREAK voxels breaks every tie the same way each time
+    i, j, k = np.indices(field.shape, sparse=True)
+    field = field + _TIE_BREAK * np.modf(i * 0.7548776662466927 + j * 0.5698402909980532 + k * 0.3472963553338607)[0]
     offset = 0.0
     if closed:
         field = np.pad(field, 1, constant_values=iso_level + scale)
