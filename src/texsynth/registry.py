@@ -388,6 +388,20 @@ def _inpaint(exemplar, seed):
     return _side_by_side([shown, inpaint(image, hole, rng=seed)])
 
 
+def _feature_aligned_rings(exemplar, seed):
+    import numpy as np
+
+    from .optimization import feature_aligned_texture
+
+    size = 160  # two rings drawn as the curves: the mortar follows them
+    t = np.linspace(0, 2 * np.pi, 16 * size)
+    curves = np.zeros((size, size), bool)
+    for r in (0.2 * size, 0.4 * size):
+        curves[np.rint(79.5 + r * np.sin(t)).astype(int), np.rint(79.5 + r * np.cos(t)).astype(int)] = True
+    return _side_by_side([np.repeat(curves[..., None], 3, axis=-1).astype(float),
+                          feature_aligned_texture(exemplar, curves, rng=seed)])
+
+
 def _make_tileable(exemplar, seed):
     import numpy as np
 
@@ -526,7 +540,10 @@ METHODS: dict[str, Method] = {
     "feature-aligned-texture": _m("optimization:feature_aligned_texture",
                                   "After Xu et al. 2009: a texture whose direction follows drawn curves and whose "
                                   "feature lines (edges) lie on them (EXEMPLAR CURVES.png)", _XU, "feature_aligned",
-                                  inputs="pair", size=None),
+                                  inputs="pair", size=None,
+                                  demos=[("feature_aligned_rings_brick", "Feature-aligned texture: two drawn rings "
+                                          "(left), the brick's mortar laid along them (right)", "brick",
+                                          _feature_aligned_rings)]),
     "patchwork": _m("patch:patchwork", "Harrison 2002: Voronoi patchwork with invisible joins (fast, tileable)",
                     _HARRISON, "patchwork",
                     demos=[("patchwork_water", "Harrison patchwork, tileable (grid 64, f = 6)", "water",
@@ -712,18 +729,66 @@ def _surface_demo(mode):
     return make
 
 
+def _shape_demo(kind):
+    """``make(exemplar, seed)``: a preview (two views) of one of the mesh and geometry methods on a test shape."""
+
+    def make(exemplar, seed):
+        import numpy as np
+
+        from . import geometry, surface
+
+        if kind == "feature_aligned":  # a sphere with four sharp crests along its meridians
+            ball = surface.sphere(2562)
+            v = ball.vertices
+            phi = np.arctan2(v[:, 1], v[:, 0])
+            v = v * (1 + 0.25 * (1 - np.abs(np.sin(2 * phi))) * np.sqrt(np.clip(1 - v[:, 2] ** 2, 0, 1)))[:, None]
+            mesh = surface.feature_aligned_surface(surface.Mesh(v * [1, 1, 0.7], ball.faces), exemplar,
+                                                   n_vertices=6000, rng=seed)
+        elif kind == "btf":  # a BTF sample of stones over a torus, lit from above and a little from the left
+            covered = surface.synthesize_btf_surface(surface.torus(), data.btf("stones", 96, n_lights=32),
+                                                     n_vertices=12000, n_textons=32, rng=seed)
+            return surface.render_mesh(surface.render_btf_surface(covered, (-0.4, 0.2, 1.0)), 384, views=2,
+                                       ambient=1.0)
+        elif kind == "mesh_quilting":
+            ball = surface.bumpy(10242, rng=0)
+            elements, faces = geometry.mesh_quilting(data.swatch("rivets"), ball, unit_length=0.13, rng=seed)
+            mesh = (np.concatenate([ball.vertices, elements]), np.concatenate([ball.faces, faces + len(ball.vertices)]))
+        else:  # geometry synthesis: the pebbles volume, larger
+            mesh = geometry.sdf_to_mesh(geometry.synthesize_geometry(data.volume("pebbles"), 64, rng=seed))
+        return surface.render_mesh(mesh, 384, views=2)
+
+    return make
+
+
 _TURK = ("Turk, SIGGRAPH 2001, doi:10.1145/383259.383297; Wei & Levoy, SIGGRAPH 2001, "
          "doi:10.1145/383259.383298")
 _PRAUN = "Praun, Finkelstein & Hoppe, SIGGRAPH 2000, doi:10.1145/344779.344987"
 _ZHANG_SURFACE = "Zhang, Zhou, Velho, Guo & Shum, SIGGRAPH 2003, doi:10.1145/882262.882344"
+_LAGAE = ("Lagae, Dumont & Dutré, \"Geometry synthesis by example\", Shape Modeling International 2005, "
+          "doi:10.1109/SMI.2005.19")
+_TONG_2002 = ("Tong, Zhang, Liu, Wang, Guo & Shum, \"Synthesis of bidirectional texture functions on arbitrary "
+              "surfaces\", SIGGRAPH 2002, doi:10.1145/566654.566634")
+_ZHOU_2006 = ("Zhou, Huang, Wang, Tong, Desbrun, Guo & Shum, \"Mesh quilting for geometric texture synthesis\", "
+              "SIGGRAPH 2006, doi:10.1145/1141911.1141921")
+_BHAT = ("Bhat, Ingram & Turk, \"Geometric texture synthesis by example\", Eurographics Symposium on Geometry "
+         "Processing 2004, doi:10.2312/SGP/SGP04/041-044")
 
 SURFACE_DEMOS = [
     Demo("surface_vertex_brick", "vertex synthesis on a sphere, courses along the latitudes (texsynth surface)",
          _TURK, "brick", _surface_demo("vertex")),
     Demo("surface_lapped_brick", "lapped textures on a torus (texsynth surface --mode lapped)", _PRAUN, "brick",
          _surface_demo("lapped")),
+    Demo("surface_feature_aligned_brick", "feature-aligned texturing: mortar along the four crests of a sphere "
+         "(texsynth surface --mode feature-aligned)", _XU, "brick", _shape_demo("feature_aligned")),
+    Demo("btf_stones_torus", "BTF synthesis: a rendered BTF of stones over a torus, lit from above "
+         "(texsynth btf stones --mesh)", _TONG_2002, None, _shape_demo("btf")),
+    Demo("geometry_pebbles", "geometry synthesis: a 64³ volume of pebbles from the 48³ example (texsynth geometry)",
+         _LAGAE, None, _shape_demo("geometry")),
+    Demo("mesh_quilting_rivets", "mesh quilting: rivets over a bumpy sphere (texsynth mesh-quilting)", _ZHOU_2006,
+         None, _shape_demo("mesh_quilting")),
 ]
-"""The gallery's previews of the surface family, whose command (``texsynth surface``) is not a registry method."""
+"""The gallery's previews of the methods whose commands are not registry methods: on meshes (``texsynth surface``,
+``texsynth btf``) and of geometry (``texsynth geometry``, ``texsynth mesh-quilting``)."""
 
 
 def demos():
@@ -798,10 +863,6 @@ _SURFACE_METHODS = (
 )
 
 
-_LAGAE = ("Lagae, Dumont & Dutré, \"Geometry synthesis by example\", Shape Modeling International 2005, "
-          "doi:10.1109/SMI.2005.19")
-_TONG_2002 = ("Tong, Zhang, Liu, Wang, Guo & Shum, \"Synthesis of bidirectional texture functions on arbitrary "
-              "surfaces\", SIGGRAPH 2002, doi:10.1145/566654.566634")
 _BTF_METHODS = (
     MethodEntry("texsynth.pixel.synthesize_btf", "texsynth btf",
                 "BTF synthesis on the plane: one k-coherent synthesis of the sample's 3-D textons, every light's "
@@ -810,10 +871,6 @@ _BTF_METHODS = (
                 "BTF synthesis on a mesh: a sample position per vertex from the 3-D textons, rendered for any light "
                 "and view", _TONG_2002),
 )
-_ZHOU_2006 = ("Zhou, Huang, Wang, Tong, Desbrun, Guo & Shum, \"Mesh quilting for geometric texture synthesis\", "
-              "SIGGRAPH 2006, doi:10.1145/1141911.1141921")
-_BHAT = ("Bhat, Ingram & Turk, \"Geometric texture synthesis by example\", Eurographics Symposium on Geometry "
-         "Processing 2004, doi:10.2312/SGP/SGP04/041-044")
 _GEOMETRY_METHODS = (
     MethodEntry("texsynth.geometry.synthesize_geometry", "texsynth geometry",
                 "Geometry synthesis: an example shape (a closed mesh or a distance volume) quilted into a larger one "
