@@ -174,8 +174,9 @@ def test_matching_lowers_the_overlap_distance(rivets, ball, on_ball):
         matched = on_ball[seed][2].costs
         random = mesh_quilting(rivets, ball, unit_length=unit_length, rng=seed, placement="random", return_info=True)[2].costs
         # measured: 0.65-0.68 of the random offsets' (on a sphere no offset continues the rivets' rows into
-        # every neighbouring patch at once); margin: below 0.8
-        assert matched[matched > 0].mean() < 0.8 * random[random > 0].mean()
+        # every neighbouring patch at once); a search that matched nothing would give about 1; bound 0.9, so
+        # that another machine's different draws among near-best offsets keep a margin of 0.2
+        assert matched[matched > 0].mean() < 0.9 * random[random > 0].mean()
 
 
 def test_matching_continues_the_rows_on_a_plane(rivets):
