@@ -186,6 +186,22 @@ def test_a_loop_wraps_like_consecutive_frames(waves, flame):
     assert np.abs(plain[0] - plain[-1]).mean() > 1.5 * np.abs(np.diff(waves, axis=0)).mean(axis=(1, 2, 3)).max()
 
 
+def test_refinement_lowers_the_seams_and_keeps_every_voxel_a_copy(waves):
+    """Refinement patches (Section 4) after the same covering: each cut can only lower the total seam cost
+    (keeping the old voxels is one of its cuts), and the output stays a patchwork of the clip's blocks."""
+    plain = graphcut_video(waves, 20, size=44, block=(6, 20, 20), rng=3, return_info=True)[1]
+    video, info = graphcut_video(waves, 20, size=44, block=(6, 20, 20), refine=1, rng=3, return_info=True)
+    n = len(plain.corners)
+    assert len(info.corners) == 2 * n and np.array_equal(info.corners[:n], plain.corners)
+    assert info.seam_cost <= plain.seam_cost + 1e-9 * plain.seam_cost
+    assert (info.changed[n:] > 0).any()  # refinement patches took voxels
+    t, r, c = np.indices(info.labels.shape)
+    k = info.labels
+    src = (t - info.corners[k, 0] + info.sources[k, 0], r - info.corners[k, 1] + info.sources[k, 1],
+           c - info.corners[k, 2] + info.sources[k, 2])
+    assert np.array_equal(video, waves[src])
+
+
 def test_a_seed_reproduces_the_output(waves):
     a = graphcut_video(waves, 20, rng=5)
     b = graphcut_video(waves, 20, rng=np.random.default_rng(5))
@@ -220,6 +236,9 @@ def test_progress_counts_the_blocks(waves):
     (dict(temperature=0.0), ValueError, "temperature"),
     (dict(edge_cost="squared"), ValueError, "edge_cost"),
     (dict(loop="yes"), TypeError, "loop"),
+    (dict(refine=-1), ValueError, "refine"),
+    (dict(refine=11), ValueError, "refine"),
+    (dict(refine=1.5), TypeError, "refine"),
     (dict(loop=True, n_frames=9, block=(8, 32, 32)), ValueError, "n_frames"),
     (dict(rng=-1), ValueError, "rng"),
 ])
